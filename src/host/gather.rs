@@ -1,0 +1,272 @@
+//! `GatherBackend`: every photon gather of the renderer and of `photon-fpga gather`
+//! goes through one of these, so the simulated hardware can replace the software
+//! search without the caller changing.
+
+use super::error::{Error, Result};
+use super::kdtree::{KdTree, PackedTree};
+use super::knn::{self, Coord, FloatDist};
+use super::quantize::{Point, Quantizer};
+use crate::hw::metric::Metric;
+use rayon::prelude::*;
+use std::fmt;
+use std::str::FromStr;
+
+/// Which implementation answers the gathers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum BackendKind {
+    /// kd-tree search on the unquantized f64 positions (the accuracy baseline).
+    Float,
+    /// The paper's search on the packed, quantized tree (the hardware's reference).
+    #[default]
+    Sw,
+    /// The rust-hdl simulation of the photon-search core.
+    Rtl,
+}
+
+impl FromStr for BackendKind {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "float" => Ok(BackendKind::Float),
+            "sw" => Ok(BackendKind::Sw),
+            "rtl" => Ok(BackendKind::Rtl),
+            _ => Err(format!(
+                "unknown backend '{s}' (expected float, sw or rtl)"
+            )),
+        }
+    }
+}
+
+impl fmt::Display for BackendKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            BackendKind::Float => "float",
+            BackendKind::Sw => "sw",
+            BackendKind::Rtl => "rtl",
+        })
+    }
+}
+
+/// Default photon capacity: 2^20 − 1 photons, a 20-bit tree address.
+pub const DEFAULT_CAPACITY: usize = (1 << 20) - 1;
+
+/// What every gather asks for.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GatherParams {
+    /// Photons to gather per query (>= 1).
+    pub k: usize,
+    /// Upper search radius in world units (inclusive); `None` = unbounded.
+    pub radius: Option<f64>,
+    /// Coordinate bits on the longest axis (quantized backends).
+    pub bits: u32,
+    pub metric: Metric,
+    /// Largest photon map accepted.
+    pub capacity: usize,
+}
+
+impl Default for GatherParams {
+    fn default() -> Self {
+        GatherParams {
+            k: 10,
+            radius: None,
+            bits: 10,
+            metric: Metric::L2,
+            capacity: DEFAULT_CAPACITY,
+        }
+    }
+}
+
+impl GatherParams {
+    /// Reject parameters no backend can honour.
+    pub fn validate(&self, photons: usize) -> Result<()> {
+        if self.k == 0 {
+            return Err(Error::new("--k must be at least 1, got 0"));
+        }
+        if let Some(r) = self.radius {
+            if !(r >= 0.0) || !r.is_finite() {
+                return Err(Error::new(format!(
+                    "--radius must be a finite number >= 0, got {r}"
+                )));
+            }
+        }
+        if photons == 0 {
+            return Err(Error::new("the photon set is empty"));
+        }
+        if photons > self.capacity {
+            return Err(Error::new(format!(
+                "{photons} photons exceed the configured capacity of {}",
+                self.capacity
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// One gathered photon.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Neighbour {
+    /// Index of the photon in the caller's photon list.
+    pub photon: u32,
+    /// Distance in world units in the gather's metric (Euclidean for l2, Manhattan
+    /// for l1), measured on the grid for quantized backends.
+    pub distance: f64,
+}
+
+/// The answer to one query.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Gathered {
+    /// Nearest first; ties by photon index.
+    pub neighbours: Vec<Neighbour>,
+    /// Photons read by the search (0 where a backend does not count).
+    pub visited: u32,
+}
+
+/// Answers batches of gathers. Results are in query order.
+pub trait GatherBackend: Sync {
+    fn name(&self) -> &'static str;
+    fn gather(&self, queries: &[Point]) -> Result<Vec<Gathered>>;
+}
+
+/// Sort neighbours nearest first, ties by photon index, so every backend that finds
+/// the same set reports it identically.
+pub fn canonical_order(n: &mut [Neighbour]) {
+    n.sort_by(|a, b| {
+        a.distance
+            .total_cmp(&b.distance)
+            .then(a.photon.cmp(&b.photon))
+    });
+}
+
+/// kd-tree search on the unquantized positions.
+pub struct FloatBackend {
+    tree: KdTree<f64>,
+    params: GatherParams,
+}
+
+impl FloatBackend {
+    pub fn new(photons: &[Point], params: &GatherParams) -> Result<Self> {
+        params.validate(photons.len())?;
+        Ok(FloatBackend {
+            tree: KdTree::build(photons),
+            params: params.clone(),
+        })
+    }
+}
+
+impl GatherBackend for FloatBackend {
+    fn name(&self) -> &'static str {
+        "float"
+    }
+    fn gather(&self, queries: &[Point]) -> Result<Vec<Gathered>> {
+        let metric = self.params.metric;
+        let r0 = match self.params.radius {
+            None => f64::MAX_DIST,
+            Some(r) => FloatDist::new(match metric {
+                Metric::L2 => r * r,
+                Metric::L1 => r,
+            }),
+        };
+        Ok(queries
+            .par_iter()
+            .map(|&q| {
+                let f = knn::search(&self.tree, q, self.params.k, r0, metric);
+                let mut neighbours: Vec<Neighbour> = f
+                    .slots
+                    .iter()
+                    .map(|&(addr, d)| Neighbour {
+                        photon: self.tree.perm[addr as usize],
+                        distance: match metric {
+                            Metric::L2 => d.get().sqrt(),
+                            Metric::L1 => d.get(),
+                        },
+                    })
+                    .collect();
+                canonical_order(&mut neighbours);
+                Gathered {
+                    neighbours,
+                    visited: f.visited,
+                }
+            })
+            .collect())
+    }
+}
+
+/// The quantized photon map as the hardware sees it: grid, packed tree, and the
+/// integer form of the search radius.
+pub struct QuantizedMap {
+    pub quant: Quantizer,
+    pub tree: PackedTree,
+    /// Initial radius as an inclusive integer bound in the metric.
+    pub radius_bound: u64,
+    pub params: GatherParams,
+}
+
+impl QuantizedMap {
+    pub fn new(photons: &[Point], params: &GatherParams) -> Result<Self> {
+        params.validate(photons.len())?;
+        let quant = Quantizer::from_points(photons, params.bits)?;
+        let tree = PackedTree::build(photons, &quant);
+        let max = params.metric.max_dist(quant.axis_bits());
+        let radius_bound = match params.radius {
+            None => max,
+            Some(r) => params.metric.radius_bound(r, quant.step, max),
+        };
+        Ok(QuantizedMap {
+            quant,
+            tree,
+            radius_bound,
+            params: params.clone(),
+        })
+    }
+
+    /// Turn (heap address, integer distance) pairs into canonical neighbours.
+    pub fn neighbours(&self, slots: &[(u32, u64)]) -> Vec<Neighbour> {
+        let mut n: Vec<Neighbour> = slots
+            .iter()
+            .map(|&(addr, d)| Neighbour {
+                photon: self.tree.perm[addr as usize],
+                distance: self.params.metric.to_world(d, self.quant.step),
+            })
+            .collect();
+        canonical_order(&mut n);
+        n
+    }
+}
+
+/// The paper's search on the packed tree, in software.
+pub struct SwBackend {
+    pub map: QuantizedMap,
+}
+
+impl SwBackend {
+    pub fn new(photons: &[Point], params: &GatherParams) -> Result<Self> {
+        Ok(SwBackend {
+            map: QuantizedMap::new(photons, params)?,
+        })
+    }
+}
+
+impl GatherBackend for SwBackend {
+    fn name(&self) -> &'static str {
+        "sw"
+    }
+    fn gather(&self, queries: &[Point]) -> Result<Vec<Gathered>> {
+        let m = &self.map;
+        Ok(queries
+            .par_iter()
+            .map(|&q| {
+                let f = knn::search(
+                    &m.tree,
+                    m.quant.quantize(q),
+                    m.params.k,
+                    m.radius_bound,
+                    m.params.metric,
+                );
+                Gathered {
+                    neighbours: m.neighbours(&f.slots),
+                    visited: f.visited,
+                }
+            })
+            .collect())
+    }
+}

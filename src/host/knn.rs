@@ -1,0 +1,284 @@
+//! Software k-nearest-neighbour search: the reference every simulated hardware gather
+//! is checked against.
+//!
+//! * [`brute_force`] on quantized integer coordinates is the ground truth.
+//! * [`search`] is the paper's search (§2.2) on the packed tree, step for step what
+//!   a hardware QueryModule does, so its found set and its photon-read count are the
+//!   hardware's too.
+//! * The same [`search`] over `f64` coordinates is the float accuracy baseline.
+//!
+//! # Traversal (shared with the hardware NextIndexModule)
+//! State: (address, direction, came-from bit). Every step reads the photon at
+//! `address` (one TreeModule read; "photons visited" counts these reads).
+//! With `a` = the photon's split axis, `near` = right if q[a] >= p[a] else left:
+//! * **down** (first visit): test the photon against the found list; go to the near
+//!   child if it exists; else to the far child if it exists and the axis distance is
+//!   within R; else up.
+//! * **up** (re-read of a parent on the way back): if we came from the near child,
+//!   the far child exists and the axis distance is within R, go down into the far
+//!   child; else up.
+//! * "up" from the root ends the search; otherwise it moves to `address / 2` with
+//!   came-from = `address & 1`.
+//!
+//! # Boundary rules (shared with the hardware)
+//! * While the list holds fewer than k photons, a photon is in range iff
+//!   `d <= R0` (the initial radius is inclusive), and a subtree is pruned iff its
+//!   axis distance `> R0`.
+//! * Once the list holds k photons, R is the list maximum and a photon enters iff
+//!   `d < R` (strict: a photon equal to the current maximum is not taken); it
+//!   replaces the entry holding the maximum, the lowest list slot among ties (the
+//!   MaxFinder's priority encoder); a subtree is pruned iff its axis distance `>= R`.
+//! * The pruning test of a step uses R as it was when the photon was read, i.e.
+//!   before that photon's own insertion (the hardware's SearchModule computes the
+//!   next address in parallel with the distance), which only ever explores more.
+
+use super::kdtree::{KdTree, PackedTree};
+use crate::hw::metric::Metric;
+use std::cmp::{Ordering, Reverse};
+use std::collections::BinaryHeap;
+
+/// A coordinate type the kd-tree and the search work on: `u32` grid coordinates or
+/// `f64` world coordinates.
+pub trait Coord: Copy + Send + Sync + std::fmt::Debug + 'static {
+    /// Distance values; totally ordered.
+    type Dist: Copy + Ord + Send + Sync + std::fmt::Debug;
+    /// The largest distance (an unbounded radius).
+    const MAX_DIST: Self::Dist;
+    fn total_cmp(a: Self, b: Self) -> Ordering;
+    /// hi − lo as f64, to pick the split axis.
+    fn extent(lo: Self, hi: Self) -> f64;
+    fn axis_dist(metric: Metric, a: Self, b: Self) -> Self::Dist;
+    fn dist(metric: Metric, a: [Self; 3], b: [Self; 3]) -> Self::Dist;
+}
+
+impl Coord for u32 {
+    type Dist = u64;
+    const MAX_DIST: u64 = u64::MAX;
+    fn total_cmp(a: u32, b: u32) -> Ordering {
+        a.cmp(&b)
+    }
+    fn extent(lo: u32, hi: u32) -> f64 {
+        (hi - lo) as f64
+    }
+    #[inline]
+    fn axis_dist(metric: Metric, a: u32, b: u32) -> u64 {
+        metric.axis_dist(a, b)
+    }
+    #[inline]
+    fn dist(metric: Metric, a: [u32; 3], b: [u32; 3]) -> u64 {
+        metric.dist(a, b)
+    }
+}
+
+/// A non-negative float distance, ordered by its bit pattern (monotonic for
+/// non-negative IEEE values).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct FloatDist(u64);
+
+impl FloatDist {
+    pub fn new(d: f64) -> Self {
+        debug_assert!(d >= 0.0);
+        FloatDist((d + 0.0).to_bits())
+    }
+    pub fn get(self) -> f64 {
+        f64::from_bits(self.0)
+    }
+}
+
+impl Coord for f64 {
+    type Dist = FloatDist;
+    const MAX_DIST: FloatDist = FloatDist(0x7ff0_0000_0000_0000); // +inf
+    fn total_cmp(a: f64, b: f64) -> Ordering {
+        a.total_cmp(&b)
+    }
+    fn extent(lo: f64, hi: f64) -> f64 {
+        hi - lo
+    }
+    #[inline]
+    fn axis_dist(metric: Metric, a: f64, b: f64) -> FloatDist {
+        let d = (a - b).abs();
+        FloatDist::new(match metric {
+            Metric::L2 => d * d,
+            Metric::L1 => d,
+        })
+    }
+    #[inline]
+    fn dist(metric: Metric, a: [f64; 3], b: [f64; 3]) -> FloatDist {
+        let d = [0, 1, 2].map(|i| (a[i] - b[i]).abs());
+        FloatDist::new(match metric {
+            Metric::L2 => d[0] * d[0] + d[1] * d[1] + d[2] * d[2],
+            Metric::L1 => d[0] + d[1] + d[2],
+        })
+    }
+}
+
+/// Where the search reads its photons: a decoded tree or the packed words.
+pub trait NodeSource<C> {
+    /// Number of photons N; heap addresses run 1..=N.
+    fn len(&self) -> usize;
+    /// Coordinates and split axis of the photon at `addr`.
+    fn node(&self, addr: usize) -> ([C; 3], u8);
+}
+
+impl<C: Coord> NodeSource<C> for KdTree<C> {
+    fn len(&self) -> usize {
+        KdTree::len(self)
+    }
+    #[inline]
+    fn node(&self, addr: usize) -> ([C; 3], u8) {
+        (self.coords[addr], self.axis[addr])
+    }
+}
+
+impl NodeSource<u32> for PackedTree {
+    fn len(&self) -> usize {
+        PackedTree::len(self)
+    }
+    #[inline]
+    fn node(&self, addr: usize) -> ([u32; 3], u8) {
+        PackedTree::node(self, addr)
+    }
+}
+
+/// What one search found.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Found<D> {
+    /// (heap address, distance) in found-list slot order (the hardware's order).
+    pub slots: Vec<(u32, D)>,
+    /// Photon reads issued (down visits + up re-reads): the hardware's read count.
+    pub visited: u32,
+}
+
+impl<D: Ord + Copy> Found<D> {
+    /// The found distances, nearest first.
+    pub fn sorted_dists(&self) -> Vec<D> {
+        let mut d: Vec<D> = self.slots.iter().map(|s| s.1).collect();
+        d.sort();
+        d
+    }
+}
+
+/// The found list: k slots, and once full a max-heap over (distance, lowest slot)
+/// so that finding the maximum costs O(log k), not O(k) (paper Fig. 5/6 show the
+/// linear max search dominating at large k; the hardware answers with §4.4's
+/// bit-serial MaxFinder instead).
+struct FoundList<D> {
+    k: usize,
+    slots: Vec<(u32, D)>,
+    heap: BinaryHeap<(D, Reverse<u32>)>,
+}
+
+impl<D: Ord + Copy> FoundList<D> {
+    fn new(k: usize) -> Self {
+        FoundList {
+            k,
+            slots: Vec::with_capacity(k.min(1 << 16)),
+            heap: BinaryHeap::new(),
+        }
+    }
+
+    fn full(&self) -> bool {
+        self.slots.len() == self.k
+    }
+
+    /// Insert a photon that passed the in-range test; returns the new R once full.
+    fn insert(&mut self, addr: u32, d: D) -> Option<D> {
+        if !self.full() {
+            self.slots.push((addr, d));
+            if !self.full() {
+                return None;
+            }
+            let keyed: Vec<_> = (0..self.k as u32)
+                .map(|s| (self.slots[s as usize].1, Reverse(s)))
+                .collect();
+            self.heap = BinaryHeap::from(keyed);
+        } else {
+            let mut top = self.heap.peek_mut().expect("full list has a maximum");
+            let slot = top.1;
+            self.slots[slot.0 as usize] = (addr, d);
+            *top = (d, slot);
+        }
+        self.heap.peek().map(|t| t.0)
+    }
+}
+
+/// The paper's kd-tree search for the k nearest photons to `q` within `r0`
+/// (inclusive), on any node source. `k` must be >= 1.
+pub fn search<C: Coord, S: NodeSource<C> + ?Sized>(
+    tree: &S,
+    q: [C; 3],
+    k: usize,
+    r0: C::Dist,
+    metric: Metric,
+) -> Found<C::Dist> {
+    assert!(k >= 1, "k must be at least 1");
+    let n = tree.len();
+    let mut list = FoundList::new(k);
+    let mut r = r0;
+    let mut visited = 0u32;
+    let (mut addr, mut up, mut from) = (1usize, false, 0usize);
+    loop {
+        let (p, ax) = tree.node(addr);
+        visited += 1;
+        let ax = ax as usize;
+        let near_bit = C::total_cmp(q[ax], p[ax]).is_ge() as usize;
+        let ad = C::axis_dist(metric, q[ax], p[ax]);
+        // R as read with the photon (before this photon's own insertion).
+        let within = if list.full() { ad < r } else { ad <= r };
+        let near = 2 * addr + near_bit;
+        let far = 2 * addr + 1 - near_bit;
+        let mut next_down = None;
+        if !up {
+            let d = C::dist(metric, q, p);
+            let in_range = if list.full() { d < r } else { d <= r };
+            if in_range {
+                if let Some(max) = list.insert(addr as u32, d) {
+                    r = max;
+                }
+            }
+            if near <= n {
+                next_down = Some(near);
+            } else if far <= n && within {
+                next_down = Some(far);
+            }
+        } else if from == near_bit && far <= n && within {
+            next_down = Some(far);
+        }
+        match next_down {
+            Some(child) => {
+                addr = child;
+                up = false;
+            }
+            None if addr == 1 => break,
+            None => {
+                from = addr & 1;
+                addr >>= 1;
+                up = true;
+            }
+        }
+    }
+    Found {
+        slots: list.slots,
+        visited,
+    }
+}
+
+/// Ground truth: every point's distance, those `<= r0` sorted by (distance, index),
+/// the first k. Returns (point index, distance).
+pub fn brute_force<C: Coord>(
+    points: &[[C; 3]],
+    q: [C; 3],
+    k: usize,
+    r0: C::Dist,
+    metric: Metric,
+) -> Vec<(u32, C::Dist)> {
+    let mut all: Vec<(C::Dist, u32)> = points
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| (C::dist(metric, q, p), i as u32))
+        .filter(|&(d, _)| d <= r0)
+        .collect();
+    all.sort_unstable();
+    all.truncate(k);
+    all.into_iter().map(|(d, i)| (i, d)).collect()
+}

@@ -1,0 +1,8 @@
+//! The host side (paper §4): scene, photon tracing, kd-tree build and packing,
+//! software kNN reference, renderer and the gather backends.
+
+pub mod error;
+pub mod gather;
+pub mod kdtree;
+pub mod knn;
+pub mod quantize;

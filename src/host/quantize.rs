@@ -1,0 +1,80 @@
+//! Quantization of world positions onto the isotropic integer grid the hardware
+//! searches (paper §4: a 1000³ space, 10-bit coordinates).
+//!
+//! One step length serves all three axes (longest extent / (2^B − 1)), so distances
+//! stay isotropic; each axis then gets only the bits its own extent needs, which is
+//! how a flat or long scene packs into a narrower photon word.
+
+use super::error::{Error, Result};
+use crate::hw::photon_word::{PhotonLayout, MAX_COORD_BITS};
+
+/// A world position.
+pub type Point = [f64; 3];
+
+/// Maps world positions to integer grid coordinates and back.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Quantizer {
+    /// World position of grid coordinate (0, 0, 0): the bounding box minimum.
+    pub origin: Point,
+    /// Grid step in world units, the same on every axis.
+    pub step: f64,
+    /// Per-axis coordinate widths of the photon word.
+    pub layout: PhotonLayout,
+}
+
+impl Quantizer {
+    /// A grid over the bounding box of `points` with `bits` on the longest axis.
+    pub fn from_points(points: &[Point], bits: u32) -> Result<Self> {
+        if !(1..=MAX_COORD_BITS).contains(&bits) {
+            return Err(Error::new(format!(
+                "--bits {bits} is out of range (1..={MAX_COORD_BITS})"
+            )));
+        }
+        let Some(first) = points.first() else {
+            return Err(Error::new("the photon set is empty"));
+        };
+        let (mut lo, mut hi) = (*first, *first);
+        for p in points {
+            for a in 0..3 {
+                lo[a] = lo[a].min(p[a]);
+                hi[a] = hi[a].max(p[a]);
+            }
+        }
+        let ext = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
+        let longest = ext.iter().cloned().fold(0.0, f64::max);
+        let top = ((1u64 << bits) - 1) as f64;
+        // All photons at one point: any positive step maps them all to 0.
+        let step = if longest > 0.0 { longest / top } else { 1.0 };
+        let mut axis_bits = [1u32; 3];
+        for a in 0..3 {
+            let qmax = (ext[a] / step).round().min(top) as u64;
+            axis_bits[a] = (64 - qmax.leading_zeros()).max(1);
+        }
+        Ok(Quantizer {
+            origin: lo,
+            step,
+            layout: PhotonLayout::new(axis_bits),
+        })
+    }
+
+    /// Per-axis coordinate widths.
+    pub fn axis_bits(&self) -> [u32; 3] {
+        self.layout.bits
+    }
+
+    /// Grid coordinates of a world position: rounded to the nearest grid point and
+    /// clamped onto the grid (a query outside the photons' box is moved onto it).
+    pub fn quantize(&self, p: Point) -> [u32; 3] {
+        let mut q = [0u32; 3];
+        for a in 0..3 {
+            let v = ((p[a] - self.origin[a]) / self.step).round();
+            q[a] = v.clamp(0.0, self.layout.coord_max(a) as f64) as u32;
+        }
+        q
+    }
+
+    /// World position of a grid point.
+    pub fn dequantize(&self, q: [u32; 3]) -> Point {
+        [0, 1, 2].map(|a| self.origin[a] + q[a] as f64 * self.step)
+    }
+}
