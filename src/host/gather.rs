@@ -30,9 +30,7 @@ impl FromStr for BackendKind {
             "float" => Ok(BackendKind::Float),
             "sw" => Ok(BackendKind::Sw),
             "rtl" => Ok(BackendKind::Rtl),
-            _ => Err(format!(
-                "unknown backend '{s}' (expected float, sw or rtl)"
-            )),
+            _ => Err(format!("unknown backend '{s}' (expected float, sw or rtl)")),
         }
     }
 }
@@ -202,9 +200,22 @@ pub struct QuantizedMap {
 }
 
 impl QuantizedMap {
+    /// Quantize over the photons' bounding box (queries outside it are clamped
+    /// onto the grid).
     pub fn new(photons: &[Point], params: &GatherParams) -> Result<Self> {
+        Self::covering(photons, &[], params)
+    }
+
+    /// Quantize over the bounding box of the photons and `extra` points (the
+    /// queries, when they are known up front), so no query is clamped.
+    pub fn covering(photons: &[Point], extra: &[Point], params: &GatherParams) -> Result<Self> {
         params.validate(photons.len())?;
-        let quant = Quantizer::from_points(photons, params.bits)?;
+        let quant = if extra.is_empty() {
+            Quantizer::from_points(photons, params.bits)?
+        } else {
+            let all: Vec<Point> = photons.iter().chain(extra).copied().collect();
+            Quantizer::from_points(&all, params.bits)?
+        };
         let tree = PackedTree::build(photons, &quant);
         let max = params.metric.max_dist(quant.axis_bits());
         let radius_bound = match params.radius {
@@ -242,6 +253,13 @@ impl SwBackend {
     pub fn new(photons: &[Point], params: &GatherParams) -> Result<Self> {
         Ok(SwBackend {
             map: QuantizedMap::new(photons, params)?,
+        })
+    }
+
+    /// A backend whose grid also covers `queries` (see [`QuantizedMap::covering`]).
+    pub fn covering(photons: &[Point], queries: &[Point], params: &GatherParams) -> Result<Self> {
+        Ok(SwBackend {
+            map: QuantizedMap::covering(photons, queries, params)?,
         })
     }
 }
