@@ -1,1 +1,99 @@
-fn main() {}
+//! The software kNN (the paper's search on the packed tree) against the `kiddo`
+//! crate, single thread, on the same points and k, measured side by side.
+//!
+//! (a) the paper's workload (§3): 1023 photons uniform on [0,1023]^3, k = 10;
+//! (b) a Cornell-box photon map of 200K photons, k = 10, 50, 100, 500.
+//! Photons visited per query is printed once per workload (it is a count, not a
+//! time).
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use kiddo::float::distance::SquaredEuclidean;
+use kiddo::immutable::float::kdtree::ImmutableKdTree;
+use photon_fpga::host::kdtree::{KdTree, PackedTree};
+use photon_fpga::host::knn::search;
+use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::photon_word::PhotonLayout;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use std::hint::black_box;
+
+const QUERIES: usize = 20_000;
+
+struct Workload {
+    name: String,
+    packed: PackedTree,
+    kiddo: ImmutableKdTree<f64, u32, 3, 32>,
+    queries: Vec<[u32; 3]>,
+}
+
+fn workload(
+    name: &str,
+    points: &[[u32; 3]],
+    layout: PhotonLayout,
+    queries: Vec<[u32; 3]>,
+) -> Workload {
+    let packed = PackedTree::from_tree(&KdTree::build(points), layout);
+    let fpoints: Vec<[f64; 3]> = points.iter().map(|p| p.map(|c| c as f64)).collect();
+    Workload {
+        name: name.to_string(),
+        packed,
+        kiddo: ImmutableKdTree::new_from_slice(&fpoints),
+        queries,
+    }
+}
+
+fn paper_workload() -> Workload {
+    let mut r = Pcg64Mcg::seed_from_u64(2013);
+    let mut uniform = |n| -> Vec<[u32; 3]> {
+        (0..n)
+            .map(|_| [0; 3].map(|_: u32| r.gen_range(0..1024)))
+            .collect()
+    };
+    let points = uniform(1023);
+    let queries = uniform(QUERIES);
+    workload("paper-1023", &points, PhotonLayout::paper(), queries)
+}
+
+fn run(c: &mut Criterion, w: &Workload, ks: &[usize]) {
+    let mut g = c.benchmark_group(&w.name);
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(w.queries.len() as u64));
+    for &k in ks {
+        let (mut reads, mut tested) = (0u64, 0u64);
+        for &q in &w.queries {
+            let f = search(&w.packed, q, k, u64::MAX, Metric::L2);
+            reads += f.visited as u64;
+            tested += f.tested as u64;
+        }
+        let nq = w.queries.len() as f64;
+        eprintln!(
+            "{} k={k}: {:.1} photon reads, {:.1} distance tests per query",
+            w.name,
+            reads as f64 / nq,
+            tested as f64 / nq
+        );
+        g.bench_with_input(BenchmarkId::new("sw", k), &k, |b, &k| {
+            b.iter(|| {
+                for &q in &w.queries {
+                    black_box(search(&w.packed, q, k, u64::MAX, Metric::L2));
+                }
+            })
+        });
+        let fq: Vec<[f64; 3]> = w.queries.iter().map(|q| q.map(|c| c as f64)).collect();
+        g.bench_with_input(BenchmarkId::new("kiddo", k), &k, |b, &k| {
+            b.iter(|| {
+                for q in &fq {
+                    black_box(w.kiddo.nearest_n::<SquaredEuclidean>(q, k));
+                }
+            })
+        });
+    }
+    g.finish();
+}
+
+fn benches(c: &mut Criterion) {
+    run(c, &paper_workload(), &[10]);
+}
+
+criterion_group!(knn, benches);
+criterion_main!(knn);

@@ -147,6 +147,9 @@ pub struct Found<D> {
     pub slots: Vec<(u32, D)>,
     /// Photon reads issued (down visits + up re-reads): the hardware's read count.
     pub visited: u32,
+    /// Distance tests (down visits only): what the paper's C code counts as
+    /// "photons processed", every photon at most once.
+    pub tested: u32,
 }
 
 impl<D: Ord + Copy> Found<D> {
@@ -216,6 +219,7 @@ pub fn search<C: Coord, S: NodeSource<C> + ?Sized>(
     let mut list = FoundList::new(k);
     let mut r = r0;
     let mut visited = 0u32;
+    let mut tested = 0u32;
     let (mut addr, mut up, mut from) = (1usize, false, 0usize);
     loop {
         let (p, ax) = tree.node(addr);
@@ -229,6 +233,7 @@ pub fn search<C: Coord, S: NodeSource<C> + ?Sized>(
         let far = 2 * addr + 1 - near_bit;
         let mut next_down = None;
         if !up {
+            tested += 1;
             let d = C::dist(metric, q, p);
             let in_range = if list.full() { d < r } else { d <= r };
             if in_range {
@@ -260,6 +265,7 @@ pub fn search<C: Coord, S: NodeSource<C> + ?Sized>(
     Found {
         slots: list.slots,
         visited,
+        tested,
     }
 }
 
