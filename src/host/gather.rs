@@ -123,6 +123,25 @@ pub struct Gathered {
 pub trait GatherBackend: Sync {
     fn name(&self) -> &'static str;
     fn gather(&self, queries: &[Point]) -> Result<Vec<Gathered>>;
+    /// A line about the map as this backend holds it (grid, widths, tree height).
+    fn describe(&self) -> Option<String> {
+        None
+    }
+}
+
+/// Build the backend `kind` over `photons`. Quantized backends put their grid over
+/// the photons and `queries` (empty: the photons alone).
+pub fn make_backend(
+    kind: BackendKind,
+    photons: &[Point],
+    queries: &[Point],
+    params: &GatherParams,
+) -> Result<Box<dyn GatherBackend>> {
+    Ok(match kind {
+        BackendKind::Float => Box::new(FloatBackend::new(photons, params)?),
+        BackendKind::Sw => Box::new(SwBackend::covering(photons, queries, params)?),
+        BackendKind::Rtl => return Err(Error::new("--backend rtl is not available yet")),
+    })
 }
 
 /// Sort neighbours nearest first, ties by photon index, so every backend that finds
@@ -230,6 +249,23 @@ impl QuantizedMap {
         })
     }
 
+    /// Grid step, per-axis widths, word width and tree height.
+    pub fn describe(&self) -> String {
+        let l = self.quant.layout;
+        format!(
+            "grid step {:.6} world units; coordinate bits x/y/z {}/{}/{} ({}-bit photon words); \
+             tree height {} ({} photons); {} distance bits",
+            self.quant.step,
+            l.bits[0],
+            l.bits[1],
+            l.bits[2],
+            l.word_bits(),
+            self.tree.address_bits(),
+            self.tree.len(),
+            self.params.metric.dist_bits(l.bits)
+        )
+    }
+
     /// Turn (heap address, integer distance) pairs into canonical neighbours.
     pub fn neighbours(&self, slots: &[(u32, u64)]) -> Vec<Neighbour> {
         let mut n: Vec<Neighbour> = slots
@@ -267,6 +303,9 @@ impl SwBackend {
 impl GatherBackend for SwBackend {
     fn name(&self) -> &'static str {
         "sw"
+    }
+    fn describe(&self) -> Option<String> {
+        Some(self.map.describe())
     }
     fn gather(&self, queries: &[Point]) -> Result<Vec<Gathered>> {
         let m = &self.map;

@@ -7,3 +7,4 @@ pub mod gather;
 pub mod kdtree;
 pub mod knn;
 pub mod quantize;
+pub mod stages;
