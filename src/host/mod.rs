@@ -6,3 +6,6 @@ pub mod gather;
 pub mod kdtree;
 pub mod knn;
 pub mod quantize;
+pub mod photons;
+pub mod render;
+pub mod scene;
