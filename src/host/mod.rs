@@ -5,7 +5,7 @@ pub mod error;
 pub mod gather;
 pub mod kdtree;
 pub mod knn;
-pub mod quantize;
 pub mod photons;
+pub mod quantize;
 pub mod render;
 pub mod scene;

@@ -285,7 +285,11 @@ power = [3.0, 2.0, 1.0]
             let total = total_power(&photons);
             // A photon may be lost only to the light's housing or the depth bound.
             assert!(photons.len() <= n);
-            assert!(photons.len() as f64 > 0.98 * n as f64, "{m}: {}", photons.len());
+            assert!(
+                photons.len() as f64 > 0.98 * n as f64,
+                "{m}: {}",
+                photons.len()
+            );
             for (t, p) in total.iter().zip([3.0, 2.0, 1.0]) {
                 assert!((t - p).abs() < 0.02 * p, "{m}: {total:?}");
             }

@@ -21,7 +21,7 @@ use std::path::Path;
 /// Exposure of the default render: scales radiance before gamma. Chosen by eye for
 /// the default Cornell box (light power 12 per channel): walls mid-to-light grey,
 /// the caustic bright but not clipped over its whole area.
-pub const DEFAULT_EXPOSURE: f32 = 0.5;
+pub const DEFAULT_EXPOSURE: f32 = 0.35;
 
 /// Eye-path bounces through mirrors and glass before giving up on a pixel sample.
 pub const MAX_EYE_DEPTH: usize = 16;
@@ -141,12 +141,18 @@ pub fn eye_queries(scene: &Scene, settings: &RenderSettings) -> (Vec<QueryPoint>
 
 /// Photon positions as the gather backends take them.
 pub fn photon_points(photons: &[Photon]) -> Vec<Point> {
-    photons.iter().map(|p| p.pos.as_dvec3().to_array()).collect()
+    photons
+        .iter()
+        .map(|p| p.pos.as_dvec3().to_array())
+        .collect()
 }
 
 /// Query positions as the gather backends take them.
 pub fn query_points(queries: &[QueryPoint]) -> Vec<Point> {
-    queries.iter().map(|q| q.pos.as_dvec3().to_array()).collect()
+    queries
+        .iter()
+        .map(|q| q.pos.as_dvec3().to_array())
+        .collect()
 }
 
 /// Reflected radiance at each query from its gathered photons (Jensen's density
@@ -176,11 +182,7 @@ pub fn radiance(
     radius: Option<f64>,
     metric: Metric,
 ) -> Vec<Vec3> {
-    assert_eq!(
-        queries.len(),
-        gathered.len(),
-        "one gather result per query"
-    );
+    assert_eq!(queries.len(), gathered.len(), "one gather result per query");
     queries
         .par_iter()
         .zip(gathered)
@@ -192,7 +194,7 @@ pub fn radiance(
                 Some(r) if g.neighbours.len() < k => r,
                 _ => farthest,
             };
-            if !(r > 0.0) {
+            if r.is_nan() || r <= 0.0 {
                 return Vec3::ZERO;
             }
             let area = match metric {
@@ -412,7 +414,14 @@ mod tests {
         let backend = FloatBackend::new(&photon_points(&photons), &params).unwrap();
         let gathered = backend.gather(&query_points(&queries)).unwrap();
         assert!(gathered.iter().all(|g| g.neighbours.len() < params.k));
-        let l = radiance(&queries, &photons, &gathered, params.k, Some(0.1), Metric::L2);
+        let l = radiance(
+            &queries,
+            &photons,
+            &gathered,
+            params.k,
+            Some(0.1),
+            Metric::L2,
+        );
         for (q, got) in queries.iter().zip(l) {
             assert_close(got, analytic(q, h, phi), 0.03);
         }
@@ -447,7 +456,11 @@ mod tests {
             weight: Vec3::splat(w),
         };
         let queries = [q(0, 0.5), q(0, 0.5), q(1, 0.25)];
-        let rad = [Vec3::new(0.2, 0.0, 4.0), Vec3::new(0.2, 0.0, 0.0), Vec3::ONE];
+        let rad = [
+            Vec3::new(0.2, 0.0, 4.0),
+            Vec3::new(0.2, 0.0, 0.0),
+            Vec3::ONE,
+        ];
         let emitted = [Vec3::ZERO, Vec3::new(0.0, 0.5, 0.0)];
         let img = resolve(2, 1, &queries, &rad, &emitted, 2.0);
         // Pixel 0: red 0.2·2 = 0.4 → 0.4^(1/2.2) = 0.6589 → 168; blue 2·2 clamps.
@@ -534,6 +547,37 @@ mod tests {
                 .to_string()
         });
         save_png(&img, &out).unwrap();
+        // A 3x enlargement for looking at noise and the caustic up close.
+        let big = image::imageops::resize(
+            &img,
+            img.width() * 3,
+            img.height() * 3,
+            image::imageops::FilterType::Nearest,
+        );
+        save_png(&big, format!("{out}.x3.png")).unwrap();
+        // Mean 8-bit colour of a few regions (fractions of the image), to judge
+        // exposure numerically as well as by eye.
+        let mean = |x0: f32, y0: f32, x1: f32, y1: f32| {
+            let (w, h) = (img.width() as f32, img.height() as f32);
+            let mut sum = [0u32; 3];
+            let mut n = 0;
+            for y in (y0 * h) as u32..(y1 * h) as u32 {
+                for x in (x0 * w) as u32..(x1 * w) as u32 {
+                    for (s, c) in sum.iter_mut().zip(img.get_pixel(x, y).0) {
+                        *s += c as u32;
+                    }
+                    n += 1;
+                }
+            }
+            sum.map(|s| s / n)
+        };
+        println!(
+            "back wall {:?}, left {:?}, right {:?}, floor centre {:?}",
+            mean(0.4, 0.25, 0.6, 0.45),
+            mean(0.03, 0.3, 0.1, 0.5),
+            mean(0.9, 0.3, 0.97, 0.5),
+            mean(0.4, 0.85, 0.55, 0.95)
+        );
         println!(
             "{} photons stored; trace {:.2?}, tree {:.2?}, eye+gather+shade {:.2?}; wrote {out}",
             photons.len(),

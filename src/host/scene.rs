@@ -115,7 +115,7 @@ impl Quad {
         let area = n.length();
         // Relative test: an area tiny compared with the edge lengths is a sliver
         // whose normal is numerical noise.
-        if !(area > 1e-6 * edge_u.length() * edge_v.length()) || !area.is_finite() {
+        if !area.is_finite() || area <= 1e-6 * edge_u.length() * edge_v.length() {
             return None;
         }
         Some(Quad {
@@ -271,12 +271,8 @@ impl Scene {
     /// Read a scene file; errors name the file.
     pub fn from_file(path: impl AsRef<Path>) -> Result<Scene> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            Error::new(format!(
-                "cannot read scene file {}: {e}",
-                path.display()
-            ))
-        })?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Error::new(format!("cannot read scene file {}: {e}", path.display())))?;
         Scene::from_toml_str(&text, &path.display().to_string())
     }
 
@@ -289,9 +285,8 @@ impl Scene {
                 None => format!("{origin_name}: {msg}"),
             })
         };
-        let file: SceneFile = toml::from_str(text).map_err(|e| {
-            at(e.span(), e.message().trim_end().to_string())
-        })?;
+        let file: SceneFile =
+            toml::from_str(text).map_err(|e| at(e.span(), e.message().trim_end().to_string()))?;
         let check = Checker { at: &at };
 
         let cam = &file.camera;
@@ -302,7 +297,10 @@ impl Scene {
         if !(fov > 0.0 && fov < 180.0) {
             return Err(at(
                 Some(cam.fov_deg.span()),
-                format!("camera fov_deg must be in (0, 180), got {}", cam.fov_deg.get_ref()),
+                format!(
+                    "camera fov_deg must be in (0, 180), got {}",
+                    cam.fov_deg.get_ref()
+                ),
             ));
         }
         let forward = (look_at - position).normalize_or_zero();
@@ -348,16 +346,16 @@ impl Scene {
                             ),
                         ));
                     }
-                    Material::Diffuse {
-                        albedo: vec3(rgb),
-                    }
+                    Material::Diffuse { albedo: vec3(rgb) }
                 }
                 MaterialFile::Mirror {} => Material::Mirror,
                 MaterialFile::Glass { ior } => {
-                    if !(ior > 0.0) || !ior.is_finite() {
+                    if !ior.is_finite() || ior <= 0.0 {
                         return Err(at(
                             span,
-                            format!("material '{name}': ior must be a finite number > 0, got {ior}"),
+                            format!(
+                                "material '{name}': ior must be a finite number > 0, got {ior}"
+                            ),
                         ));
                     }
                     Material::Glass { ior: ior as f32 }
@@ -395,7 +393,7 @@ impl Scene {
         for s in &file.sphere {
             let center = check.point("sphere center", &s.center)?;
             let radius = check.finite("sphere radius", &s.radius)?;
-            if !(radius > 0.0) {
+            if radius <= 0.0 {
                 return Err(at(
                     Some(s.radius.span()),
                     format!("sphere radius must be > 0, got {}", s.radius.get_ref()),
@@ -523,7 +521,11 @@ pub fn cosine_direction(n: Vec3, u1: f32, u2: f32) -> Vec3 {
 /// 1-based line number of byte `offset` in `text`.
 fn line_of(text: &str, offset: usize) -> usize {
     let end = offset.min(text.len());
-    text.as_bytes()[..end].iter().filter(|&&b| b == b'\n').count() + 1
+    text.as_bytes()[..end]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+        + 1
 }
 
 fn vec3(a: [f64; 3]) -> Vec3 {
@@ -682,7 +684,10 @@ power = [1.0, 1.0, 1.0]
 
     /// Replace the first occurrence of `from` in the minimal scene and parse it.
     fn parse_with(from: &str, to: &str) -> Result<Scene> {
-        assert!(MINIMAL.contains(from), "test edit {from:?} not in the scene");
+        assert!(
+            MINIMAL.contains(from),
+            "test edit {from:?} not in the scene"
+        );
         Scene::from_toml_str(&MINIMAL.replacen(from, to, 1), "test.toml")
     }
 
@@ -749,7 +754,9 @@ power = [1.0, 1.0, 1.0]
 
     #[test]
     fn bad_ior_names_value() {
-        let err = parse_with("ior = 1.5", "ior = -2.0").unwrap_err().to_string();
+        let err = parse_with("ior = 1.5", "ior = -2.0")
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("-2") && err.contains("ior"), "{err}");
         assert!(err.starts_with("test.toml:"), "{err}");
     }
