@@ -6,5 +6,8 @@ pub mod error;
 pub mod gather;
 pub mod kdtree;
 pub mod knn;
+pub mod photons;
 pub mod quantize;
+pub mod render;
+pub mod scene;
 pub mod stages;

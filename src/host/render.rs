@@ -1,0 +1,589 @@
+//! Pass 2 of photon mapping (paper §1): eye rays find the query points, the photon
+//! gather (software or FPGA, through `GatherBackend`) finds their neighbours, and
+//! Jensen's density estimate turns those into pixel radiance.
+//!
+//! Everything is a pure function of its inputs and the seed: eye samples draw from a
+//! per-pixel RNG, queries come out in pixel order, and radiance sums neighbours in
+//! the gather's canonical order. Two backends that return the same neighbours
+//! therefore produce bit-identical images, which is how the hardware is checked.
+
+use super::error::{Error, Result};
+use super::gather::{GatherBackend, Gathered};
+use super::photons::{stream_rng, Photon};
+use super::quantize::Point;
+use super::scene::{glass_scatter, reflect, Material, Ray, Scene, Surface};
+use crate::hw::metric::Metric;
+use glam::Vec3;
+use rand::Rng;
+use rayon::prelude::*;
+use std::path::Path;
+
+/// Exposure of the default render: scales radiance before gamma. Chosen by eye for
+/// the default Cornell box (light power 12 per channel): walls mid-to-light grey,
+/// the caustic bright but not clipped over its whole area.
+pub const DEFAULT_EXPOSURE: f32 = 0.35;
+
+/// Eye-path bounces through mirrors and glass before giving up on a pixel sample.
+pub const MAX_EYE_DEPTH: usize = 16;
+
+/// Seed-stream offset separating the eye pass's pixel RNGs from the photon pass's
+/// per-photon RNGs, so pixel i never replays photon i's random numbers.
+const EYE_STREAM: u64 = 0xE7E_0000_0000_0000;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    /// Eye samples per pixel.
+    pub spp: u32,
+    pub seed: u64,
+    /// Linear scale on radiance before clamping and gamma.
+    pub exposure: f32,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: 256,
+            height: 256,
+            spp: 4,
+            seed: 1,
+            exposure: DEFAULT_EXPOSURE,
+        }
+    }
+}
+
+/// Where an eye path ended on a diffuse surface: one photon gather.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct QueryPoint {
+    /// Pixel index, `y * width + x`.
+    pub pixel: u32,
+    pub pos: Vec3,
+    /// Unit surface normal on the side the eye ray arrived from.
+    pub normal: Vec3,
+    pub albedo: Vec3,
+    /// Path throughput divided by the samples per pixel: the query's share of its
+    /// pixel.
+    pub weight: Vec3,
+}
+
+/// Trace `spp` jittered eye paths per pixel through mirrors and glass to their first
+/// diffuse hit. Returns the queries in pixel order and, per pixel, the radiance
+/// seen directly when a path reaches the light's front (already weighted; zero for
+/// paths that escape or end elsewhere).
+pub fn eye_queries(scene: &Scene, settings: &RenderSettings) -> (Vec<QueryPoint>, Vec<Vec3>) {
+    let (w, h) = (settings.width, settings.height);
+    let spp = settings.spp.max(1);
+    let aspect = w as f32 / h.max(1) as f32;
+    let sample_weight = 1.0 / spp as f32;
+    let per_pixel: Vec<(Vec<QueryPoint>, Vec3)> = (0..w * h)
+        .into_par_iter()
+        .map(|pixel| {
+            let mut rng = stream_rng(settings.seed ^ EYE_STREAM, pixel as u64);
+            let (x, y) = (pixel % w, pixel / w);
+            let mut queries = Vec::with_capacity(spp as usize);
+            let mut emitted = Vec3::ZERO;
+            for _ in 0..spp {
+                let fx = (x as f32 + rng.gen::<f32>()) / w as f32;
+                let fy = (y as f32 + rng.gen::<f32>()) / h as f32;
+                let mut ray = scene.camera.ray(fx, fy, aspect);
+                // Mirrors and glass are white and glass is sampled in proportion to
+                // Fresnel, so the throughput stays the sample weight.
+                let throughput = Vec3::splat(sample_weight);
+                for _ in 0..MAX_EYE_DEPTH {
+                    let Some(hit) = scene.intersect(&ray) else {
+                        break;
+                    };
+                    let material = match hit.surface {
+                        Surface::Light => {
+                            if ray.dir.dot(scene.light.quad.normal) < 0.0 {
+                                emitted += throughput * scene.light.radiance();
+                            }
+                            break;
+                        }
+                        Surface::Material(m) => scene.materials[m],
+                    };
+                    let new_dir = match material {
+                        Material::Diffuse { albedo } => {
+                            let normal = if hit.normal.dot(ray.dir) < 0.0 {
+                                hit.normal
+                            } else {
+                                -hit.normal
+                            };
+                            queries.push(QueryPoint {
+                                pixel,
+                                pos: hit.pos,
+                                normal,
+                                albedo,
+                                weight: throughput,
+                            });
+                            break;
+                        }
+                        Material::Mirror => reflect(ray.dir, hit.normal),
+                        Material::Glass { ior } => {
+                            glass_scatter(ray.dir, hit.normal, ior, rng.gen())
+                        }
+                    };
+                    ray = Ray::spawn(hit.pos, hit.normal, new_dir);
+                }
+            }
+            (queries, emitted)
+        })
+        .collect();
+    let mut queries = Vec::with_capacity(per_pixel.iter().map(|p| p.0.len()).sum());
+    let mut emitted = Vec::with_capacity(per_pixel.len());
+    for (q, e) in per_pixel {
+        queries.extend(q);
+        emitted.push(e);
+    }
+    (queries, emitted)
+}
+
+/// Photon positions as the gather backends take them.
+pub fn photon_points(photons: &[Photon]) -> Vec<Point> {
+    photons
+        .iter()
+        .map(|p| p.pos.as_dvec3().to_array())
+        .collect()
+}
+
+/// Query positions as the gather backends take them.
+pub fn query_points(queries: &[QueryPoint]) -> Vec<Point> {
+    queries
+        .iter()
+        .map(|q| q.pos.as_dvec3().to_array())
+        .collect()
+}
+
+/// Reflected radiance at each query from its gathered photons (Jensen's density
+/// estimate): L = albedo/π · Σ Φ_p / A, where A is the area of the gather region on
+/// the surface.
+///
+/// The region's radius is the farthest gathered photon's distance when all `k` were
+/// found (the search shrank to exactly that), else `radius` when the search was
+/// bounded (the region searched is the full disk even though it held fewer
+/// photons), else the farthest distance. For `Metric::L2` the region cut by a plane
+/// is a disk, A = πr². For `Metric::L1` the region is an octahedron, whose section
+/// by an axis-aligned plane through its centre is a diamond of area 2r²: exact for
+/// axis-aligned surfaces such as the Cornell box's walls. Tilted planes cut a
+/// smaller section (down to the regular hexagon of area (3√3/4)·r² ≈ 1.30·r² for
+/// the normal (1,1,1)/√3), so there the L1 estimate is biased dark by up to 35%;
+/// our default scene has diffuse material only on axis-aligned quads.
+///
+/// Only photons arriving from the query's side count (dot(dir, normal) < 0): photons
+/// hitting the other face of a thin wall, or another surface behind, must not leak
+/// through. Power is summed in the neighbours' canonical order, so equal gathers
+/// give bit-equal radiance.
+pub fn radiance(
+    queries: &[QueryPoint],
+    photons: &[Photon],
+    gathered: &[Gathered],
+    k: usize,
+    radius: Option<f64>,
+    metric: Metric,
+) -> Vec<Vec3> {
+    assert_eq!(queries.len(), gathered.len(), "one gather result per query");
+    queries
+        .par_iter()
+        .zip(gathered)
+        .map(|(q, g)| {
+            let Some(farthest) = g.neighbours.last().map(|n| n.distance) else {
+                return Vec3::ZERO;
+            };
+            let r = match radius {
+                Some(r) if g.neighbours.len() < k => r,
+                _ => farthest,
+            };
+            if r.is_nan() || r <= 0.0 {
+                return Vec3::ZERO;
+            }
+            let area = match metric {
+                Metric::L2 => std::f64::consts::PI * r * r,
+                Metric::L1 => 2.0 * r * r,
+            };
+            let mut flux = Vec3::ZERO;
+            for n in &g.neighbours {
+                let p = &photons[n.photon as usize];
+                if p.dir.dot(q.normal) < 0.0 {
+                    flux += p.power;
+                }
+            }
+            q.albedo * flux * (std::f32::consts::FRAC_1_PI / area as f32)
+        })
+        .collect()
+}
+
+/// Accumulate weighted query radiance and direct emission per pixel, apply
+/// exposure, clamp, and encode with gamma 2.2 into 8-bit RGB.
+pub fn resolve(
+    width: u32,
+    height: u32,
+    queries: &[QueryPoint],
+    radiance: &[Vec3],
+    emitted: &[Vec3],
+    exposure: f32,
+) -> image::RgbImage {
+    let pixels = (width * height) as usize;
+    assert_eq!(emitted.len(), pixels, "one emitted value per pixel");
+    assert_eq!(queries.len(), radiance.len(), "one radiance per query");
+    let mut sum = emitted.to_vec();
+    // Sequential, in query order: a pixel's sum has a fixed order of additions.
+    for (q, l) in queries.iter().zip(radiance) {
+        sum[q.pixel as usize] += q.weight * *l;
+    }
+    let encode = |c: f32| {
+        let v = (c * exposure).clamp(0.0, 1.0).powf(1.0 / 2.2);
+        (v * 255.0 + 0.5) as u8
+    };
+    image::RgbImage::from_fn(width, height, |x, y| {
+        let c = sum[(y * width + x) as usize];
+        image::Rgb([encode(c.x), encode(c.y), encode(c.z)])
+    })
+}
+
+/// The whole eye pass for a photon map already loaded into `backend`: queries,
+/// gathers, radiance, image. `k`, `radius`, `metric` must be what the backend was
+/// built with.
+pub fn render_image(
+    scene: &Scene,
+    settings: &RenderSettings,
+    photons: &[Photon],
+    backend: &dyn GatherBackend,
+    k: usize,
+    radius: Option<f64>,
+    metric: Metric,
+) -> Result<image::RgbImage> {
+    let (queries, emitted) = eye_queries(scene, settings);
+    let gathered = backend.gather(&query_points(&queries))?;
+    let radiance = radiance(&queries, photons, &gathered, k, radius, metric);
+    Ok(resolve(
+        settings.width,
+        settings.height,
+        &queries,
+        &radiance,
+        &emitted,
+        settings.exposure,
+    ))
+}
+
+/// Write a PNG atomically: encode to `<path>.tmp` in the same directory, then rename
+/// over `path`, so a reader never sees a half-written image.
+pub fn save_png(img: &image::RgbImage, path: impl AsRef<Path>) -> Result<()> {
+    let path = path.as_ref();
+    let mut tmp_name = path.as_os_str().to_owned();
+    tmp_name.push(".tmp");
+    let tmp = Path::new(&tmp_name);
+    let written = img
+        .save_with_format(tmp, image::ImageFormat::Png)
+        .map_err(|e| e.to_string())
+        .and_then(|()| std::fs::rename(tmp, path).map_err(|e| e.to_string()));
+    written.map_err(|e| {
+        let _ = std::fs::remove_file(tmp);
+        Error::new(format!("cannot write image {}: {e}", path.display()))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::host::gather::{FloatBackend, GatherParams, Neighbour, SwBackend};
+    use crate::host::photons::trace_photons;
+    use crate::host::scene::Scene;
+
+    /// Photons on a square grid of spacing `h` over [-1, 1]² in the plane z = 0,
+    /// each of power `phi`, arriving from +z.
+    fn photon_grid(h: f32, phi: Vec3) -> Vec<Photon> {
+        let n = (2.0 / h).round() as i32;
+        let mut v = Vec::new();
+        for i in 0..=n {
+            for j in 0..=n {
+                v.push(Photon {
+                    pos: Vec3::new(-1.0 + i as f32 * h, -1.0 + j as f32 * h, 0.0),
+                    power: phi,
+                    dir: Vec3::new(0.3, 0.0, -1.0).normalize(),
+                });
+            }
+        }
+        v
+    }
+
+    fn plane_queries() -> Vec<QueryPoint> {
+        // Off-grid positions away from the grid's border.
+        [(0.0031, 0.0047), (0.25, -0.33), (-0.5, 0.123)]
+            .iter()
+            .enumerate()
+            .map(|(i, &(x, y))| QueryPoint {
+                pixel: i as u32,
+                pos: Vec3::new(x, y, 0.0),
+                normal: Vec3::Z,
+                albedo: Vec3::new(0.8, 0.5, 0.2),
+                weight: Vec3::ONE,
+            })
+            .collect()
+    }
+
+    /// Radiance of a Lambertian plane under uniform irradiance E = Φ/h²:
+    /// L = albedo · E / π.
+    fn analytic(q: &QueryPoint, h: f32, phi: Vec3) -> Vec3 {
+        q.albedo * phi / (h * h) / std::f32::consts::PI
+    }
+
+    fn assert_close(got: Vec3, want: Vec3, tol: f32) {
+        let rel = ((got - want) / want).abs().max_element();
+        assert!(rel < tol, "got {got}, want {want} (rel error {rel})");
+    }
+
+    fn check_uniform_plane(backend_kind: &str, metric: Metric) {
+        let (h, phi) = (0.01, Vec3::new(1e-4, 2e-4, 3e-4));
+        let photons = photon_grid(h, phi);
+        let queries = plane_queries();
+        let params = GatherParams {
+            k: 400,
+            metric,
+            ..GatherParams::default()
+        };
+        let points = photon_points(&photons);
+        let backend: Box<dyn GatherBackend> = match backend_kind {
+            "float" => Box::new(FloatBackend::new(&points, &params).unwrap()),
+            _ => Box::new(SwBackend::new(&points, &params).unwrap()),
+        };
+        let gathered = backend.gather(&query_points(&queries)).unwrap();
+        let l = radiance(&queries, &photons, &gathered, params.k, None, metric);
+        for (q, got) in queries.iter().zip(l) {
+            assert_close(got, analytic(q, h, phi), 0.04);
+        }
+    }
+
+    #[test]
+    fn uniform_plane_radiance_l2_float() {
+        check_uniform_plane("float", Metric::L2);
+    }
+
+    #[test]
+    fn uniform_plane_radiance_l2_quantized() {
+        check_uniform_plane("sw", Metric::L2);
+    }
+
+    #[test]
+    fn uniform_plane_radiance_l1_diamond() {
+        check_uniform_plane("float", Metric::L1);
+    }
+
+    #[test]
+    fn photons_from_behind_are_ignored() {
+        // Interleave a second grid arriving from −z (the back face): the k nearest
+        // are half front, half back photons; counting only the front half over the
+        // same disk gives the front grid's irradiance again. Counting both would
+        // double it.
+        let (h, phi) = (0.01, Vec3::splat(1e-4));
+        let mut photons = photon_grid(h, phi);
+        let back: Vec<Photon> = photons
+            .iter()
+            .map(|p| Photon {
+                pos: p.pos + Vec3::new(0.5 * h, 0.5 * h, 0.0),
+                dir: Vec3::Z,
+                ..*p
+            })
+            .collect();
+        photons.extend(back);
+        let queries = plane_queries();
+        let params = GatherParams {
+            k: 800,
+            ..GatherParams::default()
+        };
+        let backend = FloatBackend::new(&photon_points(&photons), &params).unwrap();
+        let gathered = backend.gather(&query_points(&queries)).unwrap();
+        let l = radiance(&queries, &photons, &gathered, params.k, None, Metric::L2);
+        for (q, got) in queries.iter().zip(l) {
+            assert_close(got, analytic(q, h, phi), 0.04);
+        }
+    }
+
+    #[test]
+    fn bounded_radius_with_few_photons_uses_the_radius() {
+        // k larger than what the radius holds: the estimate divides by the search
+        // disk π·R², not by the farthest photon's disk.
+        let (h, phi) = (0.01, Vec3::splat(1e-4));
+        let photons = photon_grid(h, phi);
+        let queries = plane_queries();
+        let params = GatherParams {
+            k: 100_000,
+            radius: Some(0.1),
+            ..GatherParams::default()
+        };
+        let backend = FloatBackend::new(&photon_points(&photons), &params).unwrap();
+        let gathered = backend.gather(&query_points(&queries)).unwrap();
+        assert!(gathered.iter().all(|g| g.neighbours.len() < params.k));
+        let l = radiance(
+            &queries,
+            &photons,
+            &gathered,
+            params.k,
+            Some(0.1),
+            Metric::L2,
+        );
+        for (q, got) in queries.iter().zip(l) {
+            assert_close(got, analytic(q, h, phi), 0.03);
+        }
+    }
+
+    #[test]
+    fn empty_or_zero_radius_gathers_give_black() {
+        let photons = photon_grid(0.5, Vec3::ONE);
+        let queries = plane_queries();
+        let gathered = vec![
+            Gathered::default(),
+            Gathered {
+                neighbours: vec![Neighbour {
+                    photon: 0,
+                    distance: 0.0,
+                }],
+                visited: 1,
+            },
+            Gathered::default(),
+        ];
+        let l = radiance(&queries, &photons, &gathered, 1, None, Metric::L2);
+        assert!(l.iter().all(|c| *c == Vec3::ZERO));
+    }
+
+    #[test]
+    fn resolve_accumulates_weights_and_encodes_gamma() {
+        let q = |pixel, w: f32| QueryPoint {
+            pixel,
+            pos: Vec3::ZERO,
+            normal: Vec3::Z,
+            albedo: Vec3::ONE,
+            weight: Vec3::splat(w),
+        };
+        let queries = [q(0, 0.5), q(0, 0.5), q(1, 0.25)];
+        let rad = [
+            Vec3::new(0.2, 0.0, 4.0),
+            Vec3::new(0.2, 0.0, 0.0),
+            Vec3::ONE,
+        ];
+        let emitted = [Vec3::ZERO, Vec3::new(0.0, 0.5, 0.0)];
+        let img = resolve(2, 1, &queries, &rad, &emitted, 2.0);
+        // Pixel 0: red 0.2·2 = 0.4 → 0.4^(1/2.2) = 0.6589 → 168; blue 2·2 clamps.
+        assert_eq!(img.get_pixel(0, 0).0, [168, 0, 255]);
+        // Pixel 1: 0.25·2 = 0.5 → 0.7297 → 186; green adds emission 0.5 → 1.0.
+        assert_eq!(img.get_pixel(1, 0).0, [186, 255, 186]);
+    }
+
+    #[test]
+    fn eye_queries_are_thread_count_independent() {
+        let scene = Scene::cornell_box();
+        let settings = RenderSettings {
+            width: 40,
+            height: 30,
+            spp: 3,
+            ..RenderSettings::default()
+        };
+        let run = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| eye_queries(&scene, &settings))
+        };
+        let (q1, e1) = run(1);
+        let (q2, e2) = run(2);
+        assert_eq!(q1, q2);
+        assert_eq!(e1, e2);
+        // Pixel order, at most spp queries per pixel, normals face the camera side.
+        assert!(q1.windows(2).all(|w| w[0].pixel <= w[1].pixel));
+        assert!(q1.len() <= (40 * 30 * 3) as usize && q1.len() > 40 * 30);
+        // The light is visible from the camera at the top of the image.
+        assert!(e1.iter().any(|e| e.max_element() > 0.0));
+    }
+
+    #[test]
+    fn save_png_is_atomic_and_reports_path() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.png");
+        let img = image::RgbImage::from_pixel(3, 2, image::Rgb([10, 20, 30]));
+        save_png(&img, &path).unwrap();
+        let back = image::open(&path).unwrap().to_rgb8();
+        assert_eq!(back, img);
+        assert!(!dir.path().join("out.png.tmp").exists());
+        let bad = dir.path().join("missing-dir").join("x.png");
+        let err = save_png(&img, &bad).unwrap_err().to_string();
+        assert!(err.contains(&bad.display().to_string()), "{err}");
+    }
+
+    /// Render the default Cornell box as the CLI would (200k photons, k = 100 via
+    /// the quantized software backend, 10 bits, 256², 4 spp) and save it for
+    /// inspection. `cargo test --release --lib render_default -- --ignored
+    /// --nocapture`; writes $RENDER_OUT or <tmp>/photon-fpga-cornell.png.
+    #[test]
+    #[ignore]
+    fn render_default_cornell_box() {
+        let scene = Scene::cornell_box();
+        let settings = RenderSettings::default();
+        let params = GatherParams {
+            k: 100,
+            bits: 10,
+            ..GatherParams::default()
+        };
+        let t0 = std::time::Instant::now();
+        let photons = trace_photons(&scene, 200_000, settings.seed, true);
+        let t1 = std::time::Instant::now();
+        let backend = SwBackend::new(&photon_points(&photons), &params).unwrap();
+        let t2 = std::time::Instant::now();
+        let img = render_image(
+            &scene,
+            &settings,
+            &photons,
+            &backend,
+            params.k,
+            params.radius,
+            params.metric,
+        )
+        .unwrap();
+        let t3 = std::time::Instant::now();
+        let out = std::env::var("RENDER_OUT").unwrap_or_else(|_| {
+            std::env::temp_dir()
+                .join("photon-fpga-cornell.png")
+                .display()
+                .to_string()
+        });
+        save_png(&img, &out).unwrap();
+        // A 3x enlargement for looking at noise and the caustic up close.
+        let big = image::imageops::resize(
+            &img,
+            img.width() * 3,
+            img.height() * 3,
+            image::imageops::FilterType::Nearest,
+        );
+        save_png(&big, format!("{out}.x3.png")).unwrap();
+        // Mean 8-bit colour of a few regions (fractions of the image), to judge
+        // exposure numerically as well as by eye.
+        let mean = |x0: f32, y0: f32, x1: f32, y1: f32| {
+            let (w, h) = (img.width() as f32, img.height() as f32);
+            let mut sum = [0u32; 3];
+            let mut n = 0;
+            for y in (y0 * h) as u32..(y1 * h) as u32 {
+                for x in (x0 * w) as u32..(x1 * w) as u32 {
+                    for (s, c) in sum.iter_mut().zip(img.get_pixel(x, y).0) {
+                        *s += c as u32;
+                    }
+                    n += 1;
+                }
+            }
+            sum.map(|s| s / n)
+        };
+        println!(
+            "back wall {:?}, left {:?}, right {:?}, floor centre {:?}",
+            mean(0.4, 0.25, 0.6, 0.45),
+            mean(0.03, 0.3, 0.1, 0.5),
+            mean(0.9, 0.3, 0.97, 0.5),
+            mean(0.4, 0.85, 0.55, 0.95)
+        );
+        println!(
+            "{} photons stored; trace {:.2?}, tree {:.2?}, eye+gather+shade {:.2?}; wrote {out}",
+            photons.len(),
+            t1 - t0,
+            t2 - t1,
+            t3 - t2
+        );
+    }
+}
