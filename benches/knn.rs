@@ -11,6 +11,10 @@ use kiddo::float::distance::SquaredEuclidean;
 use kiddo::immutable::float::kdtree::ImmutableKdTree;
 use photon_fpga::host::kdtree::{KdTree, PackedTree};
 use photon_fpga::host::knn::search;
+use photon_fpga::host::photons::trace_photons;
+use photon_fpga::host::quantize::Quantizer;
+use photon_fpga::host::render::{self, eye_queries, RenderSettings};
+use photon_fpga::host::scene::Scene;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
 use rand::{Rng, SeedableRng};
@@ -54,6 +58,29 @@ fn paper_workload() -> Workload {
     workload("paper-1023", &points, PhotonLayout::paper(), queries)
 }
 
+/// 200K photons of the built-in Cornell box, queried at the renderer's eye-ray hits.
+fn cornell_workload() -> Workload {
+    let scene = Scene::cornell_box();
+    let mut photons = trace_photons(&scene, 110_000, 1, false);
+    photons.truncate(200_000);
+    assert_eq!(photons.len(), 200_000, "emit more photons");
+    let points = render::photon_points(&photons);
+    let quant = Quantizer::from_points(&points, 10).unwrap();
+    let grid: Vec<[u32; 3]> = points.iter().map(|&p| quant.quantize(p)).collect();
+    let settings = RenderSettings {
+        width: 64,
+        height: 64,
+        spp: 1,
+        ..RenderSettings::default()
+    };
+    let (queries, _) = eye_queries(&scene, &settings);
+    let queries = render::query_points(&queries)
+        .into_iter()
+        .map(|q| quant.quantize(q))
+        .collect();
+    workload("cornell-200k", &grid, quant.layout, queries)
+}
+
 fn run(c: &mut Criterion, w: &Workload, ks: &[usize]) {
     let mut g = c.benchmark_group(&w.name);
     g.sample_size(10);
@@ -93,6 +120,7 @@ fn run(c: &mut Criterion, w: &Workload, ks: &[usize]) {
 
 fn benches(c: &mut Criterion) {
     run(c, &paper_workload(), &[10]);
+    run(c, &cornell_workload(), &[10, 50, 100, 500]);
 }
 
 criterion_group!(knn, benches);

@@ -6,7 +6,6 @@ use photon_fpga::host::csvio;
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::gather::{make_backend, BackendKind, GatherParams, DEFAULT_CAPACITY};
 use photon_fpga::host::photons;
-use photon_fpga::host::quantize::Point;
 use photon_fpga::host::render::{self, RenderSettings};
 use photon_fpga::host::scene::Scene;
 use photon_fpga::host::stages::StageTimes;
@@ -159,14 +158,30 @@ fn render(args: &RenderArgs) -> Result<()> {
     if photons.is_empty() {
         return Err(Error::new("no photon reached a diffuse surface"));
     }
-    let positions: Vec<Point> = photons.iter().map(|p| p.pos.as_dvec3().to_array()).collect();
-    let backend = t.time("kd-tree build", || make_backend(args.opts.backend, &positions, &[], &params))?;
+    let positions = render::photon_points(&photons);
+    let backend = t.time("kd-tree build", || {
+        make_backend(args.opts.backend, &positions, &[], &params)
+    })?;
     let (queries, emitted) = t.time("ray emission", || render::eye_queries(&scene, &settings));
-    let qpos: Vec<Point> = queries.iter().map(|q| q.pos.as_dvec3().to_array()).collect();
+    let qpos = render::query_points(&queries);
     let gathered = t.time("kd-tree search", || backend.gather(&qpos))?;
     t.time("other", || {
-        let radiance = render::radiance(&queries, &photons, &gathered, params.k, params.radius, params.metric);
-        let img = render::resolve(settings.width, settings.height, &queries, &radiance, &emitted, settings.exposure);
+        let radiance = render::radiance(
+            &queries,
+            &photons,
+            &gathered,
+            params.k,
+            params.radius,
+            params.metric,
+        );
+        let img = render::resolve(
+            settings.width,
+            settings.height,
+            &queries,
+            &radiance,
+            &emitted,
+            settings.exposure,
+        );
         render::save_png(&img, &args.out)
     })?;
     let visited: u64 = gathered.iter().map(|g| g.visited as u64).sum();
