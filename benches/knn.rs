@@ -7,8 +7,8 @@
 //! time).
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use kiddo::float::distance::SquaredEuclidean;
 use kiddo::immutable::float::kdtree::ImmutableKdTree;
+use kiddo::SquaredEuclidean;
 use photon_fpga::host::kdtree::{KdTree, PackedTree};
 use photon_fpga::host::knn::search;
 use photon_fpga::host::photons::trace_photons;
@@ -107,10 +107,11 @@ fn run(c: &mut Criterion, w: &Workload, ks: &[usize]) {
             })
         });
         let fq: Vec<[f64; 3]> = w.queries.iter().map(|q| q.map(|c| c as f64)).collect();
-        g.bench_with_input(BenchmarkId::new("kiddo", k), &k, |b, &k| {
+        let kq = std::num::NonZero::new(k).unwrap();
+        g.bench_with_input(BenchmarkId::new("kiddo", k), &k, |b, _| {
             b.iter(|| {
                 for q in &fq {
-                    black_box(w.kiddo.nearest_n::<SquaredEuclidean>(q, k));
+                    black_box(w.kiddo.nearest_n::<SquaredEuclidean>(q, kq));
                 }
             })
         });
