@@ -31,7 +31,7 @@ enum Cmd {
 /// Options every gather shares.
 #[derive(Args, Clone, Debug)]
 struct GatherOpts {
-    /// Photons gathered per query [default: 10 for gather, 100 for render].
+    /// Photons gathered per query [default: 10 for gather, 32 for render: the core's largest found list].
     #[arg(long)]
     k: Option<usize>,
     /// Upper search radius in world units (inclusive); unbounded if absent.
@@ -132,7 +132,7 @@ impl Default for RenderArgs {
 fn render(args: &RenderArgs) -> Result<()> {
     set_threads(args.opts.threads)?;
     // A radiance estimate wants more photons than a plain gather.
-    let params = args.opts.params(100);
+    let params = args.opts.params(32);
     params.validate(1)?;
     if args.photons == 0 {
         return Err(Error::new("--photons must be at least 1, got 0"));
