@@ -77,7 +77,11 @@ impl PhotonLayout {
     /// Unpack a word into its coordinates and split axis.
     pub fn unpack(&self, word: u64) -> ([u32; 3], u8) {
         (
-            [self.coord(word, 0), self.coord(word, 1), self.coord(word, 2)],
+            [
+                self.coord(word, 0),
+                self.coord(word, 1),
+                self.coord(word, 2),
+            ],
             self.axis(word),
         )
     }
