@@ -89,7 +89,7 @@ fn dist_extremes_and_range_test() {
                 uut.radius.next = radius.into();
                 uut.full.next = full;
                 settle(&mut uut);
-                assert_eq!(uut.dist.val().to_u64(), d, "{metric} q={q:?} p={p:?}");
+                assert_eq!(uut.distance.val().to_u64(), d, "{metric} q={q:?} p={p:?}");
                 let expect = if full { d < radius } else { d <= radius };
                 assert_eq!(uut.in_range.val(), expect);
             }
@@ -102,7 +102,7 @@ fn dist_extremes_and_range_test() {
             uut.photon_y.next = m.into();
             uut.photon_z.next = m.into();
             settle(&mut uut);
-            assert_eq!(uut.dist.val().to_u64(), metric.max_dist([bits; 3]));
+            assert_eq!(uut.distance.val().to_u64(), metric.max_dist([bits; 3]));
         }
     }
 }

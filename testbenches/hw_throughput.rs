@@ -46,16 +46,26 @@ fn throughput(metric: Metric, photons: usize, queries: usize, seed: u64) {
         "  visited/query hw {:.2} sw {:.2}; reads/port/cycle overall {:?}",
         hw_visited as f64 / queries as f64,
         sw_visited as f64 / queries as f64,
-        stats.reads_per_port.iter().map(|&x| x as f64 / stats.cycles as f64).collect::<Vec<_>>()
+        stats
+            .reads_per_port
+            .iter()
+            .map(|&x| x as f64 / stats.cycles as f64)
+            .collect::<Vec<_>>()
     );
     let busy: Vec<f64> = stats
         .busy_reads_per_port
         .iter()
         .map(|&x| x as f64 / stats.busy_cycles as f64)
         .collect();
-    println!("  busy cycles {} reads/port/cycle while all busy {busy:?}", stats.busy_cycles);
+    println!(
+        "  busy cycles {} reads/port/cycle while all busy {busy:?}",
+        stats.busy_cycles
+    );
     assert_eq!(hw_visited, sw_visited);
-    assert!(stats.busy_cycles as f64 > 0.5 * stats.cycles as f64, "the stream keeps the core busy");
+    assert!(
+        stats.busy_cycles as f64 > 0.5 * stats.cycles as f64,
+        "the stream keeps the core busy"
+    );
     for b in busy {
         assert!(b >= 0.95, "reads per port per cycle {b} < 0.95");
     }

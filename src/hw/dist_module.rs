@@ -20,7 +20,7 @@ pub struct DistModule {
     /// The requesting QueryModule's current radius R and its list-full flag.
     pub radius: Signal<In, Dist>,
     pub full: Signal<In, bool>,
-    pub dist: Signal<Out, Dist>,
+    pub distance: Signal<Out, Dist>,
     pub in_range: Signal<Out, bool>,
     metric_is_l2: Constant<bool>,
     delta_x: Signal<Local, Coord>,
@@ -42,7 +42,7 @@ impl DistModule {
             photon_z: Default::default(),
             radius: Default::default(),
             full: Default::default(),
-            dist: Default::default(),
+            distance: Default::default(),
             in_range: Default::default(),
             metric_is_l2: Constant::new(metric == Metric::L2),
             delta_x: Default::default(),
@@ -83,11 +83,11 @@ impl Logic for DistModule {
             self.term_z.next = bit_cast::<32, 16>(self.delta_z.val());
         }
         // CoreConfig::validate guarantees the sum fits the distance width.
-        self.dist.next = self.term_x.val() + self.term_y.val() + self.term_z.val();
+        self.distance.next = self.term_x.val() + self.term_y.val() + self.term_z.val();
         if self.full.val() {
-            self.in_range.next = self.dist.val() < self.radius.val();
+            self.in_range.next = self.distance.val() < self.radius.val();
         } else {
-            self.in_range.next = self.dist.val() <= self.radius.val();
+            self.in_range.next = self.distance.val() <= self.radius.val();
         }
     }
 }

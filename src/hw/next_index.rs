@@ -2,12 +2,12 @@
 //! State = (address, up/down, came-from bit). With `near` = the right child iff
 //! q[a] >= p[a] and children at 2i / 2i+1 existing iff their address <= N:
 //! * down: go to the near child if it exists, else to the far child if it exists and
-//!   the axis distance is within R, else up;
+//!   the axis distance is within_radius R, else up;
 //! * up (re-read of a parent): go down into the far child if we came from the near
-//!   child, it exists and the axis distance is within R, else up;
+//!   child, it exists and the axis distance is within_radius R, else up;
 //! * up from the root is the end of the search.
 //!
-//! `within` is `ad < R` once the found list is full and `ad <= R` before (the initial
+//! `within_radius` is `ad < R` once the found list is full and `ad <= R` before (the initial
 //! radius is inclusive), with R as it was when the photon was read.
 
 use crate::hw::config::{Addr, Dist};
@@ -34,7 +34,7 @@ pub struct NextIndexModule {
     pub done: Signal<Out, bool>,
     near_child: Signal<Local, Addr>,
     far_child: Signal<Local, Addr>,
-    within: Signal<Local, bool>,
+    within_radius: Signal<Local, bool>,
     go_far: Signal<Local, bool>,
 }
 
@@ -49,20 +49,20 @@ impl Logic for NextIndexModule {
             self.far_child.next = (self.address.val() << 1) + 1;
         }
         if self.full.val() {
-            self.within.next = self.axis_dist.val() < self.radius.val();
+            self.within_radius.next = self.axis_dist.val() < self.radius.val();
         } else {
-            self.within.next = self.axis_dist.val() <= self.radius.val();
+            self.within_radius.next = self.axis_dist.val() <= self.radius.val();
         }
         // The far subtree is entered on the way down when there is no near child,
         // or on the way back up from the near child.
         if self.up.val() {
             self.go_far.next = (self.came_from_right.val() == self.near_right.val())
                 && (self.far_child.val() <= self.photon_count.val())
-                && self.within.val();
+                && self.within_radius.val();
         } else {
             self.go_far.next = (self.near_child.val() > self.photon_count.val())
                 && (self.far_child.val() <= self.photon_count.val())
-                && self.within.val();
+                && self.within_radius.val();
         }
         self.done.next = false;
         self.next_up.next = false;

@@ -65,7 +65,7 @@ pub struct QueryModule {
     pub result_done: Signal<In, bool>,
     // Result read-out.
     pub finished: Signal<Out, bool>,
-    pub release: Signal<In, bool>,
+    pub result_taken: Signal<In, bool>,
     pub out_slot: Signal<In, SlotMask>,
     pub out_id: Signal<Out, QueryId>,
     pub out_count: Signal<Out, Count>,
@@ -135,7 +135,7 @@ impl QueryModule {
             result_next_came_from_right: Default::default(),
             result_done: Default::default(),
             finished: Default::default(),
-            release: Default::default(),
+            result_taken: Default::default(),
             out_slot: Default::default(),
             out_id: Default::default(),
             out_count: Default::default(),
@@ -292,7 +292,7 @@ impl Logic for QueryModule {
                 }
             }
             QueryState::Done => {
-                if self.release.val() {
+                if self.result_taken.val() {
                     self.state.d.next = QueryState::Idle;
                 }
             }

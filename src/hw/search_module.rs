@@ -42,7 +42,7 @@ pub struct SearchModule {
     pub result_next_came_from_right: Signal<Out, bool>,
     pub result_done: Signal<Out, bool>,
     axis_dist: AxisDistModule,
-    dist: DistModule,
+    dist_module: DistModule,
     next_index: NextIndexModule,
     // Word layout (PhotonLayout) as elaboration-time constants.
     offset_x: Constant<Bits<8>>,
@@ -119,7 +119,7 @@ impl SearchModule {
             result_next_came_from_right: Default::default(),
             result_done: Default::default(),
             axis_dist: AxisDistModule::new(cfg.metric),
-            dist: DistModule::new(cfg.metric),
+            dist_module: DistModule::new(cfg.metric),
             next_index: Default::default(),
             offset_x: offset(l.offset(0)),
             offset_y: offset(l.offset(1)),
@@ -229,14 +229,14 @@ impl Logic for SearchModule {
         self.axis_dist.photon_z.next = self.photon_z.val();
         self.axis_dist.axis.next =
             bit_cast::<2, 32>((self.word.val() >> self.offset_axis.val()) & 3);
-        self.dist.query_x.next = self.s0_x.q.val();
-        self.dist.query_y.next = self.s0_y.q.val();
-        self.dist.query_z.next = self.s0_z.q.val();
-        self.dist.photon_x.next = self.photon_x.val();
-        self.dist.photon_y.next = self.photon_y.val();
-        self.dist.photon_z.next = self.photon_z.val();
-        self.dist.radius.next = self.s0_radius.q.val();
-        self.dist.full.next = self.s0_full.q.val();
+        self.dist_module.query_x.next = self.s0_x.q.val();
+        self.dist_module.query_y.next = self.s0_y.q.val();
+        self.dist_module.query_z.next = self.s0_z.q.val();
+        self.dist_module.photon_x.next = self.photon_x.val();
+        self.dist_module.photon_y.next = self.photon_y.val();
+        self.dist_module.photon_z.next = self.photon_z.val();
+        self.dist_module.radius.next = self.s0_radius.q.val();
+        self.dist_module.full.next = self.s0_full.q.val();
         self.s1_valid.d.next = self.s0_valid.q.val();
         self.s1_module.d.next = self.s0_module.q.val();
         self.s1_address.d.next = self.s0_address.q.val();
@@ -246,8 +246,8 @@ impl Logic for SearchModule {
         self.s1_full.d.next = self.s0_full.q.val();
         self.s1_axis_dist.d.next = self.axis_dist.axis_dist.val();
         self.s1_near_right.d.next = self.axis_dist.near_right.val();
-        self.s1_dist.d.next = self.dist.dist.val();
-        self.s1_in_range.d.next = self.dist.in_range.val();
+        self.s1_dist.d.next = self.dist_module.distance.val();
+        self.s1_in_range.d.next = self.dist_module.in_range.val();
 
         // Stage 2: the next traversal step.
         self.next_index.address.next = self.s1_address.q.val();

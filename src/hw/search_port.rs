@@ -216,7 +216,7 @@ impl Logic for SearchPort {
         }
         // The last beat frees the selected module.
         for i in 0..self.modules.len() {
-            self.modules[i].release.next = self.result_fire.val()
+            self.modules[i].result_taken.next = self.result_fire.val()
                 && self.result_last.val()
                 && self.out_select.q.val().get_bit(i);
         }
