@@ -1,0 +1,195 @@
+//! `CoreConfig`: the elaboration-time parameters of the photon-search core (paper §4,
+//! §5) and the fixed maximum widths of its datapath.
+//!
+//! rust-hdl's `Bits<N>` needs a constant width and stable Rust has no generic const
+//! expressions, so the datapath types below have fixed *maximum* widths and the actual
+//! widths (coordinate fields, split-axis offset, address bits, K, Q, metric) are
+//! elaboration-time constants (`Constant<>` fields, `Vec` lengths, the TreeModule's
+//! generated Verilog text). Every type is kept <= 32 bits because rust-hdl simulates
+//! wider `Bits` much more slowly; the limits that follow from that are checked by
+//! [`CoreConfig::validate`], which returns an error instead of panicking.
+
+use crate::host::error::Error;
+use crate::host::kdtree::PackedTree;
+use crate::hw::metric::Metric;
+use crate::hw::photon_word::PhotonLayout;
+use rust_hdl::prelude::Bits;
+
+/// Widest photon word the TreeModule port carries (paper: 30 coordinate bits + 2-bit axis).
+pub const MAX_WORD_BITS: u32 = 32;
+/// Widest coordinate per axis: 15 bits keeps the squared-L2 distance of the widest
+/// axis within the 32-bit distance path (the multiplier is rust-hdl's 16x16->32).
+pub const MAX_COORD_BITS: u32 = 15;
+/// Widest distance (in the configured metric).
+pub const MAX_DIST_BITS: u32 = 32;
+/// Tree height H limit: 2^20 photon words (the host's default capacity, 2^20 - 1).
+pub const MAX_ADDRESS_BITS: u32 = 20;
+/// Found-list depth limit (one bit per entry in a 32-bit MaxFinder row).
+pub const MAX_K: usize = 32;
+/// QueryModules per port limit (one bit per module in the 32-bit arbiter masks).
+pub const MAX_QUERIES_PER_PORT: usize = 32;
+/// TreeModule ports = SearchModules (paper §4.5: both BlockRAM ports are used).
+pub const PORTS: usize = 2;
+
+/// Photon word as carried on a TreeModule port.
+pub type Word = Bits<32>;
+/// One coordinate (16 bits so that the L2 square uses the 16x16->32 multiplier).
+pub type Coord = Bits<16>;
+/// A distance in the configured metric.
+pub type Dist = Bits<32>;
+/// A heap address; 24 bits hold the child address 2i+1 of any i < 2^20.
+pub type Addr = Bits<24>;
+/// One bit per found-list slot (MaxFinder rows, filter, one-hot slot pointers).
+pub type SlotMask = Bits<32>;
+/// One bit per QueryModule of a port (arbiter masks).
+pub type ModuleMask = Bits<32>;
+/// The host's query id, returned with the result.
+pub type QueryId = Bits<32>;
+/// Found-list counts and k (<= 32).
+pub type Count = Bits<8>;
+/// Index of a QueryModule within its port (carried through the SearchModule).
+pub type ModuleIndex = Bits<8>;
+/// Photons read by one query.
+pub type ReadCount = Bits<32>;
+
+/// Elaboration-time parameters of one core.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CoreConfig {
+    /// Per-axis coordinate widths and the packed word layout.
+    pub layout: PhotonLayout,
+    /// Address bits H: the TreeModule holds 2^H words, addresses 1..2^H-1 usable.
+    pub address_bits: u32,
+    /// Found-list depth K: the largest k a query may ask for.
+    pub k: usize,
+    /// QueryModules sharing each TreeModule port.
+    pub queries_per_port: usize,
+    /// Distance metric of DistModule / AxisDistModule.
+    pub metric: Metric,
+}
+
+impl CoreConfig {
+    /// The paper's core (§4, §5): 10-bit coordinates in a 32-bit word, K = 10, two
+    /// ports. The metric is L1, the paper's 12-bit "absolute distance": with a 12-bit
+    /// distance one QueryModule issues a read every `5 + 12 = 17` cycles here (the
+    /// paper's Verilog needed 21), and Q = 21 per port as in the paper keeps every
+    /// port busy with slack. H = 10 holds the paper's 1023-photon map.
+    pub fn paper() -> Self {
+        CoreConfig {
+            layout: PhotonLayout::paper(),
+            address_bits: 10,
+            k: 10,
+            queries_per_port: 21,
+            metric: Metric::L1,
+        }
+    }
+
+    /// "Model only what the scene needs": the smallest core for `tree` and `k`
+    /// (H = the tree height, the tree's own coordinate widths, K = k) with Q set to
+    /// the issue interval of a QueryModule, so a port reads every cycle when all its
+    /// QueryModules are busy.
+    pub fn for_map(tree: &PackedTree, k: usize, metric: Metric) -> Result<Self, Error> {
+        let mut cfg = CoreConfig {
+            layout: tree.layout,
+            address_bits: tree.address_bits().max(1),
+            k,
+            queries_per_port: 1,
+            metric,
+        };
+        cfg.queries_per_port = cfg.issue_interval().min(MAX_QUERIES_PER_PORT);
+        cfg.validate()?;
+        cfg.check_map(tree)?;
+        Ok(cfg)
+    }
+
+    /// Bits of a distance in this metric and layout.
+    pub fn dist_bits(&self) -> u32 {
+        self.metric.dist_bits(self.layout.bits)
+    }
+
+    /// Largest distance two photons of this layout can have.
+    pub fn max_dist(&self) -> u64 {
+        self.metric.max_dist(self.layout.bits)
+    }
+
+    /// Cycles between two reads of one QueryModule in the worst case (an insertion
+    /// that runs the MaxFinder): grant, BlockRAM read, two SearchModule stages, the
+    /// insertion cycle, one MaxFinder cycle per distance bit, the update of R.
+    pub fn issue_interval(&self) -> usize {
+        5 + self.dist_bits() as usize
+    }
+
+    /// Total QueryModules.
+    pub fn query_modules(&self) -> usize {
+        PORTS * self.queries_per_port
+    }
+
+    /// Photon words the TreeModule holds.
+    pub fn tree_words(&self) -> usize {
+        1 << self.address_bits
+    }
+
+    /// Check every limit of the fixed-width datapath.
+    pub fn validate(&self) -> Result<(), Error> {
+        let b = self.layout.bits;
+        if b.iter().any(|&w| w == 0 || w > MAX_COORD_BITS) {
+            return Err(Error::new(format!(
+                "hardware core: coordinate widths {b:?} unsupported (1..={MAX_COORD_BITS} bits per axis)"
+            )));
+        }
+        if self.layout.word_bits() > MAX_WORD_BITS {
+            return Err(Error::new(format!(
+                "hardware core: photon word of {} bits exceeds the {MAX_WORD_BITS}-bit TreeModule word (coordinate widths {b:?})",
+                self.layout.word_bits()
+            )));
+        }
+        if self.dist_bits() > MAX_DIST_BITS {
+            return Err(Error::new(format!(
+                "hardware core: {} distance needs {} bits, the datapath has {MAX_DIST_BITS}",
+                self.metric,
+                self.dist_bits()
+            )));
+        }
+        if self.address_bits == 0 || self.address_bits > MAX_ADDRESS_BITS {
+            return Err(Error::new(format!(
+                "hardware core: {} address bits unsupported (1..={MAX_ADDRESS_BITS}, at most {} photons)",
+                self.address_bits,
+                (1u64 << MAX_ADDRESS_BITS) - 1
+            )));
+        }
+        if self.k == 0 || self.k > MAX_K {
+            return Err(Error::new(format!(
+                "hardware core: K = {} unsupported (1..={MAX_K})",
+                self.k
+            )));
+        }
+        if self.queries_per_port == 0 || self.queries_per_port > MAX_QUERIES_PER_PORT {
+            return Err(Error::new(format!(
+                "hardware core: {} QueryModules per port unsupported (1..={MAX_QUERIES_PER_PORT})",
+                self.queries_per_port
+            )));
+        }
+        Ok(())
+    }
+
+    /// Check that `tree` fits this core (layout and photon count).
+    pub fn check_map(&self, tree: &PackedTree) -> Result<(), Error> {
+        if tree.layout != self.layout {
+            return Err(Error::new(format!(
+                "hardware core: map layout {:?} differs from the core's {:?}",
+                tree.layout.bits, self.layout.bits
+            )));
+        }
+        if tree.is_empty() {
+            return Err(Error::new("hardware core: empty photon map"));
+        }
+        if tree.len() >= self.tree_words() {
+            return Err(Error::new(format!(
+                "hardware core: {} photons do not fit {} address bits (at most {})",
+                tree.len(),
+                self.address_bits,
+                self.tree_words() - 1
+            )));
+        }
+        Ok(())
+    }
+}

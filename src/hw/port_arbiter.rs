@@ -1,0 +1,41 @@
+//! PortArbiter (paper §4.5): Q QueryModules share one TreeModule port; one read is
+//! granted per cycle, round-robin among the modules requesting. With Q at least the
+//! issue interval of a QueryModule, the port reads a photon every cycle when all of
+//! them are busy.
+//!
+//! Round robin on one-hot masks: requests above the last grant win first, else the
+//! lowest request wraps around; "lowest set bit" is `x & (!x + 1)`.
+
+use crate::hw::config::ModuleMask;
+use rust_hdl::prelude::*;
+
+#[derive(LogicBlock, Default)]
+pub struct PortArbiter {
+    pub clock: Signal<In, Clock>,
+    /// Bit i: QueryModule i requests a read.
+    pub requests: Signal<In, ModuleMask>,
+    /// One-hot grant (zero when nobody requests).
+    pub grant: Signal<Out, ModuleMask>,
+    pub granted: Signal<Out, bool>,
+    last_grant: DFF<ModuleMask>,
+    at_or_below_last: Signal<Local, ModuleMask>,
+    above_last: Signal<Local, ModuleMask>,
+}
+
+impl Logic for PortArbiter {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, last_grant);
+        self.at_or_below_last.next = (self.last_grant.q.val() << 1) - 1;
+        self.above_last.next = self.requests.val() & (!self.at_or_below_last.val());
+        if self.above_last.val().any() {
+            self.grant.next = self.above_last.val() & ((!self.above_last.val()) + 1);
+        } else {
+            self.grant.next = self.requests.val() & ((!self.requests.val()) + 1);
+        }
+        self.granted.next = self.requests.val().any();
+        if self.granted.val() {
+            self.last_grant.d.next = self.grant.val();
+        }
+    }
+}

@@ -1,0 +1,327 @@
+//! QueryModule (paper §4.2): the controller of one query. It holds the query, the
+//! radius R, the full flag, the count, the traversal state, the found-index list and
+//! (inside its MaxFinder, bit-transposed) the found-distance list, K entries each.
+//!
+//! Per photon: request a read (READY), wait for the SearchModule's answer (WAIT),
+//! then insert: while not full, append to slot `count`; when that fills the list, run
+//! the MaxFinder and set R = max, remembering the max slot; once full, a photon in
+//! range (d < R) overwrites the max slot and the MaxFinder runs again (MAX_FIND).
+//! This is knn.rs's `FoundList` step for step, so slots and read counts match.
+
+use crate::hw::config::{
+    Addr, Coord, CoreConfig, Count, Dist, ModuleIndex, QueryId, ReadCount, SlotMask,
+};
+use crate::hw::max_finder::MaxFinder;
+use rust_hdl::prelude::*;
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, LogicState)]
+pub enum QueryState {
+    /// Free: waiting for a query from the dispatcher.
+    Idle,
+    /// Requesting a TreeModule read of `address`.
+    Ready,
+    /// Read granted; waiting for the SearchModule's result.
+    Wait,
+    /// The MaxFinder is computing the new R.
+    MaxFind,
+    /// Search over; the result waits to be streamed out.
+    Done,
+}
+
+#[derive(LogicBlock)]
+pub struct QueryModule {
+    pub clock: Signal<In, Clock>,
+    pub reset: Signal<In, bool>,
+    // Query load from the dispatcher (taken when `free`).
+    pub load: Signal<In, bool>,
+    pub load_id: Signal<In, QueryId>,
+    pub load_x: Signal<In, Coord>,
+    pub load_y: Signal<In, Coord>,
+    pub load_z: Signal<In, Coord>,
+    pub load_radius: Signal<In, Dist>,
+    pub load_k: Signal<In, Count>,
+    pub free: Signal<Out, bool>,
+    // Read request to the port arbiter, with what the SearchModule needs.
+    pub read_request: Signal<Out, bool>,
+    pub read_grant: Signal<In, bool>,
+    pub module_index: Signal<Out, ModuleIndex>,
+    pub read_address: Signal<Out, Addr>,
+    pub read_up: Signal<Out, bool>,
+    pub read_came_from_right: Signal<Out, bool>,
+    pub query_x: Signal<Out, Coord>,
+    pub query_y: Signal<Out, Coord>,
+    pub query_z: Signal<Out, Coord>,
+    pub radius: Signal<Out, Dist>,
+    pub full: Signal<Out, bool>,
+    // The SearchModule's result, broadcast to every QueryModule of the port.
+    pub result_valid: Signal<In, bool>,
+    pub result_module: Signal<In, ModuleIndex>,
+    pub result_address: Signal<In, Addr>,
+    pub result_in_range: Signal<In, bool>,
+    pub result_dist: Signal<In, Dist>,
+    pub result_next_address: Signal<In, Addr>,
+    pub result_next_up: Signal<In, bool>,
+    pub result_next_came_from_right: Signal<In, bool>,
+    pub result_done: Signal<In, bool>,
+    // Result read-out.
+    pub finished: Signal<Out, bool>,
+    pub result_taken: Signal<In, bool>,
+    pub out_slot: Signal<In, SlotMask>,
+    pub out_id: Signal<Out, QueryId>,
+    pub out_count: Signal<Out, Count>,
+    pub out_visited: Signal<Out, ReadCount>,
+    pub out_address: Signal<Out, Addr>,
+    pub out_dist: Signal<Out, Dist>,
+    my_index: Constant<ModuleIndex>,
+    state: DFF<QueryState>,
+    query_id: DFF<QueryId>,
+    qx: DFF<Coord>,
+    qy: DFF<Coord>,
+    qz: DFF<Coord>,
+    radius_reg: DFF<Dist>,
+    full_reg: DFF<bool>,
+    k_reg: DFF<Count>,
+    count: DFF<Count>,
+    /// One-hot: the slot the next append goes to (slot `count`).
+    append_slot: DFF<SlotMask>,
+    /// Slots holding a photon.
+    occupied: DFF<SlotMask>,
+    /// One-hot: the slot holding the maximum (valid once full).
+    max_slot: DFF<SlotMask>,
+    address: DFF<Addr>,
+    up: DFF<bool>,
+    came_from_right: DFF<bool>,
+    search_done: DFF<bool>,
+    visited: DFF<ReadCount>,
+    found: Vec<DFF<Addr>>,
+    max_finder: MaxFinder,
+    result_mine: Signal<Local, bool>,
+    insert: Signal<Local, bool>,
+    insert_slot: Signal<Local, SlotMask>,
+}
+
+impl QueryModule {
+    /// QueryModule number `index` of its port.
+    pub fn new(cfg: &CoreConfig, index: usize) -> Self {
+        QueryModule {
+            clock: Default::default(),
+            reset: Default::default(),
+            load: Default::default(),
+            load_id: Default::default(),
+            load_x: Default::default(),
+            load_y: Default::default(),
+            load_z: Default::default(),
+            load_radius: Default::default(),
+            load_k: Default::default(),
+            free: Default::default(),
+            read_request: Default::default(),
+            read_grant: Default::default(),
+            module_index: Default::default(),
+            read_address: Default::default(),
+            read_up: Default::default(),
+            read_came_from_right: Default::default(),
+            query_x: Default::default(),
+            query_y: Default::default(),
+            query_z: Default::default(),
+            radius: Default::default(),
+            full: Default::default(),
+            result_valid: Default::default(),
+            result_module: Default::default(),
+            result_address: Default::default(),
+            result_in_range: Default::default(),
+            result_dist: Default::default(),
+            result_next_address: Default::default(),
+            result_next_up: Default::default(),
+            result_next_came_from_right: Default::default(),
+            result_done: Default::default(),
+            finished: Default::default(),
+            result_taken: Default::default(),
+            out_slot: Default::default(),
+            out_id: Default::default(),
+            out_count: Default::default(),
+            out_visited: Default::default(),
+            out_address: Default::default(),
+            out_dist: Default::default(),
+            my_index: Constant::new(ModuleIndex::from(index as u64)),
+            state: Default::default(),
+            query_id: Default::default(),
+            qx: Default::default(),
+            qy: Default::default(),
+            qz: Default::default(),
+            radius_reg: Default::default(),
+            full_reg: Default::default(),
+            k_reg: Default::default(),
+            count: Default::default(),
+            append_slot: Default::default(),
+            occupied: Default::default(),
+            max_slot: Default::default(),
+            address: Default::default(),
+            up: Default::default(),
+            came_from_right: Default::default(),
+            search_done: Default::default(),
+            visited: Default::default(),
+            found: (0..cfg.k).map(|_| DFF::default()).collect(),
+            max_finder: MaxFinder::new(cfg.dist_bits()),
+            result_mine: Default::default(),
+            insert: Default::default(),
+            insert_slot: Default::default(),
+        }
+    }
+}
+
+impl Logic for QueryModule {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(
+            self,
+            clock,
+            state,
+            query_id,
+            qx,
+            qy,
+            qz,
+            radius_reg,
+            full_reg,
+            k_reg,
+            count,
+            append_slot,
+            occupied,
+            max_slot,
+            address,
+            up,
+            came_from_right,
+            search_done,
+            visited
+        );
+        for i in 0..self.found.len() {
+            self.found[i].clock.next = self.clock.val();
+            self.found[i].d.next = self.found[i].q.val();
+        }
+        self.max_finder.clock.next = self.clock.val();
+        self.max_finder.start.next = false;
+        self.max_finder.candidates.next = self.occupied.q.val();
+        self.max_finder.write_dist.next = self.result_dist.val();
+        self.max_finder.read_slot.next = self.out_slot.val();
+
+        self.result_mine.next =
+            self.result_valid.val() && (self.result_module.val() == self.my_index.val());
+        // A photon enters the list: appended while not full, else into the max slot.
+        self.insert.next = false;
+        if self.state.q.val() == QueryState::Wait {
+            self.insert.next = self.result_mine.val() && self.result_in_range.val();
+        }
+        if self.full_reg.q.val() {
+            self.insert_slot.next = self.max_slot.q.val();
+        } else {
+            self.insert_slot.next = self.append_slot.q.val();
+        }
+        self.max_finder.write_enable.next = self.insert.val();
+        self.max_finder.write_slot.next = self.insert_slot.val();
+        for i in 0..self.found.len() {
+            if self.insert.val() && self.insert_slot.val().get_bit(i) {
+                self.found[i].d.next = self.result_address.val();
+            }
+        }
+
+        match self.state.q.val() {
+            QueryState::Idle => {
+                if self.load.val() {
+                    self.query_id.d.next = self.load_id.val();
+                    self.qx.d.next = self.load_x.val();
+                    self.qy.d.next = self.load_y.val();
+                    self.qz.d.next = self.load_z.val();
+                    self.radius_reg.d.next = self.load_radius.val();
+                    self.k_reg.d.next = self.load_k.val();
+                    self.full_reg.d.next = false;
+                    self.count.d.next = 0.into();
+                    self.append_slot.d.next = 1.into();
+                    self.occupied.d.next = 0.into();
+                    self.address.d.next = 1.into();
+                    self.up.d.next = false;
+                    self.came_from_right.d.next = false;
+                    self.search_done.d.next = false;
+                    self.visited.d.next = 0.into();
+                    self.state.d.next = QueryState::Ready;
+                }
+            }
+            QueryState::Ready => {
+                if self.read_grant.val() {
+                    self.visited.d.next = self.visited.q.val() + 1;
+                    self.state.d.next = QueryState::Wait;
+                }
+            }
+            QueryState::Wait => {
+                if self.result_mine.val() {
+                    self.address.d.next = self.result_next_address.val();
+                    self.up.d.next = self.result_next_up.val();
+                    self.came_from_right.d.next = self.result_next_came_from_right.val();
+                    self.search_done.d.next = self.result_done.val();
+                    if self.result_done.val() {
+                        self.state.d.next = QueryState::Done;
+                    } else {
+                        self.state.d.next = QueryState::Ready;
+                    }
+                    if self.insert.val() {
+                        if self.full_reg.q.val() {
+                            self.max_finder.start.next = true;
+                            self.state.d.next = QueryState::MaxFind;
+                        } else {
+                            self.count.d.next = self.count.q.val() + 1;
+                            self.occupied.d.next = self.occupied.q.val() | self.append_slot.q.val();
+                            self.append_slot.d.next = self.append_slot.q.val() << 1;
+                            if (self.count.q.val() + 1) == self.k_reg.q.val() {
+                                self.max_finder.start.next = true;
+                                self.max_finder.candidates.next =
+                                    self.occupied.q.val() | self.append_slot.q.val();
+                                self.state.d.next = QueryState::MaxFind;
+                            }
+                        }
+                    }
+                }
+            }
+            QueryState::MaxFind => {
+                if !self.max_finder.busy.val() {
+                    self.radius_reg.d.next = self.max_finder.max_dist.val();
+                    self.full_reg.d.next = true;
+                    self.max_slot.d.next = self.max_finder.max_slot.val();
+                    if self.search_done.q.val() {
+                        self.state.d.next = QueryState::Done;
+                    } else {
+                        self.state.d.next = QueryState::Ready;
+                    }
+                }
+            }
+            QueryState::Done => {
+                if self.result_taken.val() {
+                    self.state.d.next = QueryState::Idle;
+                }
+            }
+        }
+        if self.reset.val() {
+            self.state.d.next = QueryState::Idle;
+        }
+
+        self.free.next = self.state.q.val() == QueryState::Idle;
+        self.read_request.next = self.state.q.val() == QueryState::Ready;
+        self.finished.next = self.state.q.val() == QueryState::Done;
+        self.module_index.next = self.my_index.val();
+        self.read_address.next = self.address.q.val();
+        self.read_up.next = self.up.q.val();
+        self.read_came_from_right.next = self.came_from_right.q.val();
+        self.query_x.next = self.qx.q.val();
+        self.query_y.next = self.qy.q.val();
+        self.query_z.next = self.qz.q.val();
+        self.radius.next = self.radius_reg.q.val();
+        self.full.next = self.full_reg.q.val();
+        self.out_id.next = self.query_id.q.val();
+        self.out_count.next = self.count.q.val();
+        self.out_visited.next = self.visited.q.val();
+        self.out_dist.next = self.max_finder.read_dist.val();
+        self.out_address.next = 0.into();
+        for i in 0..self.found.len() {
+            if self.out_slot.val().get_bit(i) {
+                self.out_address.next = self.found[i].q.val();
+            }
+        }
+    }
+}

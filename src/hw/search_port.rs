@@ -1,0 +1,256 @@
+//! SearchPort (paper §4.5): one TreeModule port with its Q QueryModules, the
+//! round-robin PortArbiter and its own SearchModule, plus the hand-out of queries to
+//! free QueryModules and the read-out of finished ones as a result stream.
+//!
+//! Result stream, one beat per cycle when valid & ready: a header beat (`header`,
+//! id, count, visited; `last` iff count = 0), then `count` entry beats (heap address
+//! and distance in found-list slot order; `last` on the final one).
+
+use crate::hw::config::{
+    Addr, Coord, CoreConfig, Count, Dist, ModuleMask, QueryId, ReadCount, SlotMask, Word,
+};
+use crate::hw::port_arbiter::PortArbiter;
+use crate::hw::query_module::QueryModule;
+use crate::hw::search_module::SearchModule;
+use rust_hdl::prelude::*;
+
+#[derive(LogicBlock)]
+pub struct SearchPort {
+    pub clock: Signal<In, Clock>,
+    pub reset: Signal<In, bool>,
+    pub photon_count: Signal<In, Addr>,
+    /// TreeModule port: read address now, word next cycle.
+    pub ram_address: Signal<Out, Addr>,
+    pub ram_data: Signal<In, Word>,
+    // Query hand-out (valid/ready).
+    pub query_valid: Signal<In, bool>,
+    pub query_ready: Signal<Out, bool>,
+    pub query_id: Signal<In, QueryId>,
+    pub query_x: Signal<In, Coord>,
+    pub query_y: Signal<In, Coord>,
+    pub query_z: Signal<In, Coord>,
+    pub query_radius: Signal<In, Dist>,
+    pub query_k: Signal<In, Count>,
+    // Result stream (valid/ready).
+    pub result_valid: Signal<Out, bool>,
+    pub result_ready: Signal<In, bool>,
+    pub result_header: Signal<Out, bool>,
+    pub result_last: Signal<Out, bool>,
+    pub result_id: Signal<Out, QueryId>,
+    pub result_count: Signal<Out, Count>,
+    pub result_visited: Signal<Out, ReadCount>,
+    pub result_address: Signal<Out, Addr>,
+    pub result_dist: Signal<Out, Dist>,
+    /// Status: a read was granted this cycle; every QueryModule is occupied; none is.
+    pub reading: Signal<Out, bool>,
+    pub all_busy: Signal<Out, bool>,
+    pub idle: Signal<Out, bool>,
+    modules: Vec<QueryModule>,
+    arbiter: PortArbiter,
+    search: SearchModule,
+    /// One bit per QueryModule of this port.
+    all_modules: Constant<ModuleMask>,
+    requests: Signal<Local, ModuleMask>,
+    free_mask: Signal<Local, ModuleMask>,
+    load_pick: Signal<Local, ModuleMask>,
+    finished_mask: Signal<Local, ModuleMask>,
+    result_fire: Signal<Local, bool>,
+    out_active: DFF<bool>,
+    out_select: DFF<ModuleMask>,
+    out_header: DFF<bool>,
+    out_slot: DFF<SlotMask>,
+    out_left: DFF<Count>,
+}
+
+impl SearchPort {
+    pub fn new(cfg: &CoreConfig) -> Self {
+        let q = cfg.queries_per_port;
+        SearchPort {
+            clock: Default::default(),
+            reset: Default::default(),
+            photon_count: Default::default(),
+            ram_address: Default::default(),
+            ram_data: Default::default(),
+            query_valid: Default::default(),
+            query_ready: Default::default(),
+            query_id: Default::default(),
+            query_x: Default::default(),
+            query_y: Default::default(),
+            query_z: Default::default(),
+            query_radius: Default::default(),
+            query_k: Default::default(),
+            result_valid: Default::default(),
+            result_ready: Default::default(),
+            result_header: Default::default(),
+            result_last: Default::default(),
+            result_id: Default::default(),
+            result_count: Default::default(),
+            result_visited: Default::default(),
+            result_address: Default::default(),
+            result_dist: Default::default(),
+            reading: Default::default(),
+            all_busy: Default::default(),
+            idle: Default::default(),
+            modules: (0..q).map(|i| QueryModule::new(cfg, i)).collect(),
+            arbiter: Default::default(),
+            search: SearchModule::new(cfg),
+            all_modules: Constant::new(ModuleMask::from(((1u64 << q) - 1) & 0xFFFF_FFFF)),
+            requests: Default::default(),
+            free_mask: Default::default(),
+            load_pick: Default::default(),
+            finished_mask: Default::default(),
+            result_fire: Default::default(),
+            out_active: Default::default(),
+            out_select: Default::default(),
+            out_header: Default::default(),
+            out_slot: Default::default(),
+            out_left: Default::default(),
+        }
+    }
+}
+
+impl Logic for SearchPort {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, out_active, out_select, out_header, out_slot, out_left);
+        self.arbiter.clock.next = self.clock.val();
+        self.search.clock.next = self.clock.val();
+        self.search.photon_count.next = self.photon_count.val();
+        self.search.word.next = self.ram_data.val();
+
+        // Collect the modules' status bits.
+        self.requests.next = 0.into();
+        self.free_mask.next = 0.into();
+        self.finished_mask.next = 0.into();
+        for i in 0..self.modules.len() {
+            self.requests.next = self
+                .requests
+                .val()
+                .replace_bit(i, self.modules[i].read_request.val());
+            self.free_mask.next = self
+                .free_mask
+                .val()
+                .replace_bit(i, self.modules[i].free.val());
+            self.finished_mask.next = self
+                .finished_mask
+                .val()
+                .replace_bit(i, self.modules[i].finished.val());
+        }
+        self.arbiter.requests.next = self.requests.val();
+        // Hand a query to the lowest free module.
+        self.load_pick.next = self.free_mask.val() & ((!self.free_mask.val()) + 1);
+        self.query_ready.next = self.free_mask.val().any();
+
+        // Read-out sequencer signals (registered state, see below).
+        self.result_valid.next = self.out_active.q.val();
+        self.result_header.next = self.out_header.q.val();
+        self.result_fire.next = self.out_active.q.val() && self.result_ready.val();
+        self.result_id.next = 0.into();
+        self.result_count.next = 0.into();
+        self.result_visited.next = 0.into();
+        self.result_address.next = 0.into();
+        self.result_dist.next = 0.into();
+
+        // The granted read goes to the TreeModule and, with its context, the SearchModule.
+        self.ram_address.next = 0.into();
+        self.search.request_valid.next = self.arbiter.granted.val();
+        self.search.request_module.next = 0.into();
+        self.search.request_address.next = 0.into();
+        self.search.request_up.next = false;
+        self.search.request_came_from_right.next = false;
+        self.search.request_x.next = 0.into();
+        self.search.request_y.next = 0.into();
+        self.search.request_z.next = 0.into();
+        self.search.request_radius.next = 0.into();
+        self.search.request_full.next = false;
+        for i in 0..self.modules.len() {
+            self.modules[i].clock.next = self.clock.val();
+            self.modules[i].reset.next = self.reset.val();
+            self.modules[i].read_grant.next = self.arbiter.grant.val().get_bit(i);
+            if self.arbiter.grant.val().get_bit(i) {
+                self.ram_address.next = self.modules[i].read_address.val();
+                self.search.request_module.next = self.modules[i].module_index.val();
+                self.search.request_address.next = self.modules[i].read_address.val();
+                self.search.request_up.next = self.modules[i].read_up.val();
+                self.search.request_came_from_right.next =
+                    self.modules[i].read_came_from_right.val();
+                self.search.request_x.next = self.modules[i].query_x.val();
+                self.search.request_y.next = self.modules[i].query_y.val();
+                self.search.request_z.next = self.modules[i].query_z.val();
+                self.search.request_radius.next = self.modules[i].radius.val();
+                self.search.request_full.next = self.modules[i].full.val();
+            }
+            // SearchModule result broadcast.
+            self.modules[i].result_valid.next = self.search.result_valid.val();
+            self.modules[i].result_module.next = self.search.result_module.val();
+            self.modules[i].result_address.next = self.search.result_address.val();
+            self.modules[i].result_in_range.next = self.search.result_in_range.val();
+            self.modules[i].result_dist.next = self.search.result_dist.val();
+            self.modules[i].result_next_address.next = self.search.result_next_address.val();
+            self.modules[i].result_next_up.next = self.search.result_next_up.val();
+            self.modules[i].result_next_came_from_right.next =
+                self.search.result_next_came_from_right.val();
+            self.modules[i].result_done.next = self.search.result_done.val();
+            // Query hand-out broadcast; only the picked module loads.
+            self.modules[i].load.next = self.query_valid.val() && self.load_pick.val().get_bit(i);
+            self.modules[i].load_id.next = self.query_id.val();
+            self.modules[i].load_x.next = self.query_x.val();
+            self.modules[i].load_y.next = self.query_y.val();
+            self.modules[i].load_z.next = self.query_z.val();
+            self.modules[i].load_radius.next = self.query_radius.val();
+            self.modules[i].load_k.next = self.query_k.val();
+            // Result read-out from the selected module.
+            self.modules[i].out_slot.next = self.out_slot.q.val();
+            if self.out_select.q.val().get_bit(i) {
+                self.result_id.next = self.modules[i].out_id.val();
+                self.result_count.next = self.modules[i].out_count.val();
+                self.result_visited.next = self.modules[i].out_visited.val();
+                self.result_address.next = self.modules[i].out_address.val();
+                self.result_dist.next = self.modules[i].out_dist.val();
+            }
+        }
+        if self.out_header.q.val() {
+            self.result_last.next = self.result_count.val() == 0;
+        } else {
+            self.result_last.next = self.out_left.q.val() == 1;
+        }
+        // The last beat frees the selected module.
+        for i in 0..self.modules.len() {
+            self.modules[i].result_taken.next = self.result_fire.val()
+                && self.result_last.val()
+                && self.out_select.q.val().get_bit(i);
+        }
+
+        // Read-out sequencer: pick a finished module, stream header then entries.
+        if !self.out_active.q.val() {
+            if self.finished_mask.val().any() {
+                self.out_active.d.next = true;
+                self.out_header.d.next = true;
+                self.out_select.d.next =
+                    self.finished_mask.val() & ((!self.finished_mask.val()) + 1);
+            }
+        } else if self.result_fire.val() {
+            if self.out_header.q.val() {
+                self.out_header.d.next = false;
+                self.out_slot.d.next = 1.into();
+                self.out_left.d.next = self.result_count.val();
+            } else {
+                self.out_slot.d.next = self.out_slot.q.val() << 1;
+                self.out_left.d.next = self.out_left.q.val() - 1;
+            }
+            if self.result_last.val() {
+                self.out_active.d.next = false;
+                self.out_select.d.next = 0.into();
+                self.out_slot.d.next = 0.into();
+            }
+        }
+        if self.reset.val() {
+            self.out_active.d.next = false;
+            self.out_select.d.next = 0.into();
+        }
+
+        self.reading.next = self.arbiter.granted.val();
+        self.all_busy.next = (self.free_mask.val() & self.all_modules.val()) == 0;
+        self.idle.next = (self.free_mask.val() & self.all_modules.val()) == self.all_modules.val();
+    }
+}

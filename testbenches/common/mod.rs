@@ -1,0 +1,115 @@
+//! Shared helpers of the hardware testbenches: point sets, trees, and the check of a
+//! hardware result against the software search and brute force.
+#![allow(dead_code)]
+
+use photon_fpga::host::kdtree::{KdTree, PackedTree};
+use photon_fpga::host::knn;
+use photon_fpga::hw::config::CoreConfig;
+use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::photon_word::PhotonLayout;
+use photon_fpga::hw::sim::{HwQuery, HwResult};
+use rand::Rng;
+use rand_pcg::Pcg64;
+
+pub fn rng(seed: u64) -> Pcg64 {
+    use rand::SeedableRng;
+    Pcg64::seed_from_u64(seed)
+}
+
+/// `n` random points of the layout's grid.
+pub fn random_points(rng: &mut Pcg64, n: usize, layout: PhotonLayout) -> Vec<[u32; 3]> {
+    (0..n)
+        .map(|_| [0, 1, 2].map(|a| rng.gen_range(0..=layout.coord_max(a))))
+        .collect()
+}
+
+pub fn pack(points: &[[u32; 3]], layout: PhotonLayout) -> PackedTree {
+    PackedTree::from_tree(&KdTree::build(points), layout)
+}
+
+/// Random queries on the grid with k in 1..=k_max and radii from 0 to unbounded.
+pub fn random_queries(
+    rng: &mut Pcg64,
+    n: usize,
+    layout: PhotonLayout,
+    k_max: usize,
+    metric: Metric,
+) -> Vec<HwQuery> {
+    let max = metric.max_dist(layout.bits);
+    (0..n)
+        .map(|i| HwQuery {
+            id: 1000 + i as u32,
+            coords: [0, 1, 2].map(|a| rng.gen_range(0..=layout.coord_max(a))),
+            radius: match rng.gen_range(0..4) {
+                0 => u64::MAX,
+                1 => max,
+                _ => rng.gen_range(0..=max / 8),
+            },
+            k: rng.gen_range(1..=k_max as u32),
+        })
+        .collect()
+}
+
+/// Every result equals `knn::search` on the same tree (same slots, same reads), its
+/// sorted distances equal brute force, and count = min(k, photons within r0).
+pub fn check_results(
+    cfg: &CoreConfig,
+    tree: &PackedTree,
+    points: &[[u32; 3]],
+    queries: &[HwQuery],
+    results: &[HwResult],
+) {
+    assert_eq!(results.len(), queries.len());
+    for (q, r) in queries.iter().zip(results) {
+        assert_eq!(r.id, q.id);
+        let sw = knn::search(tree, q.coords, q.k as usize, q.radius, cfg.metric);
+        assert_eq!(
+            r.found, sw.slots,
+            "query {q:?}: found list differs from knn::search"
+        );
+        assert_eq!(
+            r.visited, sw.visited,
+            "query {q:?}: reads differ from knn::search"
+        );
+        let bf = knn::brute_force(points, q.coords, q.k as usize, q.radius, cfg.metric);
+        let mut hw: Vec<u64> = r.found.iter().map(|f| f.1).collect();
+        hw.sort();
+        let bf_d: Vec<u64> = bf.iter().map(|f| f.1).collect();
+        assert_eq!(hw, bf_d, "query {q:?}: distances differ from brute force");
+        let within = points
+            .iter()
+            .filter(|&&p| cfg.metric.dist(p, q.coords) <= q.radius)
+            .count();
+        assert_eq!(
+            r.found.len(),
+            within.min(q.k as usize),
+            "query {q:?}: count"
+        );
+        for &(addr, d) in &r.found {
+            assert!(addr >= 1 && addr as usize <= tree.len());
+            let (p, _) = tree.node(addr as usize);
+            assert_eq!(
+                d,
+                cfg.metric.dist(p, q.coords),
+                "query {q:?}: distance of {addr}"
+            );
+        }
+    }
+}
+
+/// A small configuration for quick tests.
+pub fn small_config(
+    layout: PhotonLayout,
+    address_bits: u32,
+    k: usize,
+    q: usize,
+    metric: Metric,
+) -> CoreConfig {
+    CoreConfig {
+        layout,
+        address_bits,
+        k,
+        queries_per_port: q,
+        metric,
+    }
+}

@@ -1,0 +1,218 @@
+//! Unit benches of the SearchModule's parts and the TreeModule: AxisDist / Dist at
+//! the coordinate extremes in both metrics (no overflow), NextIndex against the
+//! traversal rule of knn.rs, TreeModule read-after-write on both ports.
+
+mod common;
+use photon_fpga::hw::axis_dist::AxisDistModule;
+use photon_fpga::hw::dist_module::DistModule;
+use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::next_index::NextIndexModule;
+use photon_fpga::hw::tree_module::TreeModule;
+use rand::Rng;
+use rust_hdl::prelude::*;
+
+fn settle<B: Block>(b: &mut B) {
+    assert!(simulate(b, 100), "did not settle");
+}
+
+/// Independent model of one axis distance.
+fn axis_model(metric: Metric, q: u64, p: u64) -> u64 {
+    let d = if q > p { q - p } else { p - q };
+    match metric {
+        Metric::L2 => d * d,
+        Metric::L1 => d,
+    }
+}
+
+fn extremes(bits: u32) -> Vec<u64> {
+    let m = (1u64 << bits) - 1;
+    vec![0, 1, m / 2, m - 1, m]
+}
+
+#[test]
+fn axis_dist_extremes() {
+    for metric in [Metric::L2, Metric::L1] {
+        let mut uut = AxisDistModule::new(metric);
+        uut.connect_all();
+        check_all(&uut).unwrap();
+        for bits in [10u32, 15] {
+            for axis in 0..3u64 {
+                for &q in &extremes(bits) {
+                    for &p in &extremes(bits) {
+                        let mut qs = [5u64, 6, 7];
+                        let mut ps = [1u64, 2, 3];
+                        qs[axis as usize] = q;
+                        ps[axis as usize] = p;
+                        uut.query_x.next = qs[0].into();
+                        uut.query_y.next = qs[1].into();
+                        uut.query_z.next = qs[2].into();
+                        uut.photon_x.next = ps[0].into();
+                        uut.photon_y.next = ps[1].into();
+                        uut.photon_z.next = ps[2].into();
+                        uut.axis.next = axis.into();
+                        settle(&mut uut);
+                        assert_eq!(uut.axis_dist.val().to_u64(), axis_model(metric, q, p));
+                        assert_eq!(uut.near_right.val(), q >= p);
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn dist_extremes_and_range_test() {
+    let mut r = common::rng(3);
+    for metric in [Metric::L2, Metric::L1] {
+        let mut uut = DistModule::new(metric);
+        uut.connect_all();
+        check_all(&uut).unwrap();
+        // [15,15,15] is the widest layout whose L2 distance still fits 32 bits.
+        for bits in [10u32, 15] {
+            let ex = extremes(bits);
+            for _ in 0..400 {
+                let q: Vec<u64> = (0..3).map(|_| ex[r.gen_range(0..ex.len())]).collect();
+                let p: Vec<u64> = (0..3).map(|_| ex[r.gen_range(0..ex.len())]).collect();
+                let d: u64 = (0..3).map(|a| axis_model(metric, q[a], p[a])).sum();
+                let radius = match r.gen_range(0..3) {
+                    0 => d,
+                    1 => d.saturating_sub(1),
+                    _ => (d + 1).min(u32::MAX as u64),
+                };
+                let full = r.gen_bool(0.5);
+                uut.query_x.next = q[0].into();
+                uut.query_y.next = q[1].into();
+                uut.query_z.next = q[2].into();
+                uut.photon_x.next = p[0].into();
+                uut.photon_y.next = p[1].into();
+                uut.photon_z.next = p[2].into();
+                uut.radius.next = radius.into();
+                uut.full.next = full;
+                settle(&mut uut);
+                assert_eq!(uut.distance.val().to_u64(), d, "{metric} q={q:?} p={p:?}");
+                let expect = if full { d < radius } else { d <= radius };
+                assert_eq!(uut.in_range.val(), expect);
+            }
+            // The very corners: the largest distance of the grid.
+            let m = (1u64 << bits) - 1;
+            uut.query_x.next = 0.into();
+            uut.query_y.next = 0.into();
+            uut.query_z.next = 0.into();
+            uut.photon_x.next = m.into();
+            uut.photon_y.next = m.into();
+            uut.photon_z.next = m.into();
+            settle(&mut uut);
+            assert_eq!(uut.distance.val().to_u64(), metric.max_dist([bits; 3]));
+        }
+    }
+}
+
+#[test]
+fn next_index_follows_the_traversal_rule() {
+    let mut r = common::rng(5);
+    let mut uut = NextIndexModule::default();
+    uut.connect_all();
+    check_all(&uut).unwrap();
+    for _ in 0..3000 {
+        let n: u64 = r.gen_range(1..100);
+        let addr: u64 = r.gen_range(1..=n);
+        let up = r.gen_bool(0.5);
+        let from = r.gen_bool(0.5);
+        let near_right = r.gen_bool(0.5);
+        let ad: u64 = r.gen_range(0..20);
+        let radius: u64 = r.gen_range(0..20);
+        let full = r.gen_bool(0.5);
+        // Model, written from the doc comment of knn.rs.
+        let near = 2 * addr + near_right as u64;
+        let far = 2 * addr + 1 - near_right as u64;
+        let within = if full { ad < radius } else { ad <= radius };
+        let down = if !up {
+            if near <= n {
+                Some(near)
+            } else if far <= n && within {
+                Some(far)
+            } else {
+                None
+            }
+        } else if from == near_right && far <= n && within {
+            Some(far)
+        } else {
+            None
+        };
+        uut.address.next = addr.into();
+        uut.up.next = up;
+        uut.came_from_right.next = from;
+        uut.near_right.next = near_right;
+        uut.axis_dist.next = ad.into();
+        uut.radius.next = radius.into();
+        uut.full.next = full;
+        uut.photon_count.next = n.into();
+        settle(&mut uut);
+        match down {
+            Some(child) => {
+                assert_eq!(uut.next_address.val().to_u64(), child);
+                assert!(!uut.next_up.val());
+                assert!(!uut.done.val());
+            }
+            None => {
+                assert_eq!(uut.done.val(), addr == 1);
+                assert!(uut.next_up.val());
+                assert_eq!(uut.next_address.val().to_u64(), addr / 2);
+                assert_eq!(uut.next_came_from_right.val(), addr & 1 == 1);
+            }
+        }
+    }
+}
+
+#[test]
+fn tree_module_read_after_write_on_both_ports() {
+    let h = 6;
+    let mut uut = TreeModule::new(h, 32);
+    uut.connect_all();
+    check_all(&uut).unwrap();
+    let tick = |uut: &mut TreeModule| {
+        uut.clock.next = true.into();
+        settle(uut);
+        uut.clock.next = false.into();
+        settle(uut);
+    };
+    let mut model = vec![0u64; 1 << h];
+    let mut r = common::rng(9);
+    for _ in 0..500 {
+        let a: u64 = r.gen_range(0..1 << h);
+        let b: u64 = r.gen_range(0..1 << h);
+        let we = r.gen_bool(0.5);
+        let w: u64 = r.gen::<u32>() as u64;
+        uut.a_address.next = a.into();
+        uut.b_address.next = b.into();
+        uut.a_write_enable.next = we;
+        uut.a_write_data.next = w.into();
+        settle(&mut uut);
+        tick(&mut uut);
+        // Registered, read-first: the words before this cycle's write.
+        assert_eq!(uut.a_read_data.val().to_u64(), model[a as usize]);
+        assert_eq!(uut.b_read_data.val().to_u64(), model[b as usize]);
+        if we {
+            model[a as usize] = w;
+            // Read after write, both ports, next cycle.
+            uut.a_write_enable.next = false;
+            uut.b_address.next = a.into();
+            settle(&mut uut);
+            tick(&mut uut);
+            assert_eq!(uut.a_read_data.val().to_u64(), w);
+            assert_eq!(uut.b_read_data.val().to_u64(), w);
+        }
+    }
+    // A narrower word keeps only its own bits.
+    let mut narrow = TreeModule::new(4, 20);
+    narrow.connect_all();
+    narrow.a_address.next = 3.into();
+    narrow.a_write_enable.next = true;
+    narrow.a_write_data.next = 0xFFFF_FFFFu64.into();
+    settle(&mut narrow);
+    tick(&mut narrow);
+    narrow.a_write_enable.next = false;
+    settle(&mut narrow);
+    tick(&mut narrow);
+    assert_eq!(narrow.a_read_data.val().to_u64(), 0xF_FFFF);
+}

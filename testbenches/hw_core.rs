@@ -1,0 +1,259 @@
+//! End-to-end tests of the simulated PhotonSearchCore against knn::search (same
+//! slots, same reads) and brute force (same sorted distances): random maps, the hard
+//! cases, random stalls on every stream, two maps loaded one after the other.
+
+mod common;
+use common::*;
+use photon_fpga::hw::config::CoreConfig;
+use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::photon_word::PhotonLayout;
+use photon_fpga::hw::sim::{run_gather, CoreSim, HwQuery, SimOptions};
+use rand::Rng;
+
+/// A small core for the map: Q capped to keep the simulation quick.
+fn small_core(
+    tree: &photon_fpga::host::kdtree::PackedTree,
+    k: usize,
+    metric: Metric,
+) -> CoreConfig {
+    let mut cfg = CoreConfig::for_map(tree, k, metric).expect("config");
+    cfg.queries_per_port = cfg.queries_per_port.min(6);
+    cfg
+}
+
+fn run_case(
+    points: &[[u32; 3]],
+    layout: PhotonLayout,
+    metric: Metric,
+    k: usize,
+    queries: &[HwQuery],
+) {
+    let tree = pack(points, layout);
+    let cfg = small_core(&tree, k, metric);
+    let (results, _) = run_gather(&cfg, &tree, queries, &SimOptions::default()).expect("sim");
+    check_results(&cfg, &tree, points, queries, &results);
+}
+
+/// Queries that stress the boundary rules on `points`: on photons (split planes),
+/// at the grid corners, radius 0 / exact / huge, k = 1, K, N.
+fn hard_queries(
+    points: &[[u32; 3]],
+    layout: PhotonLayout,
+    metric: Metric,
+    k_max: usize,
+    seed: u64,
+) -> Vec<HwQuery> {
+    let mut r = rng(seed);
+    let max = [0, 1, 2].map(|a| layout.coord_max(a));
+    let mut at: Vec<[u32; 3]> = vec![[0, 0, 0], max, [max[0], 0, max[2]]];
+    at.extend(points.iter().take(6).copied());
+    for _ in 0..3 {
+        at.push([0, 1, 2].map(|a| r.gen_range(0..=max[a])));
+    }
+    let mut ks = vec![1u32, k_max as u32];
+    if points.len() <= k_max {
+        ks.push(points.len() as u32);
+    }
+    ks.push(r.gen_range(1..=k_max as u32));
+    let mut queries = vec![];
+    for (i, &c) in at.iter().enumerate() {
+        // Radii: 0, the exact distance of some photon (a tie at the bound), huge.
+        let p = points[r.gen_range(0..points.len())];
+        let radii = [0, metric.dist(p, c), u64::MAX];
+        for (j, &radius) in radii.iter().enumerate() {
+            let k = ks[(i + j) % ks.len()];
+            queries.push(HwQuery {
+                id: queries.len() as u32,
+                coords: c,
+                radius,
+                k,
+            });
+        }
+    }
+    queries
+}
+
+fn hard_case(points: Vec<[u32; 3]>, layout: PhotonLayout) {
+    for metric in [Metric::L2, Metric::L1] {
+        let k = 6;
+        let queries = hard_queries(&points, layout, metric, k, points.len() as u64);
+        run_case(&points, layout, metric, k, &queries);
+    }
+}
+
+#[test]
+fn random_maps_both_metrics() {
+    for (seed, metric) in [(1u64, Metric::L2), (2, Metric::L1)] {
+        let layout = PhotonLayout::new([8, 7, 6]);
+        let mut r = rng(seed);
+        let points = random_points(&mut r, 300, layout);
+        let queries = random_queries(&mut r, 40, layout, 8, metric);
+        run_case(&points, layout, metric, 8, &queries);
+    }
+}
+
+#[test]
+fn all_photons_at_one_point() {
+    let layout = PhotonLayout::new([6, 6, 6]);
+    hard_case(vec![[17, 5, 40]; 40], layout);
+    hard_case(vec![[0, 0, 0]; 9], layout);
+    hard_case(vec![[63, 63, 63]; 9], layout);
+}
+
+#[test]
+fn many_duplicates_and_ties_at_the_kth_distance() {
+    let layout = PhotonLayout::new([5, 5, 5]);
+    let mut r = rng(4);
+    // Few distinct positions: many photons share a distance from any query.
+    let base: Vec<[u32; 3]> = (0..5)
+        .map(|_| [0, 1, 2].map(|_| r.gen_range(0..32)))
+        .collect();
+    let points: Vec<[u32; 3]> = (0..120).map(|i| base[i % base.len()]).collect();
+    hard_case(points, layout);
+    // A symmetric cross around (16,16,16): six photons at the same distance.
+    let mut cross = vec![];
+    for d in 1..4u32 {
+        for a in 0..3 {
+            let mut p = [16u32; 3];
+            p[a] += d;
+            cross.push(p);
+            p[a] -= 2 * d;
+            cross.push(p);
+        }
+    }
+    let queries: Vec<HwQuery> = (1..=6)
+        .flat_map(|k| {
+            [1u64, 4, 9, u64::MAX].map(|radius| HwQuery {
+                id: 0,
+                coords: [16, 16, 16],
+                radius,
+                k,
+            })
+        })
+        .collect();
+    for metric in [Metric::L2, Metric::L1] {
+        run_case(&cross, layout, metric, 6, &queries);
+    }
+}
+
+#[test]
+fn coplanar_and_collinear() {
+    let layout = PhotonLayout::new([7, 7, 7]);
+    let mut r = rng(5);
+    let plane: Vec<[u32; 3]> = (0..100)
+        .map(|_| [r.gen_range(0..128), r.gen_range(0..128), 64])
+        .collect();
+    hard_case(plane, layout);
+    let line: Vec<[u32; 3]> = (0..60).map(|_| [r.gen_range(0..128), 3, 3]).collect();
+    hard_case(line, layout);
+    let diagonal: Vec<[u32; 3]> = (0..60).map(|i| [i * 2, i * 2, i * 2]).collect();
+    hard_case(diagonal, layout);
+}
+
+#[test]
+fn photon_counts_around_powers_of_two() {
+    let layout = PhotonLayout::new([6, 5, 4]);
+    let mut r = rng(6);
+    for n in [1usize, 2, 3, 7, 8, 9, 15, 16, 17, 31, 32, 33] {
+        let points = random_points(&mut r, n, layout);
+        hard_case(points, layout);
+    }
+}
+
+#[test]
+fn paper_config_matches_software() {
+    let cfg = CoreConfig::paper();
+    let layout = cfg.layout;
+    let mut r = rng(8);
+    let points = random_points(&mut r, 1023, layout);
+    let tree = pack(&points, layout);
+    let mut queries = random_queries(&mut r, 60, layout, cfg.k, cfg.metric);
+    for q in queries.iter_mut().take(30) {
+        q.k = cfg.k as u32;
+        q.radius = u64::MAX;
+    }
+    let (results, stats) = run_gather(&cfg, &tree, &queries, &SimOptions::default()).expect("sim");
+    check_results(&cfg, &tree, &points, &queries, &results);
+    assert!(
+        stats.reads_per_port.iter().all(|&r| r > 0),
+        "both ports read"
+    );
+}
+
+#[test]
+fn random_stalls_on_every_stream() {
+    let layout = PhotonLayout::new([7, 7, 7]);
+    for (seed, metric) in [(21u64, Metric::L2), (22, Metric::L1)] {
+        let mut r = rng(seed);
+        let points = random_points(&mut r, 200, layout);
+        let tree = pack(&points, layout);
+        let cfg = small_core(&tree, 7, metric);
+        let queries = random_queries(&mut r, 60, layout, 7, metric);
+        let opts = SimOptions {
+            vcd: None,
+            stall_seed: Some(seed),
+        };
+        let (results, _) = run_gather(&cfg, &tree, &queries, &opts).expect("sim");
+        check_results(&cfg, &tree, &points, &queries, &results);
+    }
+}
+
+#[test]
+fn two_maps_one_after_the_other() {
+    let layout = PhotonLayout::new([7, 6, 5]);
+    let metric = Metric::L2;
+    let mut r = rng(31);
+    let first = random_points(&mut r, 250, layout);
+    let second = random_points(&mut r, 90, layout);
+    let (t1, t2) = (pack(&first, layout), pack(&second, layout));
+    let cfg = small_core(&t1, 5, metric);
+    let q1 = random_queries(&mut r, 25, layout, 5, metric);
+    let q2 = random_queries(&mut r, 25, layout, 5, metric);
+    for stall_seed in [None, Some(5)] {
+        let mut sim = CoreSim::new(
+            &cfg,
+            &SimOptions {
+                vcd: None,
+                stall_seed,
+            },
+        )
+        .unwrap();
+        sim.load_map(&t1).unwrap();
+        check_results(&cfg, &t1, &first, &q1, &sim.run_queries(&q1).unwrap());
+        // Second map without reset: a smaller map over the larger one.
+        sim.load_map(&t2).unwrap();
+        check_results(&cfg, &t2, &second, &q2, &sim.run_queries(&q2).unwrap());
+        // Back to the first map, with a reset in between.
+        sim.reset().unwrap();
+        sim.load_map(&t1).unwrap();
+        check_results(&cfg, &t1, &first, &q1, &sim.run_queries(&q1).unwrap());
+    }
+}
+
+#[test]
+fn rejects_what_it_cannot_do() {
+    let layout = PhotonLayout::new([6, 6, 6]);
+    let points = vec![[1, 2, 3]; 5];
+    let tree = pack(&points, layout);
+    let cfg = small_core(&tree, 4, Metric::L2);
+    let bad_k = [HwQuery {
+        id: 0,
+        coords: [1, 1, 1],
+        radius: 5,
+        k: 5,
+    }];
+    assert!(run_gather(&cfg, &tree, &bad_k, &SimOptions::default()).is_err());
+    let bad_coord = [HwQuery {
+        id: 0,
+        coords: [64, 1, 1],
+        radius: 5,
+        k: 1,
+    }];
+    assert!(run_gather(&cfg, &tree, &bad_coord, &SimOptions::default()).is_err());
+    // Too wide for the 32-bit word / distance datapath, too many slots.
+    let wide = pack(&points, PhotonLayout::new([16, 16, 16]));
+    assert!(CoreConfig::for_map(&wide, 4, Metric::L2).is_err());
+    assert!(CoreConfig::for_map(&tree, 33, Metric::L2).is_err());
+    let other_layout = pack(&points, PhotonLayout::new([6, 6, 7]));
+    assert!(run_gather(&cfg, &other_layout, &[], &SimOptions::default()).is_err());
+}

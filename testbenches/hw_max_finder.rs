@@ -1,0 +1,153 @@
+//! MaxFinder (paper §4.4) against a plain `iter().max()` model: random lists, all
+//! equal lists, ties (the lowest slot wins), one cycle per distance bit.
+
+mod common;
+use photon_fpga::hw::max_finder::MaxFinder;
+use rand::Rng;
+use rust_hdl::prelude::*;
+
+struct Bench {
+    uut: MaxFinder,
+    dist_bits: u32,
+}
+
+impl Bench {
+    fn new(dist_bits: u32) -> Self {
+        let mut uut = MaxFinder::new(dist_bits);
+        uut.connect_all();
+        check_all(&uut).expect("MaxFinder checks");
+        let mut b = Bench { uut, dist_bits };
+        b.settle();
+        b
+    }
+    fn settle(&mut self) {
+        assert!(simulate(&mut self.uut, 100), "did not settle");
+    }
+    fn tick(&mut self) {
+        self.uut.clock.next = true.into();
+        self.settle();
+        self.uut.clock.next = false.into();
+        self.settle();
+    }
+    fn write(&mut self, slot: usize, d: u64) {
+        self.uut.write_enable.next = true;
+        self.uut.write_slot.next = (1u64 << slot).into();
+        self.uut.write_dist.next = d.into();
+        self.settle();
+        self.tick();
+        self.uut.write_enable.next = false;
+        self.settle();
+    }
+    /// Run a search over `candidates`; returns (max, filter, max slot one-hot, cycles busy).
+    fn find(&mut self, candidates: u64) -> (u64, u64, u64, u32) {
+        self.uut.start.next = true;
+        self.uut.candidates.next = candidates.into();
+        self.settle();
+        self.tick();
+        self.uut.start.next = false;
+        self.settle();
+        let mut busy_cycles = 0;
+        while self.uut.busy.val() {
+            busy_cycles += 1;
+            assert!(busy_cycles <= 64, "MaxFinder never finished");
+            self.tick();
+        }
+        (
+            self.uut.max_dist.val().to_u64(),
+            self.uut.filter.val().to_u64(),
+            self.uut.max_slot.val().to_u64(),
+            busy_cycles,
+        )
+    }
+    fn read(&mut self, slot: usize) -> u64 {
+        self.uut.read_slot.next = (1u64 << slot).into();
+        self.settle();
+        self.uut.read_dist.val().to_u64()
+    }
+}
+
+/// Independent model: the maximum, every slot holding it, the lowest such slot.
+fn model(list: &[u64]) -> (u64, u64, u64) {
+    let max = *list.iter().max().unwrap();
+    let filter = list
+        .iter()
+        .enumerate()
+        .filter(|&(_, &d)| d == max)
+        .fold(0u64, |f, (i, _)| f | 1 << i);
+    let lowest = list.iter().position(|&d| d == max).unwrap();
+    (max, filter, 1 << lowest)
+}
+
+fn check_list(b: &mut Bench, list: &[u64]) {
+    for (s, &d) in list.iter().enumerate() {
+        b.write(s, d);
+    }
+    for (s, &d) in list.iter().enumerate() {
+        assert_eq!(b.read(s), d, "column read-out of slot {s}");
+    }
+    let candidates = (1u64 << list.len()) - 1;
+    let (max, filter, slot, cycles) = b.find(candidates);
+    assert_eq!((max, filter, slot), model(list), "list {list:?}");
+    assert_eq!(
+        cycles, b.dist_bits,
+        "one cycle per distance bit, independent of K"
+    );
+}
+
+#[test]
+fn random_lists() {
+    let mut r = common::rng(7);
+    for &bits in &[1u32, 5, 12, 22, 32] {
+        let mut b = Bench::new(bits);
+        let top = if bits == 64 {
+            u64::MAX
+        } else {
+            (1u64 << bits) - 1
+        };
+        for _ in 0..30 {
+            let k = r.gen_range(1..=32usize);
+            let list: Vec<u64> = (0..k).map(|_| r.gen_range(0..=top)).collect();
+            check_list(&mut b, &list);
+        }
+    }
+}
+
+#[test]
+fn all_equal_and_extremes() {
+    for &bits in &[12u32, 32] {
+        let mut b = Bench::new(bits);
+        let top = (1u64 << bits) - 1;
+        for &v in &[0, 1, top, top / 2] {
+            for &k in &[1usize, 2, 10, 32] {
+                check_list(&mut b, &vec![v; k]);
+            }
+        }
+    }
+}
+
+#[test]
+fn ties_pick_the_lowest_slot() {
+    let mut r = common::rng(11);
+    let mut b = Bench::new(12);
+    for _ in 0..40 {
+        let k = r.gen_range(2..=32usize);
+        // Few distinct values: many ties at the maximum and below.
+        let list: Vec<u64> = (0..k).map(|_| r.gen_range(0..4u64) * 1000).collect();
+        check_list(&mut b, &list);
+    }
+    // The maximum at the last and at the first slot only.
+    check_list(&mut b, &[3, 3, 3, 7]);
+    check_list(&mut b, &[7, 3, 3, 7]);
+}
+
+#[test]
+fn candidates_restrict_the_search() {
+    // Only the candidate slots take part (the list is not full yet).
+    let mut b = Bench::new(12);
+    let list = [4000u64, 5, 9, 100, 4095];
+    for (s, &d) in list.iter().enumerate() {
+        b.write(s, d);
+    }
+    let (max, filter, slot, _) = b.find(0b01110);
+    assert_eq!((max, filter, slot), (100, 0b01000, 0b01000));
+}

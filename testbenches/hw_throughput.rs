@@ -1,0 +1,82 @@
+//! Throughput (paper §4.5): with every QueryModule busy on a long random query
+//! stream, each TreeModule port reads a photon (almost) every cycle. Also reports
+//! simulation speed and photons visited per query against the software search.
+
+mod common;
+use common::*;
+use photon_fpga::host::knn;
+use photon_fpga::hw::config::CoreConfig;
+use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::photon_word::PhotonLayout;
+use photon_fpga::hw::sim::{run_gather, HwQuery, SimOptions};
+use rand::Rng;
+use std::time::Instant;
+
+fn throughput(metric: Metric, photons: usize, queries: usize, seed: u64) {
+    let layout = PhotonLayout::paper();
+    let mut r = rng(seed);
+    let points = random_points(&mut r, photons, layout);
+    let tree = pack(&points, layout);
+    let cfg = CoreConfig::for_map(&tree, 10, metric).expect("config");
+    let qs: Vec<HwQuery> = (0..queries)
+        .map(|i| HwQuery {
+            id: i as u32,
+            coords: [0, 1, 2].map(|a| r.gen_range(0..=layout.coord_max(a))),
+            radius: u64::MAX,
+            k: 10,
+        })
+        .collect();
+    let start = Instant::now();
+    let (results, stats) = run_gather(&cfg, &tree, &qs, &SimOptions::default()).expect("sim");
+    let secs = start.elapsed().as_secs_f64();
+    check_results(&cfg, &tree, &points, &qs, &results);
+    let sw_visited: u64 = qs
+        .iter()
+        .map(|q| knn::search(&tree, q.coords, 10, q.radius, metric).visited as u64)
+        .sum();
+    let hw_visited: u64 = results.iter().map(|r| r.visited as u64).sum();
+    println!(
+        "{metric}: {photons} photons, {queries} queries, Q = {} per port, interval {}: {} cycles in {secs:.2} s = {:.0} cycles/s",
+        cfg.queries_per_port,
+        cfg.issue_interval(),
+        stats.cycles,
+        stats.cycles as f64 / secs
+    );
+    println!(
+        "  visited/query hw {:.2} sw {:.2}; reads/port/cycle overall {:?}",
+        hw_visited as f64 / queries as f64,
+        sw_visited as f64 / queries as f64,
+        stats
+            .reads_per_port
+            .iter()
+            .map(|&x| x as f64 / stats.cycles as f64)
+            .collect::<Vec<_>>()
+    );
+    let busy: Vec<f64> = stats
+        .busy_reads_per_port
+        .iter()
+        .map(|&x| x as f64 / stats.busy_cycles as f64)
+        .collect();
+    println!(
+        "  busy cycles {} reads/port/cycle while all busy {busy:?}",
+        stats.busy_cycles
+    );
+    assert_eq!(hw_visited, sw_visited);
+    assert!(
+        stats.busy_cycles as f64 > 0.5 * stats.cycles as f64,
+        "the stream keeps the core busy"
+    );
+    for b in busy {
+        assert!(b >= 0.95, "reads per port per cycle {b} < 0.95");
+    }
+}
+
+#[test]
+fn every_port_reads_every_cycle_l1() {
+    throughput(Metric::L1, 3000, 300, 41);
+}
+
+#[test]
+fn every_port_reads_every_cycle_l2() {
+    throughput(Metric::L2, 2000, 200, 42);
+}
