@@ -6,10 +6,13 @@ use super::error::{Error, Result};
 use super::kdtree::{KdTree, PackedTree};
 use super::knn::{self, Coord, FloatDist};
 use super::quantize::{Point, Quantizer};
+use crate::hw::config::CoreConfig;
 use crate::hw::metric::Metric;
+use crate::hw::sim::{run_gather, HwQuery, SimOptions, SimStats};
 use rayon::prelude::*;
 use std::fmt;
 use std::str::FromStr;
+use std::sync::Mutex;
 
 /// Which implementation answers the gathers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -140,7 +143,12 @@ pub fn make_backend(
     Ok(match kind {
         BackendKind::Float => Box::new(FloatBackend::new(photons, params)?),
         BackendKind::Sw => Box::new(SwBackend::covering(photons, queries, params)?),
-        BackendKind::Rtl => return Err(Error::new("--backend rtl is not available yet")),
+        BackendKind::Rtl => Box::new(RtlBackend::covering(
+            photons,
+            queries,
+            params,
+            SimOptions::default(),
+        )?),
     })
 }
 
@@ -325,5 +333,92 @@ impl GatherBackend for SwBackend {
                 }
             })
             .collect())
+    }
+}
+
+/// The gathers run through the rust-hdl simulation of the photon-search core,
+/// configured for this map ("model only what the scene needs": `CoreConfig::for_map`).
+pub struct RtlBackend {
+    pub map: QuantizedMap,
+    pub config: CoreConfig,
+    pub options: SimOptions,
+    /// Cycle and read counts of the gathers so far, summed over simulations.
+    pub stats: Mutex<Vec<SimStats>>,
+}
+
+impl RtlBackend {
+    pub fn covering(
+        photons: &[Point],
+        queries: &[Point],
+        params: &GatherParams,
+        options: SimOptions,
+    ) -> Result<Self> {
+        let map = QuantizedMap::covering(photons, queries, params)?;
+        let config = CoreConfig::for_map(&map.tree, params.k, params.metric)?;
+        Ok(RtlBackend {
+            map,
+            config,
+            options,
+            stats: Mutex::new(Vec::new()),
+        })
+    }
+}
+
+impl GatherBackend for RtlBackend {
+    fn name(&self) -> &'static str {
+        "rtl"
+    }
+
+    fn describe(&self) -> Option<String> {
+        let c = &self.config;
+        Some(format!(
+            "{}\ncore: H = {}, K = {}, {} x {} QueryModules, {} metric, {}-bit distances",
+            self.map.describe(),
+            c.address_bits,
+            c.k,
+            crate::hw::config::PORTS,
+            c.queries_per_port,
+            c.metric,
+            c.dist_bits()
+        ))
+    }
+
+    fn gather(&self, queries: &[Point]) -> Result<Vec<Gathered>> {
+        let m = &self.map;
+        let hw: Vec<HwQuery> = queries
+            .iter()
+            .enumerate()
+            .map(|(i, &q)| HwQuery {
+                id: i as u32,
+                coords: m.quant.quantize(q),
+                radius: m.radius_bound,
+                k: m.params.k as u32,
+            })
+            .collect();
+        // Each query's answer depends only on the map and the query, not on which
+        // QueryModule or simulation serves it, so independent simulations of the
+        // core on chunks of the stream give the same results for any thread count.
+        // A waveform dump wants one simulation.
+        let chunks = if self.options.vcd.is_some() || std::env::var_os("PHOTON_FPGA_VCD").is_some()
+        {
+            1
+        } else {
+            rayon::current_num_threads().max(1)
+        };
+        let size = hw.len().div_ceil(chunks).max(1);
+        let runs: Vec<_> = hw
+            .par_chunks(size)
+            .map(|chunk| run_gather(&self.config, &m.tree, chunk, &self.options))
+            .collect::<Result<_>>()?;
+        let mut out = Vec::with_capacity(queries.len());
+        let mut stats = self.stats.lock().expect("stats lock");
+        for (results, s) in runs {
+            stats.push(s);
+            out.extend(results.into_iter().map(|r| Gathered {
+                neighbours: m.neighbours(&r.found),
+                visited: r.visited,
+            }));
+        }
+        Ok(out)
     }
 }
