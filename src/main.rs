@@ -9,7 +9,11 @@ use photon_fpga::host::photons;
 use photon_fpga::host::render::{self, RenderSettings};
 use photon_fpga::host::scene::Scene;
 use photon_fpga::host::stages::StageTimes;
+use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::photon_word::PhotonLayout;
+use photon_fpga::hw::sim::SimOptions;
+use photon_fpga::hw::verilog::export_verilog;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -26,6 +30,8 @@ enum Cmd {
     Render(RenderArgs),
     /// Gather the k nearest photons of every query in a CSV photon map.
     Gather(GatherArgs),
+    /// Write the photon-search core's Verilog (top module `top`).
+    ExportVerilog(ExportArgs),
 }
 
 /// Options every gather shares.
@@ -49,12 +55,23 @@ struct GatherOpts {
     /// Largest photon map accepted.
     #[arg(long, default_value_t = DEFAULT_CAPACITY)]
     capacity: usize,
+    /// With --backend rtl: stream the simulation's waveform to this VCD file
+    /// (also: env PHOTON_FPGA_VCD=path).
+    #[arg(long)]
+    vcd: Option<PathBuf>,
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long)]
     threads: Option<usize>,
 }
 
 impl GatherOpts {
+    fn sim(&self) -> SimOptions {
+        SimOptions {
+            vcd: self.vcd.clone(),
+            ..SimOptions::default()
+        }
+    }
+
     fn params(&self, default_k: usize) -> GatherParams {
         GatherParams {
             k: self.k.unwrap_or(default_k),
@@ -160,7 +177,13 @@ fn render(args: &RenderArgs) -> Result<()> {
     }
     let positions = render::photon_points(&photons);
     let backend = t.time("kd-tree build", || {
-        make_backend(args.opts.backend, &positions, &[], &params)
+        make_backend(
+            args.opts.backend,
+            &positions,
+            &[],
+            &params,
+            &args.opts.sim(),
+        )
     })?;
     let (queries, emitted) = t.time("ray emission", || render::eye_queries(&scene, &settings));
     let qpos = render::query_points(&queries);
@@ -205,6 +228,65 @@ fn render(args: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
+#[derive(Args)]
+struct ExportArgs {
+    /// Found-list depth K (the largest k a query may ask for).
+    #[arg(long, default_value_t = CoreConfig::paper().k)]
+    k: usize,
+    /// Coordinate bits on every axis.
+    #[arg(long, default_value_t = CoreConfig::paper().layout.bits[0])]
+    bits: u32,
+    /// Tree height H: the TreeModule holds 2^H photon words.
+    #[arg(long, default_value_t = CoreConfig::paper().address_bits)]
+    address_bits: u32,
+    /// QueryModules per TreeModule port [default: the issue interval, so a busy
+    /// port reads every cycle].
+    #[arg(long)]
+    queries_per_port: Option<usize>,
+    /// Distance metric: l1 (the paper's 12-bit distance) or l2 (squared Euclidean).
+    #[arg(long, default_value_t = CoreConfig::paper().metric)]
+    metric: Metric,
+    /// Output directory; the core goes to DIR/photon_search_core.v.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+fn export(args: &ExportArgs) -> Result<()> {
+    if !(1..=photon_fpga::hw::config::MAX_COORD_BITS).contains(&args.bits) {
+        return Err(Error::new(format!(
+            "--bits {} is out of range (1..={})",
+            args.bits,
+            photon_fpga::hw::config::MAX_COORD_BITS
+        )));
+    }
+    let mut cfg = CoreConfig {
+        layout: PhotonLayout::new([args.bits; 3]),
+        address_bits: args.address_bits,
+        k: args.k,
+        queries_per_port: 1,
+        metric: args.metric,
+    };
+    cfg.queries_per_port = args.queries_per_port.unwrap_or(cfg.issue_interval());
+    cfg.validate()?;
+    let verilog = export_verilog(&cfg)?;
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| Error::new(format!("{}: cannot create: {e}", args.out.display())))?;
+    let path = args.out.join("photon_search_core.v");
+    csvio::write_atomically(&path, |w| w.write_all(verilog.as_bytes()))?;
+    println!(
+        "wrote {}: H = {}, K = {}, {} x {} QueryModules, {}-bit coordinates, {} metric, {}-bit distances",
+        path.display(),
+        cfg.address_bits,
+        cfg.k,
+        photon_fpga::hw::config::PORTS,
+        cfg.queries_per_port,
+        args.bits,
+        cfg.metric,
+        cfg.dist_bits()
+    );
+    Ok(())
+}
+
 fn set_threads(threads: Option<usize>) -> Result<()> {
     if let Some(t) = threads {
         if t == 0 {
@@ -231,7 +313,13 @@ fn gather(args: &GatherArgs) -> Result<()> {
         )));
     }
     // The grid covers the queries too, so every query keeps its own position.
-    let backend = make_backend(args.opts.backend, &photons, &queries, &params)?;
+    let backend = make_backend(
+        args.opts.backend,
+        &photons,
+        &queries,
+        &params,
+        &args.opts.sim(),
+    )?;
     let results = backend.gather(&queries)?;
     csvio::write_neighbours(&args.out, &results)
 }
@@ -240,6 +328,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.cmd {
         Some(Cmd::Gather(a)) => gather(a),
+        Some(Cmd::ExportVerilog(a)) => export(a),
         Some(Cmd::Render(a)) => render(a),
         None => render(&RenderArgs::default()),
     };

@@ -134,21 +134,22 @@ pub trait GatherBackend: Sync {
 
 /// Build the backend `kind` over `photons`. Quantized backends put their grid over
 /// the photons and `queries` (empty: the photons alone).
+/// `sim` configures the `rtl` simulation (waveform dump); other backends refuse a
+/// waveform request rather than ignore it.
 pub fn make_backend(
     kind: BackendKind,
     photons: &[Point],
     queries: &[Point],
     params: &GatherParams,
+    sim: &SimOptions,
 ) -> Result<Box<dyn GatherBackend>> {
+    if kind != BackendKind::Rtl && sim.vcd.is_some() {
+        return Err(Error::new("--vcd needs --backend rtl"));
+    }
     Ok(match kind {
         BackendKind::Float => Box::new(FloatBackend::new(photons, params)?),
         BackendKind::Sw => Box::new(SwBackend::covering(photons, queries, params)?),
-        BackendKind::Rtl => Box::new(RtlBackend::covering(
-            photons,
-            queries,
-            params,
-            SimOptions::default(),
-        )?),
+        BackendKind::Rtl => Box::new(RtlBackend::covering(photons, queries, params, sim.clone())?),
     })
 }
 
