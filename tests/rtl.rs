@@ -1,0 +1,164 @@
+//! The `rtl` backend through the CLI: a render through the simulated core is
+//! byte-identical to the software search's, and `gather --backend rtl` returns the
+//! exact k nearest of a user's CSV (checked against an independent brute force).
+
+use assert_cmd::Command;
+use rand::{Rng, SeedableRng};
+
+fn bin() -> Command {
+    Command::cargo_bin("photon-fpga").unwrap()
+}
+
+#[test]
+fn rtl_render_is_byte_identical_to_sw() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut pngs = Vec::new();
+    for backend in ["sw", "rtl"] {
+        let out = dir.path().join(format!("{backend}.png"));
+        bin()
+            .args([
+                "render",
+                "--size",
+                "16x12",
+                "--spp",
+                "1",
+                "--photons",
+                "1500",
+                "--k",
+                "6",
+            ])
+            .args(["--backend", backend, "--out", out.to_str().unwrap()])
+            .assert()
+            .success();
+        pngs.push(std::fs::read(&out).unwrap());
+    }
+    assert!(pngs[0] == pngs[1], "rtl and sw renders differ");
+}
+
+#[test]
+fn rtl_gather_returns_the_exact_k_nearest() {
+    let mut r = rand_pcg::Pcg64Mcg::seed_from_u64(9);
+    // Integer positions with the longest extent 0..=1023: the 10-bit grid step is 1.
+    let mut photons: Vec<[i32; 3]> = (0..300)
+        .map(|_| {
+            [
+                r.gen_range(0..1024),
+                r.gen_range(0..300),
+                r.gen_range(0..1024),
+            ]
+        })
+        .collect();
+    photons.extend([[0, 0, 0], [1023, 0, 0], [5, 5, 5], [5, 5, 5]]);
+    let queries: Vec<[i32; 3]> = (0..25)
+        .map(|_| {
+            [
+                r.gen_range(0..1024),
+                r.gen_range(0..300),
+                r.gen_range(0..1024),
+            ]
+        })
+        .chain([[5, 5, 5], [0, 0, 0]])
+        .collect();
+    let csv = |pts: &[[i32; 3]]| {
+        pts.iter()
+            .map(|p| format!("{},{},{}\n", p[0], p[1], p[2]))
+            .collect::<String>()
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let (pp, qp) = (dir.path().join("p.csv"), dir.path().join("q.csv"));
+    std::fs::write(&pp, csv(&photons)).unwrap();
+    std::fs::write(&qp, format!("x,y,z\n{}", csv(&queries))).unwrap();
+    for (metric, k, radius) in [("l2", 5, None), ("l1", 9, Some("150"))] {
+        let out = dir.path().join(format!("{metric}.csv"));
+        let mut cmd = bin();
+        cmd.args([
+            "gather",
+            "--backend",
+            "rtl",
+            "--metric",
+            metric,
+            "--k",
+            &k.to_string(),
+        ])
+        .args([
+            "--photons",
+            pp.to_str().unwrap(),
+            "--queries",
+            qp.to_str().unwrap(),
+        ])
+        .args(["--out", out.to_str().unwrap()]);
+        if let Some(r) = radius {
+            cmd.args(["--radius", r]);
+        }
+        cmd.assert().success();
+        let text = std::fs::read_to_string(&out).unwrap();
+        let rows: Vec<Vec<f64>> = text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
+            .collect();
+        for (qi, q) in queries.iter().enumerate() {
+            let dist = |p: &[i32; 3]| {
+                let d = [0, 1, 2].map(|a| (p[a] - q[a]).abs() as f64);
+                if metric == "l2" {
+                    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+                } else {
+                    d[0] + d[1] + d[2]
+                }
+            };
+            let limit = radius
+                .map(|r| r.parse::<f64>().unwrap())
+                .unwrap_or(f64::MAX);
+            let mut truth: Vec<f64> = photons.iter().map(dist).filter(|&d| d <= limit).collect();
+            truth.sort_by(|a, b| a.total_cmp(b));
+            truth.truncate(k);
+            let got: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] as usize == qi).collect();
+            assert_eq!(got.len(), truth.len(), "query {qi}: count");
+            for (rank, row) in got.iter().enumerate() {
+                assert_eq!(row[1] as usize, rank);
+                assert!((dist(&photons[row[2] as usize]) - row[3]).abs() < 1e-9);
+                assert!(
+                    (truth[rank] - row[3]).abs() < 1e-9,
+                    "query {qi} rank {rank}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn rtl_refuses_what_the_core_cannot_hold() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r.png");
+    let assert = bin()
+        .args([
+            "render",
+            "--backend",
+            "rtl",
+            "--k",
+            "500",
+            "--photons",
+            "100",
+        ])
+        .args(["--out", out.to_str().unwrap()])
+        .assert()
+        .code(2);
+    let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
+    assert!(stderr.contains("500"), "{stderr}");
+    assert!(!out.exists());
+    let assert = bin()
+        .args([
+            "render",
+            "--backend",
+            "sw",
+            "--vcd",
+            "x.vcd",
+            "--photons",
+            "100",
+        ])
+        .args(["--out", out.to_str().unwrap()])
+        .assert()
+        .code(2);
+    let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
+    assert!(stderr.contains("--vcd needs --backend rtl"), "{stderr}");
+}
