@@ -12,6 +12,7 @@ use photon_fpga::host::stages::StageTimes;
 use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
+use photon_fpga::hw::shell::registered_shell;
 use photon_fpga::hw::sim::SimOptions;
 use photon_fpga::hw::verilog::export_verilog;
 use std::path::PathBuf;
@@ -246,6 +247,10 @@ struct ExportArgs {
     /// Distance metric: l1 (the paper's 12-bit distance) or l2 (squared Euclidean).
     #[arg(long, default_value_t = CoreConfig::paper().metric)]
     metric: Metric,
+    /// Also write DIR/shell.v: T replicated cores behind registered byte-wide I/O
+    /// (for place and route; see src/hw/shell.rs).
+    #[arg(long)]
+    shell_trees: Option<usize>,
     /// Output directory; the core goes to DIR/photon_search_core.v.
     #[arg(long)]
     out: PathBuf,
@@ -273,6 +278,15 @@ fn export(args: &ExportArgs) -> Result<()> {
         .map_err(|e| Error::new(format!("{}: cannot create: {e}", args.out.display())))?;
     let path = args.out.join("photon_search_core.v");
     csvio::write_atomically(&path, |w| w.write_all(verilog.as_bytes()))?;
+    if let Some(trees) = args.shell_trees {
+        let shell = registered_shell(&verilog, trees)?;
+        let spath = args.out.join("shell.v");
+        csvio::write_atomically(&spath, |w| w.write_all(shell.as_bytes()))?;
+        println!(
+            "wrote {}: {trees} core(s) behind a registered I/O shell",
+            spath.display()
+        );
+    }
     println!(
         "wrote {}: H = {}, K = {}, {} x {} QueryModules, {}-bit coordinates, {} metric, {}-bit distances",
         path.display(),

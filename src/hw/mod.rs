@@ -12,6 +12,7 @@ pub mod port_arbiter;
 pub mod query_module;
 pub mod search_module;
 pub mod search_port;
+pub mod shell;
 pub mod sim;
 pub mod tree_module;
 pub mod verilog;
