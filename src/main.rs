@@ -33,6 +33,8 @@ enum Cmd {
     Gather(GatherArgs),
     /// Write the photon-search core's Verilog (top module `top`).
     ExportVerilog(ExportArgs),
+    /// Simulate a core on a random map: reads per cycle, photons visited, cycles/s.
+    BenchCore(BenchCoreArgs),
 }
 
 /// Options every gather shares.
@@ -231,6 +233,32 @@ fn render(args: &RenderArgs) -> Result<()> {
 
 #[derive(Args)]
 struct ExportArgs {
+    #[command(flatten)]
+    core: CoreArgs,
+    /// Also write DIR/shell.v: T replicated cores behind registered byte-wide I/O
+    /// (for place and route; see src/hw/shell.rs).
+    #[arg(long)]
+    shell_trees: Option<usize>,
+    /// Output directory; the core goes to DIR/photon_search_core.v.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+#[derive(Args)]
+struct BenchCoreArgs {
+    #[command(flatten)]
+    core: CoreArgs,
+    /// Queries to stream through the core.
+    #[arg(long, default_value_t = 400)]
+    queries: usize,
+    /// Seed of the random photon map (2^H − 1 photons) and queries.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+}
+
+/// The elaboration-time parameters of a core.
+#[derive(Args)]
+struct CoreArgs {
     /// Found-list depth K (the largest k a query may ask for).
     #[arg(long, default_value_t = CoreConfig::paper().k)]
     k: usize,
@@ -247,32 +275,123 @@ struct ExportArgs {
     /// Distance metric: l1 (the paper's 12-bit distance) or l2 (squared Euclidean).
     #[arg(long, default_value_t = CoreConfig::paper().metric)]
     metric: Metric,
-    /// Also write DIR/shell.v: T replicated cores behind registered byte-wide I/O
-    /// (for place and route; see src/hw/shell.rs).
-    #[arg(long)]
-    shell_trees: Option<usize>,
-    /// Output directory; the core goes to DIR/photon_search_core.v.
-    #[arg(long)]
-    out: PathBuf,
+}
+
+impl CoreArgs {
+    fn config(&self) -> Result<CoreConfig> {
+        if !(1..=photon_fpga::hw::config::MAX_COORD_BITS).contains(&self.bits) {
+            return Err(Error::new(format!(
+                "--bits {} is out of range (1..={})",
+                self.bits,
+                photon_fpga::hw::config::MAX_COORD_BITS
+            )));
+        }
+        let mut cfg = CoreConfig {
+            layout: PhotonLayout::new([self.bits; 3]),
+            address_bits: self.address_bits,
+            k: self.k,
+            queries_per_port: 1,
+            metric: self.metric,
+        };
+        cfg.queries_per_port = self.queries_per_port.unwrap_or(cfg.issue_interval());
+        cfg.validate()?;
+        Ok(cfg)
+    }
+}
+
+/// Stream random queries through the simulated core on a full random map and report
+/// reads per port per cycle, photons visited per query (checked against the
+/// software search) and simulation speed.
+fn bench_core(args: &BenchCoreArgs) -> Result<()> {
+    use photon_fpga::host::kdtree::{KdTree, PackedTree};
+    use photon_fpga::host::knn::search;
+    use photon_fpga::hw::sim::{CoreSim, HwQuery};
+    use rand::{Rng, SeedableRng};
+    let cfg = args.core.config()?;
+    let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(args.seed);
+    let point = |rng: &mut rand_pcg::Pcg64Mcg| {
+        [0, 1, 2].map(|a| rng.gen_range(0..=cfg.layout.coord_max(a)))
+    };
+    let n = (1usize << cfg.address_bits) - 1;
+    let points: Vec<[u32; 3]> = (0..n).map(|_| point(&mut rng)).collect();
+    let tree = PackedTree::from_tree(&KdTree::build(&points), cfg.layout);
+    let max = cfg.max_dist();
+    let queries: Vec<HwQuery> = (0..args.queries)
+        .map(|i| HwQuery {
+            id: i as u32,
+            coords: point(&mut rng),
+            radius: max,
+            k: cfg.k as u32,
+        })
+        .collect();
+    let mut sim = CoreSim::new(&cfg, &SimOptions::default())?;
+    sim.load_map(&tree)?;
+    let load_cycles = sim.stats().cycles;
+    let t0 = std::time::Instant::now();
+    let results = sim.run_queries(&queries)?;
+    let secs = t0.elapsed().as_secs_f64();
+    let st = sim.stats().clone();
+    let mut sw_visited = 0u64;
+    for (q, r) in queries.iter().zip(&results) {
+        let f = search(&tree, q.coords, cfg.k, max, cfg.metric);
+        if f.visited != r.visited
+            || f.sorted_dists() != {
+                let mut d: Vec<u64> = r.found.iter().map(|x| x.1).collect();
+                d.sort();
+                d
+            }
+        {
+            return Err(Error::new(format!(
+                "query {}: the core disagrees with the software search",
+                q.id
+            )));
+        }
+        sw_visited += f.visited as u64;
+    }
+    let cycles = st.cycles - load_cycles;
+    let reads: u64 = st.reads_per_port.iter().sum();
+    let busy_per_port: Vec<String> = st
+        .busy_reads_per_port
+        .iter()
+        .map(|r| format!("{:.3}", *r as f64 / st.busy_cycles.max(1) as f64))
+        .collect();
+    println!(
+        "core: H = {}, K = {}, {} x {} QueryModules, {} metric, {}-bit distances, issue interval {}",
+        cfg.address_bits,
+        cfg.k,
+        photon_fpga::hw::config::PORTS,
+        cfg.queries_per_port,
+        cfg.metric,
+        cfg.dist_bits(),
+        cfg.issue_interval()
+    );
+    println!(
+        "{} photons, {} queries, {} cycles after the load ({} load cycles)",
+        n,
+        queries.len(),
+        cycles,
+        load_cycles
+    );
+    println!(
+        "photons visited per query: {:.1} (software search: {:.1}, equal per query)",
+        reads as f64 / queries.len() as f64,
+        sw_visited as f64 / queries.len() as f64
+    );
+    println!(
+        "reads per cycle (both ports, whole run): {:.3}",
+        reads as f64 / cycles.max(1) as f64
+    );
+    println!(
+        "reads per port per cycle while every QueryModule is busy ({} cycles): {}",
+        st.busy_cycles,
+        busy_per_port.join(", ")
+    );
+    println!("simulation speed: {:.0} cycles/s", cycles as f64 / secs);
+    Ok(())
 }
 
 fn export(args: &ExportArgs) -> Result<()> {
-    if !(1..=photon_fpga::hw::config::MAX_COORD_BITS).contains(&args.bits) {
-        return Err(Error::new(format!(
-            "--bits {} is out of range (1..={})",
-            args.bits,
-            photon_fpga::hw::config::MAX_COORD_BITS
-        )));
-    }
-    let mut cfg = CoreConfig {
-        layout: PhotonLayout::new([args.bits; 3]),
-        address_bits: args.address_bits,
-        k: args.k,
-        queries_per_port: 1,
-        metric: args.metric,
-    };
-    cfg.queries_per_port = args.queries_per_port.unwrap_or(cfg.issue_interval());
-    cfg.validate()?;
+    let cfg = args.core.config()?;
     let verilog = export_verilog(&cfg)?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| Error::new(format!("{}: cannot create: {e}", args.out.display())))?;
@@ -294,7 +413,7 @@ fn export(args: &ExportArgs) -> Result<()> {
         cfg.k,
         photon_fpga::hw::config::PORTS,
         cfg.queries_per_port,
-        args.bits,
+        cfg.layout.bits[0],
         cfg.metric,
         cfg.dist_bits()
     );
@@ -343,6 +462,7 @@ fn main() -> ExitCode {
     let result = match &cli.cmd {
         Some(Cmd::Gather(a)) => gather(a),
         Some(Cmd::ExportVerilog(a)) => export(a),
+        Some(Cmd::BenchCore(a)) => bench_core(a),
         Some(Cmd::Render(a)) => render(a),
         None => render(&RenderArgs::default()),
     };

