@@ -65,6 +65,7 @@ pub struct CoreSim {
     stalls: Option<Pcg64>,
     vcd: Option<VCDProbe<BufWriter<File>>>,
     time: u64,
+    clock_high: bool,
     stats: SimStats,
 }
 
@@ -98,6 +99,7 @@ impl CoreSim {
             stalls: opts.stall_seed.map(Pcg64::seed_from_u64),
             vcd,
             time: 0,
+            clock_high: false,
             stats: SimStats {
                 reads_per_port: vec![0; 2],
                 busy_reads_per_port: vec![0; 2],
@@ -138,8 +140,25 @@ impl CoreSim {
         }
     }
 
-    /// One clock cycle: rising edge, falling edge (inputs are set while low).
+    /// Falling edge (if the clock is high) merged with the settling of the inputs
+    /// the caller just set: one `simulate` per half cycle.
+    fn settle_low(&mut self) -> Result<(), Error> {
+        self.uut.clock.next = false.into();
+        self.settle()?;
+        if self.clock_high {
+            self.clock_high = false;
+            self.time += 5;
+            self.trace();
+        }
+        Ok(())
+    }
+
+    /// One clock cycle: count this cycle's reads, then the rising edge. The clock
+    /// stays high until the next `settle_low`.
     fn tick(&mut self) -> Result<(), Error> {
+        if self.clock_high {
+            self.settle_low()?;
+        }
         let uut = self.uut.as_mut();
         if uut.port_a_reading.val() {
             self.stats.reads_per_port[0] += 1;
@@ -155,10 +174,7 @@ impl CoreSim {
         self.stats.cycles += 1;
         self.uut.clock.next = true.into();
         self.settle()?;
-        self.time += 5;
-        self.trace();
-        self.uut.clock.next = false.into();
-        self.settle()?;
+        self.clock_high = true;
         self.time += 5;
         self.trace();
         Ok(())
@@ -175,11 +191,11 @@ impl CoreSim {
     /// Synchronous reset for two cycles.
     pub fn reset(&mut self) -> Result<(), Error> {
         self.uut.reset.next = true;
-        self.settle()?;
+        self.settle_low()?;
         self.tick()?;
         self.tick()?;
         self.uut.reset.next = false;
-        self.settle()
+        self.settle_low()
     }
 
     /// Stream `tree`'s words into the TreeModule (addresses 1..=N, `last` on N).
@@ -198,7 +214,7 @@ impl CoreSim {
             uut.load_address.next = (next as u64).into();
             uut.load_word.next = tree.words[next].into();
             uut.load_last.next = next == n;
-            self.settle()?;
+            self.settle_low()?;
             let fire = presenting && self.uut.load_ready.val();
             self.tick()?;
             if fire {
@@ -213,7 +229,7 @@ impl CoreSim {
             }
         }
         self.uut.load_valid.next = false;
-        self.settle()
+        self.settle_low()
     }
 
     /// Run `queries` on the loaded map; results in input order.
@@ -262,7 +278,7 @@ impl CoreSim {
                 }
                 uut.result_ready.next = result_ready;
             }
-            self.settle()?;
+            self.settle_low()?;
             let query_fire = presenting && self.uut.query_ready.val();
             let uut = self.uut.as_ref();
             let result_fire = result_ready && uut.result_valid.val();
@@ -331,7 +347,7 @@ impl CoreSim {
             uut.query_valid.next = false;
             uut.result_ready.next = false;
         }
-        self.settle()?;
+        self.settle_low()?;
         if let Some(vcd) = &mut self.vcd {
             let _ = vcd.timestamp(self.time);
         }
