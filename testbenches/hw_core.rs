@@ -285,3 +285,33 @@ fn vcd_trace_is_streamed() {
         stats.cycles
     );
 }
+
+#[test]
+fn reset_in_the_middle_of_a_search() {
+    let layout = PhotonLayout::new([7, 7, 6]);
+    let metric = Metric::L1;
+    let mut r = rng(81);
+    let points = random_points(&mut r, 200, layout);
+    let tree = pack(&points, layout);
+    let cfg = small_core(&tree, 6, metric);
+    let queries = random_queries(&mut r, 30, layout, 6, metric);
+    let mut sim = CoreSim::new(&cfg, &SimOptions::default()).unwrap();
+    sim.load_map(&tree).unwrap();
+    for cycles in [3u64, 57, 200] {
+        let partial = sim.run_queries_for(&queries, cycles).unwrap();
+        assert!(
+            partial.iter().any(|p| p.is_none()),
+            "still in flight at the reset"
+        );
+        sim.reset().unwrap();
+        // The map survives a reset but must be reloaded to be searched again.
+        sim.load_map(&tree).unwrap();
+        check_results(
+            &cfg,
+            &tree,
+            &points,
+            &queries,
+            &sim.run_queries(&queries).unwrap(),
+        );
+    }
+}

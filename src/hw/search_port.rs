@@ -115,6 +115,7 @@ impl Logic for SearchPort {
         dff_setup!(self, clock, out_active, out_select, out_header, out_slot, out_left);
         self.arbiter.clock.next = self.clock.val();
         self.search.clock.next = self.clock.val();
+        self.search.reset.next = self.reset.val();
         self.search.photon_count.next = self.photon_count.val();
         self.search.word.next = self.ram_data.val();
 

@@ -234,7 +234,31 @@ impl CoreSim {
 
     /// Run `queries` on the loaded map; results in input order.
     pub fn run_queries(&mut self, queries: &[HwQuery]) -> Result<Vec<HwResult>, Error> {
+        let results = self.drive_queries(queries, None)?;
+        Ok(results
+            .into_iter()
+            .map(|r| r.expect("all received"))
+            .collect())
+    }
+
+    /// Feed `queries` for at most `cycles` cycles and return what completed by then
+    /// (`None` for the rest), leaving the others in flight: e.g. to test a reset
+    /// in the middle of a search.
+    pub fn run_queries_for(
+        &mut self,
+        queries: &[HwQuery],
+        cycles: u64,
+    ) -> Result<Vec<Option<HwResult>>, Error> {
+        self.drive_queries(queries, Some(cycles))
+    }
+
+    fn drive_queries(
+        &mut self,
+        queries: &[HwQuery],
+        max_cycles: Option<u64>,
+    ) -> Result<Vec<Option<HwResult>>, Error> {
         let cfg = self.cfg;
+        let start_cycle = self.stats.cycles;
         for q in queries {
             if q.k == 0 || q.k as usize > cfg.k {
                 return Err(sim_error(format!(
@@ -260,6 +284,9 @@ impl CoreSim {
         let mut since_progress = 0u64;
         let patience = 10_000 + 8 * (cfg.tree_words() as u64 + 2) * cfg.issue_interval() as u64;
         while received < queries.len() {
+            if max_cycles.is_some_and(|m| self.stats.cycles - start_cycle >= m) {
+                break;
+            }
             if next_query < queries.len() && !presenting && !self.stall() {
                 presenting = true;
             }
@@ -351,7 +378,7 @@ impl CoreSim {
         if let Some(vcd) = &mut self.vcd {
             let _ = vcd.timestamp(self.time);
         }
-        Ok(results.into_iter().map(|r| r.expect("counted")).collect())
+        Ok(results)
     }
 }
 
