@@ -17,7 +17,7 @@ fn settle<B: Block>(b: &mut B) {
 
 /// Independent model of one axis distance.
 fn axis_model(metric: Metric, q: u64, p: u64) -> u64 {
-    let d = if q > p { q - p } else { p - q };
+    let d = q.abs_diff(p);
     match metric {
         Metric::L2 => d * d,
         Metric::L1 => d,

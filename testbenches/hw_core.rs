@@ -257,3 +257,61 @@ fn rejects_what_it_cannot_do() {
     let other_layout = pack(&points, PhotonLayout::new([6, 6, 7]));
     assert!(run_gather(&cfg, &other_layout, &[], &SimOptions::default()).is_err());
 }
+
+#[test]
+fn vcd_trace_is_streamed() {
+    let layout = PhotonLayout::new([5, 5, 5]);
+    let mut r = rng(61);
+    let points = random_points(&mut r, 20, layout);
+    let tree = pack(&points, layout);
+    let cfg = small_core(&tree, 3, Metric::L1);
+    let queries = random_queries(&mut r, 3, layout, 3, Metric::L1);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("core.vcd");
+    let opts = SimOptions {
+        vcd: Some(path.clone()),
+        stall_seed: None,
+    };
+    let (results, stats) = run_gather(&cfg, &tree, &queries, &opts).expect("sim");
+    check_results(&cfg, &tree, &points, &queries, &results);
+    let vcd = std::fs::read_to_string(&path).unwrap();
+    assert!(vcd.contains("$enddefinitions"));
+    assert!(vcd.contains("result_valid"));
+    // One timestamp per clock edge at least.
+    let stamps = vcd.lines().filter(|l| l.starts_with('#')).count() as u64;
+    assert!(
+        stamps >= 2 * stats.cycles - 2,
+        "{stamps} timestamps for {} cycles",
+        stats.cycles
+    );
+}
+
+#[test]
+fn reset_in_the_middle_of_a_search() {
+    let layout = PhotonLayout::new([7, 7, 6]);
+    let metric = Metric::L1;
+    let mut r = rng(81);
+    let points = random_points(&mut r, 200, layout);
+    let tree = pack(&points, layout);
+    let cfg = small_core(&tree, 6, metric);
+    let queries = random_queries(&mut r, 30, layout, 6, metric);
+    let mut sim = CoreSim::new(&cfg, &SimOptions::default()).unwrap();
+    sim.load_map(&tree).unwrap();
+    for cycles in [3u64, 57, 200] {
+        let partial = sim.run_queries_for(&queries, cycles).unwrap();
+        assert!(
+            partial.iter().any(|p| p.is_none()),
+            "still in flight at the reset"
+        );
+        sim.reset().unwrap();
+        // The map survives a reset but must be reloaded to be searched again.
+        sim.load_map(&tree).unwrap();
+        check_results(
+            &cfg,
+            &tree,
+            &points,
+            &queries,
+            &sim.run_queries(&queries).unwrap(),
+        );
+    }
+}

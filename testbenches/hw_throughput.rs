@@ -12,12 +12,22 @@ use photon_fpga::hw::sim::{run_gather, HwQuery, SimOptions};
 use rand::Rng;
 use std::time::Instant;
 
-fn throughput(metric: Metric, photons: usize, queries: usize, seed: u64) {
+/// Run `queries` random unbounded 10-NN queries on a random map of `photons` on the
+/// paper's 10-bit grid; `paper_core` uses `CoreConfig::paper()` (Q = 21 per port),
+/// else `CoreConfig::for_map` (Q = the issue interval).
+fn throughput(metric: Metric, photons: usize, queries: usize, seed: u64, paper_core: bool) {
     let layout = PhotonLayout::paper();
     let mut r = rng(seed);
     let points = random_points(&mut r, photons, layout);
     let tree = pack(&points, layout);
-    let cfg = CoreConfig::for_map(&tree, 10, metric).expect("config");
+    let cfg = if paper_core {
+        CoreConfig {
+            metric,
+            ..CoreConfig::paper()
+        }
+    } else {
+        CoreConfig::for_map(&tree, 10, metric).expect("config")
+    };
     let qs: Vec<HwQuery> = (0..queries)
         .map(|i| HwQuery {
             id: i as u32,
@@ -73,10 +83,15 @@ fn throughput(metric: Metric, photons: usize, queries: usize, seed: u64) {
 
 #[test]
 fn every_port_reads_every_cycle_l1() {
-    throughput(Metric::L1, 3000, 300, 41);
+    throughput(Metric::L1, 3000, 300, 41, false);
 }
 
 #[test]
 fn every_port_reads_every_cycle_l2() {
-    throughput(Metric::L2, 2000, 200, 42);
+    throughput(Metric::L2, 2000, 200, 42, false);
+}
+
+#[test]
+fn paper_core_reads_every_cycle() {
+    throughput(Metric::L1, 1023, 200, 43, true);
 }

@@ -108,6 +108,35 @@ fn paper_core_verilog_is_clean() {
     check_config(&CoreConfig::paper());
 }
 
+/// The TreeModule alone maps to Virtex-6 BlockRAM (RAMB36E1/RAMB18E1), not LUTs.
+#[test]
+fn tree_module_infers_block_ram() {
+    use photon_fpga::hw::tree_module::TreeModule;
+    use rust_hdl::prelude::*;
+    let mut uut = TreeModule::new(10, 32);
+    uut.connect_all();
+    check_all(&uut).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("top.v"), generate_verilog(&uut)).unwrap();
+    if !tool_available("yosys") {
+        return;
+    }
+    let out = Command::new("yosys")
+        .current_dir(dir.path())
+        .args([
+            "-p",
+            "read_verilog top.v; synth_xilinx -family xc6v -flatten -top top; stat",
+        ])
+        .output()
+        .unwrap();
+    let log = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{log}");
+    assert!(
+        log.contains("RAMB36E1") || log.contains("RAMB18E1"),
+        "no BlockRAM:\n{log}"
+    );
+}
+
 #[test]
 fn export_rejects_unsupported_configs() {
     let mut cfg = CoreConfig::paper();

@@ -19,7 +19,7 @@ pub struct AxisDistModule {
     pub axis: Signal<In, Bits<2>>,
     /// Distance along the split axis in the search metric.
     pub axis_dist: Signal<Out, Dist>,
-    /// The near child is the right one iff q[a] >= p[a] (knn.rs traversal rule).
+    /// The near child is the right one iff `q[a] >= p[a]` (knn.rs traversal rule).
     pub near_right: Signal<Out, bool>,
     metric_is_l2: Constant<bool>,
     query_on_axis: Signal<Local, Coord>,

@@ -19,7 +19,7 @@ use rust_hdl::prelude::Bits;
 pub const MAX_WORD_BITS: u32 = 32;
 /// Widest coordinate per axis: 15 bits keeps the squared-L2 distance of the widest
 /// axis within the 32-bit distance path (the multiplier is rust-hdl's 16x16->32).
-pub const MAX_COORD_BITS: u32 = 15;
+pub const MAX_HW_COORD_BITS: u32 = 15;
 /// Widest distance (in the configured metric).
 pub const MAX_DIST_BITS: u32 = 32;
 /// Tree height H limit: 2^20 photon words (the host's default capacity, 2^20 - 1).
@@ -131,9 +131,9 @@ impl CoreConfig {
     /// Check every limit of the fixed-width datapath.
     pub fn validate(&self) -> Result<(), Error> {
         let b = self.layout.bits;
-        if b.iter().any(|&w| w == 0 || w > MAX_COORD_BITS) {
+        if b.iter().any(|&w| w == 0 || w > MAX_HW_COORD_BITS) {
             return Err(Error::new(format!(
-                "hardware core: coordinate widths {b:?} unsupported (1..={MAX_COORD_BITS} bits per axis)"
+                "hardware core: coordinate widths {b:?} unsupported (1..={MAX_HW_COORD_BITS} bits per axis)"
             )));
         }
         if self.layout.word_bits() > MAX_WORD_BITS {

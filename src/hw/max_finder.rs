@@ -95,10 +95,14 @@ impl Logic for MaxFinder {
             }
         }
         // The row under examination, and its AND with the filter.
+        // (Gated by busy: the mux output is only used while busy; this also keeps
+        // the Rust simulation from evaluating it in idle QueryModules.)
         self.current_row.next = 0.into();
-        for n in 0..self.rows.len() {
-            if self.row_select.q.val().get_bit(n) {
-                self.current_row.next = self.current_row.val() | self.rows[n].q.val();
+        if self.busy_reg.q.val() {
+            for n in 0..self.rows.len() {
+                if self.row_select.q.val().get_bit(n) {
+                    self.current_row.next = self.current_row.val() | self.rows[n].q.val();
+                }
             }
         }
         self.row_and_filter.next = self.current_row.val() & self.filter_reg.q.val();
@@ -124,11 +128,13 @@ impl Logic for MaxFinder {
         self.max_slot.next = self.filter_reg.q.val() & ((!self.filter_reg.q.val()) + 1);
         // Column read-out.
         self.read_dist.next = 0.into();
-        for n in 0..self.rows.len() {
-            self.read_dist.next = self
-                .read_dist
-                .val()
-                .replace_bit(n, (self.rows[n].q.val() & self.read_slot.val()).any());
+        if self.read_slot.val().any() {
+            for n in 0..self.rows.len() {
+                self.read_dist.next = self
+                    .read_dist
+                    .val()
+                    .replace_bit(n, (self.rows[n].q.val() & self.read_slot.val()).any());
+            }
         }
     }
 }

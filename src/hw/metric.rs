@@ -68,22 +68,22 @@ impl Metric {
             Metric::L2 => x * x,
             Metric::L1 => x,
         };
-        if !(v < max as f64) {
+        if v.is_nan() || v >= max as f64 {
             max
         } else {
             // floor, then fix the float rounding of x*x at exact integers.
             let mut b = v.floor() as u64;
-            while b < max && self.from_grid_ok(b + 1, x) {
+            while b < max && self.grid_ok(b + 1, x) {
                 b += 1;
             }
-            while b > 0 && !self.from_grid_ok(b, x) {
+            while b > 0 && !self.grid_ok(b, x) {
                 b -= 1;
             }
             b
         }
     }
 
-    fn from_grid_ok(self, d: u64, x: f64) -> bool {
+    fn grid_ok(self, d: u64, x: f64) -> bool {
         match self {
             Metric::L2 => (d as f64).sqrt() <= x,
             Metric::L1 => d as f64 <= x,

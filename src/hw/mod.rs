@@ -1,4 +1,30 @@
 //! The photon-search core (paper §4) as rust-hdl blocks.
+//!
+//! Block structure (one block per file, ports first, `#[hdl_gen] fn update`):
+//!
+//! ```text
+//! PhotonSearchCore (core.rs)            load / query / result valid-ready streams
+//! ├── TreeModule (tree_module.rs)       true dual-port BlockRAM, 2^H words
+//! ├── SearchPort A (search_port.rs)     TreeModule port A (also the load port)
+//! │   ├── QueryModule × Q (query_module.rs)
+//! │   │   └── MaxFinder (max_finder.rs) bit-transposed distance list, §4.4
+//! │   ├── PortArbiter (port_arbiter.rs) one read per cycle, round robin, §4.5
+//! │   └── SearchModule (search_module.rs)
+//! │       ├── AxisDistModule (axis_dist.rs)
+//! │       ├── DistModule (dist_module.rs)
+//! │       └── NextIndexModule (next_index.rs)
+//! └── SearchPort B                      TreeModule port B
+//! ```
+//!
+//! A QueryModule issues a read at most every `CoreConfig::issue_interval()` =
+//! 5 + distance-bits cycles (grant, BlockRAM, two SearchModule stages, insertion,
+//! one MaxFinder cycle per distance bit, the R update); with Q >= that interval a
+//! port reads a photon every cycle while all its QueryModules are busy. Results are
+//! bit-identical to `host::knn::search` (same slots, same number of reads).
+//!
+//! Host-facing API: [`config::CoreConfig`], [`sim::run_gather`] (fast native
+//! simulation, optional VCD), [`verilog::export_verilog`]. The datapath limits
+//! (32-bit words and distances, H <= 20, K <= 32, Q <= 32) are in [`config`].
 
 pub mod axis_dist;
 pub mod config;

@@ -1,6 +1,6 @@
 //! NextIndexModule (paper §4.3): the kd-tree traversal step of knn.rs, in logic.
 //! State = (address, up/down, came-from bit). With `near` = the right child iff
-//! q[a] >= p[a] and children at 2i / 2i+1 existing iff their address <= N:
+//! `q[a] >= p[a]` and children at 2i / 2i+1 existing iff their address <= N:
 //! * down: go to the near child if it exists, else to the far child if it exists and
 //!   the axis distance is within_radius R, else up;
 //! * up (re-read of a parent): go down into the far child if we came from the near

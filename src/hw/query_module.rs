@@ -217,9 +217,11 @@ impl Logic for QueryModule {
         }
         self.max_finder.write_enable.next = self.insert.val();
         self.max_finder.write_slot.next = self.insert_slot.val();
-        for i in 0..self.found.len() {
-            if self.insert.val() && self.insert_slot.val().get_bit(i) {
-                self.found[i].d.next = self.result_address.val();
+        if self.insert.val() {
+            for i in 0..self.found.len() {
+                if self.insert_slot.val().get_bit(i) {
+                    self.found[i].d.next = self.result_address.val();
+                }
             }
         }
 
@@ -318,9 +320,11 @@ impl Logic for QueryModule {
         self.out_visited.next = self.visited.q.val();
         self.out_dist.next = self.max_finder.read_dist.val();
         self.out_address.next = 0.into();
-        for i in 0..self.found.len() {
-            if self.out_slot.val().get_bit(i) {
-                self.out_address.next = self.found[i].q.val();
+        if self.out_slot.val().any() {
+            for i in 0..self.found.len() {
+                if self.out_slot.val().get_bit(i) {
+                    self.out_address.next = self.found[i].q.val();
+                }
             }
         }
     }

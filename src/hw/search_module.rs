@@ -17,6 +17,8 @@ use rust_hdl::prelude::*;
 #[derive(LogicBlock)]
 pub struct SearchModule {
     pub clock: Signal<In, Clock>,
+    /// Drops the reads in flight (their QueryModules are being reset too).
+    pub reset: Signal<In, bool>,
     /// The read granted this cycle (same cycle as the TreeModule address).
     pub request_valid: Signal<In, bool>,
     pub request_module: Signal<In, ModuleIndex>,
@@ -97,6 +99,7 @@ impl SearchModule {
         let offset = |o: u32| Constant::new(Bits::<8>::from(o as u64));
         SearchModule {
             clock: Default::default(),
+            reset: Default::default(),
             request_valid: Default::default(),
             request_module: Default::default(),
             request_address: Default::default(),
@@ -268,6 +271,12 @@ impl Logic for SearchModule {
         self.s2_next_up.d.next = self.next_index.next_up.val();
         self.s2_next_came_from_right.d.next = self.next_index.next_came_from_right.val();
         self.s2_done.d.next = self.next_index.done.val();
+
+        if self.reset.val() {
+            self.s0_valid.d.next = false;
+            self.s1_valid.d.next = false;
+            self.s2_valid.d.next = false;
+        }
 
         self.result_valid.next = self.s2_valid.q.val();
         self.result_module.next = self.s2_module.q.val();

@@ -115,6 +115,7 @@ impl Logic for SearchPort {
         dff_setup!(self, clock, out_active, out_select, out_header, out_slot, out_left);
         self.arbiter.clock.next = self.clock.val();
         self.search.clock.next = self.clock.val();
+        self.search.reset.next = self.reset.val();
         self.search.photon_count.next = self.photon_count.val();
         self.search.word.next = self.ram_data.val();
 
@@ -200,7 +201,11 @@ impl Logic for SearchPort {
             self.modules[i].load_radius.next = self.query_radius.val();
             self.modules[i].load_k.next = self.query_k.val();
             // Result read-out from the selected module.
-            self.modules[i].out_slot.next = self.out_slot.q.val();
+            // Only the selected module sees a slot to read out.
+            self.modules[i].out_slot.next = 0.into();
+            if self.out_select.q.val().get_bit(i) {
+                self.modules[i].out_slot.next = self.out_slot.q.val();
+            }
             if self.out_select.q.val().get_bit(i) {
                 self.result_id.next = self.modules[i].out_id.val();
                 self.result_count.next = self.modules[i].out_count.val();

@@ -65,6 +65,7 @@ pub struct CoreSim {
     stalls: Option<Pcg64>,
     vcd: Option<VCDProbe<BufWriter<File>>>,
     time: u64,
+    clock_high: bool,
     stats: SimStats,
 }
 
@@ -98,6 +99,7 @@ impl CoreSim {
             stalls: opts.stall_seed.map(Pcg64::seed_from_u64),
             vcd,
             time: 0,
+            clock_high: false,
             stats: SimStats {
                 reads_per_port: vec![0; 2],
                 busy_reads_per_port: vec![0; 2],
@@ -138,8 +140,25 @@ impl CoreSim {
         }
     }
 
-    /// One clock cycle: rising edge, falling edge (inputs are set while low).
+    /// Falling edge (if the clock is high) merged with the settling of the inputs
+    /// the caller just set: one `simulate` per half cycle.
+    fn settle_low(&mut self) -> Result<(), Error> {
+        self.uut.clock.next = false.into();
+        self.settle()?;
+        if self.clock_high {
+            self.clock_high = false;
+            self.time += 5;
+            self.trace();
+        }
+        Ok(())
+    }
+
+    /// One clock cycle: count this cycle's reads, then the rising edge. The clock
+    /// stays high until the next `settle_low`.
     fn tick(&mut self) -> Result<(), Error> {
+        if self.clock_high {
+            self.settle_low()?;
+        }
         let uut = self.uut.as_mut();
         if uut.port_a_reading.val() {
             self.stats.reads_per_port[0] += 1;
@@ -155,10 +174,7 @@ impl CoreSim {
         self.stats.cycles += 1;
         self.uut.clock.next = true.into();
         self.settle()?;
-        self.time += 5;
-        self.trace();
-        self.uut.clock.next = false.into();
-        self.settle()?;
+        self.clock_high = true;
         self.time += 5;
         self.trace();
         Ok(())
@@ -175,11 +191,11 @@ impl CoreSim {
     /// Synchronous reset for two cycles.
     pub fn reset(&mut self) -> Result<(), Error> {
         self.uut.reset.next = true;
-        self.settle()?;
+        self.settle_low()?;
         self.tick()?;
         self.tick()?;
         self.uut.reset.next = false;
-        self.settle()
+        self.settle_low()
     }
 
     /// Stream `tree`'s words into the TreeModule (addresses 1..=N, `last` on N).
@@ -198,7 +214,7 @@ impl CoreSim {
             uut.load_address.next = (next as u64).into();
             uut.load_word.next = tree.words[next].into();
             uut.load_last.next = next == n;
-            self.settle()?;
+            self.settle_low()?;
             let fire = presenting && self.uut.load_ready.val();
             self.tick()?;
             if fire {
@@ -213,12 +229,36 @@ impl CoreSim {
             }
         }
         self.uut.load_valid.next = false;
-        self.settle()
+        self.settle_low()
     }
 
     /// Run `queries` on the loaded map; results in input order.
     pub fn run_queries(&mut self, queries: &[HwQuery]) -> Result<Vec<HwResult>, Error> {
+        let results = self.drive_queries(queries, None)?;
+        Ok(results
+            .into_iter()
+            .map(|r| r.expect("all received"))
+            .collect())
+    }
+
+    /// Feed `queries` for at most `cycles` cycles and return what completed by then
+    /// (`None` for the rest), leaving the others in flight: e.g. to test a reset
+    /// in the middle of a search.
+    pub fn run_queries_for(
+        &mut self,
+        queries: &[HwQuery],
+        cycles: u64,
+    ) -> Result<Vec<Option<HwResult>>, Error> {
+        self.drive_queries(queries, Some(cycles))
+    }
+
+    fn drive_queries(
+        &mut self,
+        queries: &[HwQuery],
+        max_cycles: Option<u64>,
+    ) -> Result<Vec<Option<HwResult>>, Error> {
         let cfg = self.cfg;
+        let start_cycle = self.stats.cycles;
         for q in queries {
             if q.k == 0 || q.k as usize > cfg.k {
                 return Err(sim_error(format!(
@@ -244,6 +284,9 @@ impl CoreSim {
         let mut since_progress = 0u64;
         let patience = 10_000 + 8 * (cfg.tree_words() as u64 + 2) * cfg.issue_interval() as u64;
         while received < queries.len() {
+            if max_cycles.is_some_and(|m| self.stats.cycles - start_cycle >= m) {
+                break;
+            }
             if next_query < queries.len() && !presenting && !self.stall() {
                 presenting = true;
             }
@@ -262,7 +305,7 @@ impl CoreSim {
                 }
                 uut.result_ready.next = result_ready;
             }
-            self.settle()?;
+            self.settle_low()?;
             let query_fire = presenting && self.uut.query_ready.val();
             let uut = self.uut.as_ref();
             let result_fire = result_ready && uut.result_valid.val();
@@ -331,11 +374,11 @@ impl CoreSim {
             uut.query_valid.next = false;
             uut.result_ready.next = false;
         }
-        self.settle()?;
+        self.settle_low()?;
         if let Some(vcd) = &mut self.vcd {
             let _ = vcd.timestamp(self.time);
         }
-        Ok(results.into_iter().map(|r| r.expect("counted")).collect())
+        Ok(results)
     }
 }
 

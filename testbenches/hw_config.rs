@@ -1,0 +1,86 @@
+//! CoreConfig: the paper's core, what `for_map` derives from a map, and the limits.
+
+mod common;
+use common::*;
+use photon_fpga::hw::config::{CoreConfig, MAX_K, PORTS};
+use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::photon_word::PhotonLayout;
+
+#[test]
+fn paper_core() {
+    let cfg = CoreConfig::paper();
+    assert_eq!(cfg.layout.bits, [10, 10, 10]);
+    assert_eq!(cfg.layout.word_bits(), 32, "paper: 32-bit photon word");
+    assert_eq!(cfg.k, 10);
+    assert_eq!(
+        cfg.query_modules(),
+        42,
+        "paper: 21 QueryModules per port, 2 ports"
+    );
+    assert_eq!(PORTS, 2);
+    // The paper's 12-bit distance: L1 of 10-bit coordinates, max 3 * 1023 = 3069.
+    assert_eq!(cfg.metric, Metric::L1);
+    assert_eq!(cfg.dist_bits(), 12);
+    assert!(
+        cfg.queries_per_port >= cfg.issue_interval(),
+        "a port can read every cycle"
+    );
+    assert!(cfg.tree_words() > 1023, "holds the paper's 1023-photon map");
+    cfg.validate().unwrap();
+}
+
+#[test]
+fn for_map_models_only_what_the_scene_needs() {
+    let layout = PhotonLayout::new([9, 4, 7]);
+    let mut r = rng(71);
+    for (n, h) in [
+        (1usize, 1u32),
+        (2, 2),
+        (3, 2),
+        (7, 3),
+        (8, 4),
+        (300, 9),
+        (511, 9),
+        (512, 10),
+    ] {
+        let tree = pack(&random_points(&mut r, n, layout), layout);
+        for metric in [Metric::L2, Metric::L1] {
+            let cfg = CoreConfig::for_map(&tree, 7, metric).unwrap();
+            assert_eq!(cfg.address_bits, h, "{n} photons");
+            assert!(n < cfg.tree_words());
+            assert_eq!(cfg.layout, layout);
+            assert_eq!(cfg.k, 7);
+            assert_eq!(cfg.queries_per_port, cfg.issue_interval());
+            let max = match metric {
+                Metric::L2 => 511u64 * 511 + 15 * 15 + 127 * 127,
+                Metric::L1 => 511 + 15 + 127,
+            };
+            assert_eq!(cfg.max_dist(), max);
+            assert_eq!(cfg.dist_bits(), 64 - max.leading_zeros());
+        }
+    }
+}
+
+#[test]
+fn limits_are_errors_not_panics() {
+    let layout = PhotonLayout::new([10, 10, 10]);
+    let tree = pack(&[[1, 2, 3]], layout);
+    assert!(CoreConfig::for_map(&tree, 0, Metric::L2).is_err());
+    assert!(CoreConfig::for_map(&tree, MAX_K + 1, Metric::L2).is_err());
+    assert!(CoreConfig::for_map(&tree, MAX_K, Metric::L2).is_ok());
+    // 3 x 11 bits + 2 do not fit the 32-bit word.
+    let wide = pack(&[[1, 2, 3]], PhotonLayout::new([11, 10, 10]));
+    assert!(CoreConfig::for_map(&wide, 4, Metric::L1).is_err());
+    // 15 + 8 + 7 bits fit the word, and L2 still fits 32 distance bits.
+    let skewed = pack(&[[1, 2, 3]], PhotonLayout::new([15, 8, 7]));
+    assert!(CoreConfig::for_map(&skewed, 4, Metric::L2).is_ok());
+    let mut cfg = CoreConfig::paper();
+    cfg.address_bits = 21;
+    assert!(cfg.validate().is_err());
+    cfg = CoreConfig::paper();
+    cfg.queries_per_port = 33;
+    assert!(cfg.validate().is_err());
+    // A map larger than the core.
+    let big = pack(&vec![[1, 2, 3]; 1024], layout);
+    assert!(CoreConfig::paper().check_map(&big).is_err());
+}
