@@ -279,11 +279,11 @@ struct CoreArgs {
 
 impl CoreArgs {
     fn config(&self) -> Result<CoreConfig> {
-        if !(1..=photon_fpga::hw::config::MAX_COORD_BITS).contains(&self.bits) {
+        if !(1..=photon_fpga::hw::config::MAX_HW_COORD_BITS).contains(&self.bits) {
             return Err(Error::new(format!(
                 "--bits {} is out of range (1..={})",
                 self.bits,
-                photon_fpga::hw::config::MAX_COORD_BITS
+                photon_fpga::hw::config::MAX_HW_COORD_BITS
             )));
         }
         let mut cfg = CoreConfig {
