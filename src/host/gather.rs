@@ -84,7 +84,7 @@ impl GatherParams {
             return Err(Error::new("--k must be at least 1, got 0"));
         }
         if let Some(r) = self.radius {
-            if !(r >= 0.0) || !r.is_finite() {
+            if r.is_nan() || r < 0.0 || r.is_infinite() {
                 return Err(Error::new(format!(
                     "--radius must be a finite number >= 0, got {r}"
                 )));

@@ -127,10 +127,13 @@ impl PackedTree {
 
     /// Pack an integer tree whose coordinates fit `layout`.
     pub fn from_tree(tree: &KdTree<u32>, layout: PhotonLayout) -> Self {
-        let mut words = vec![0u64; tree.coords.len()];
-        for addr in 1..tree.coords.len() {
-            words[addr] = layout.pack(tree.coords[addr], tree.axis[addr]);
-        }
+        // Address 0 is unused: the heap is 1-based.
+        let words = (0..tree.coords.len())
+            .map(|a| match a {
+                0 => 0,
+                _ => layout.pack(tree.coords[a], tree.axis[a]),
+            })
+            .collect();
         Self::from_words(layout, words, tree.perm.clone())
     }
 

@@ -116,6 +116,9 @@ impl Coord for f64 {
 pub trait NodeSource<C> {
     /// Number of photons N; heap addresses run 1..=N.
     fn len(&self) -> usize;
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
     /// Coordinates and split axis of the photon at `addr`.
     fn node(&self, addr: usize) -> ([C; 3], u8);
 }

@@ -287,7 +287,6 @@ pub fn save_png(img: &image::RgbImage, path: impl AsRef<Path>) -> Result<()> {
 mod tests {
     use super::*;
     use crate::host::gather::{FloatBackend, GatherParams, Neighbour, SwBackend};
-    use crate::host::photons::trace_photons;
     use crate::host::scene::Scene;
 
     /// Photons on a square grid of spacing `h` over [-1, 1]² in the plane z = 0,
