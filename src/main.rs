@@ -188,34 +188,20 @@ fn render(args: &RenderArgs) -> Result<()> {
             &args.opts.sim(),
         )
     })?;
-    let (queries, emitted) = t.time("ray emission", || render::eye_queries(&scene, &settings));
-    let qpos = render::query_points(&queries);
-    let gathered = t.time("kd-tree search", || backend.gather(&qpos))?;
-    t.time("other", || {
-        let radiance = render::radiance(
-            &queries,
-            &photons,
-            &gathered,
-            params.k,
-            params.radius,
-            params.metric,
-        );
-        let img = render::resolve(
-            settings.width,
-            settings.height,
-            &queries,
-            &radiance,
-            &emitted,
-            settings.exposure,
-        );
-        render::save_png(&img, &args.out)
-    })?;
-    let visited: u64 = gathered.iter().map(|g| g.visited as u64).sum();
+    let pass = render::render_image(
+        &scene,
+        &settings,
+        &photons,
+        backend.as_ref(),
+        &params,
+        &mut t,
+    )?;
+    t.time("other", || render::save_png(&pass.image, &args.out))?;
     println!(
         "{} photons stored from {} emitted; {} queries; backend {}; k = {}",
         photons.len(),
         args.photons,
-        queries.len(),
+        pass.queries,
         backend.name(),
         params.k
     );
@@ -224,7 +210,7 @@ fn render(args: &RenderArgs) -> Result<()> {
     }
     println!(
         "photons visited per query: {:.1}",
-        visited as f64 / queries.len().max(1) as f64
+        pass.visited as f64 / pass.queries.max(1) as f64
     );
     println!("{t}");
     println!("wrote {}", args.out.display());

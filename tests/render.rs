@@ -9,6 +9,7 @@ use photon_fpga::host::photons::trace_photons;
 use photon_fpga::host::quantize::Quantizer;
 use photon_fpga::host::render::{self, eye_queries, render_image, RenderSettings};
 use photon_fpga::host::scene::Scene;
+use photon_fpga::host::stages::StageTimes;
 use photon_fpga::hw::metric::Metric;
 
 fn pool(threads: usize) -> rayon::ThreadPool {
@@ -40,11 +41,11 @@ fn one_and_two_threads_give_identical_photon_maps_and_images() {
                 &settings,
                 &photons,
                 &backend,
-                params.k,
-                None,
-                Metric::L2,
+                &params,
+                &mut StageTimes::default(),
             )
-            .unwrap();
+            .unwrap()
+            .image;
             let bits: Vec<[u32; 9]> = photons
                 .iter()
                 .map(|p| {

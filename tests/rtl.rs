@@ -126,39 +126,26 @@ fn rtl_gather_returns_the_exact_k_nearest() {
     }
 }
 
-#[test]
-fn rtl_refuses_what_the_core_cannot_hold() {
+/// `render ARGS` exits 2 naming `message`, and writes no image.
+fn render_fails(args: &[&str], message: &str) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("r.png");
     let assert = bin()
-        .args([
-            "render",
-            "--backend",
-            "rtl",
-            "--k",
-            "500",
-            "--photons",
-            "100",
-        ])
-        .args(["--out", out.to_str().unwrap()])
+        .arg("render")
+        .args(args)
+        .args(["--photons", "100", "--out", out.to_str().unwrap()])
         .assert()
         .code(2);
     let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
-    assert!(stderr.contains("500"), "{stderr}");
+    assert!(stderr.contains(message), "{stderr}");
     assert!(!out.exists());
-    let assert = bin()
-        .args([
-            "render",
-            "--backend",
-            "sw",
-            "--vcd",
-            "x.vcd",
-            "--photons",
-            "100",
-        ])
-        .args(["--out", out.to_str().unwrap()])
-        .assert()
-        .code(2);
-    let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
-    assert!(stderr.contains("--vcd needs --backend rtl"), "{stderr}");
+}
+
+#[test]
+fn rtl_refuses_what_the_core_cannot_hold() {
+    render_fails(&["--backend", "rtl", "--k", "500"], "500");
+    render_fails(
+        &["--backend", "sw", "--vcd", "x.vcd"],
+        "--vcd needs --backend rtl",
+    );
 }

@@ -8,10 +8,11 @@
 //! therefore produce bit-identical images, which is how the hardware is checked.
 
 use super::error::{Error, Result};
-use super::gather::{GatherBackend, Gathered};
+use super::gather::{GatherBackend, GatherParams, Gathered};
 use super::photons::{stream_rng, Photon};
 use super::quantize::Point;
 use super::scene::{glass_scatter, reflect, Material, Ray, Scene, Surface};
+use super::stages::StageTimes;
 use crate::hw::metric::Metric;
 use glam::Vec3;
 use rand::Rng;
@@ -241,29 +242,51 @@ pub fn resolve(
     })
 }
 
+/// What the eye pass made, beside the image.
+pub struct EyePass {
+    pub image: image::RgbImage,
+    /// Query points gathered (eye samples that reached a diffuse surface).
+    pub queries: usize,
+    /// Photons the backend read, summed over all queries.
+    pub visited: u64,
+}
+
 /// The whole eye pass for a photon map already loaded into `backend`: queries,
-/// gathers, radiance, image. `k`, `radius`, `metric` must be what the backend was
-/// built with.
+/// gathers, radiance, image, each charged to its paper Fig. 2 stage in `times`.
+/// `params` must be what the backend was built with.
 pub fn render_image(
     scene: &Scene,
     settings: &RenderSettings,
     photons: &[Photon],
     backend: &dyn GatherBackend,
-    k: usize,
-    radius: Option<f64>,
-    metric: Metric,
-) -> Result<image::RgbImage> {
-    let (queries, emitted) = eye_queries(scene, settings);
-    let gathered = backend.gather(&query_points(&queries))?;
-    let radiance = radiance(&queries, photons, &gathered, k, radius, metric);
-    Ok(resolve(
-        settings.width,
-        settings.height,
-        &queries,
-        &radiance,
-        &emitted,
-        settings.exposure,
-    ))
+    params: &GatherParams,
+    times: &mut StageTimes,
+) -> Result<EyePass> {
+    let (queries, emitted) = times.time("ray emission", || eye_queries(scene, settings));
+    let gathered = times.time("kd-tree search", || backend.gather(&query_points(&queries)))?;
+    let image = times.time("other", || {
+        let radiance = radiance(
+            &queries,
+            photons,
+            &gathered,
+            params.k,
+            params.radius,
+            params.metric,
+        );
+        resolve(
+            settings.width,
+            settings.height,
+            &queries,
+            &radiance,
+            &emitted,
+            settings.exposure,
+        )
+    });
+    Ok(EyePass {
+        image,
+        queries: queries.len(),
+        visited: gathered.iter().map(|g| g.visited as u64).sum(),
+    })
 }
 
 /// Write a PNG atomically: encode to `<path>.tmp` in the same directory, then rename
