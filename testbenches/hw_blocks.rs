@@ -110,7 +110,8 @@ fn dist_extremes_and_range_test() {
 #[test]
 fn next_index_follows_the_traversal_rule() {
     let mut r = common::rng(5);
-    let mut uut = NextIndexModule::default();
+    // 7 address bits: photon counts below 128, child addresses below 256.
+    let mut uut = NextIndexModule::new(7);
     uut.connect_all();
     check_all(&uut).unwrap();
     for _ in 0..3000 {

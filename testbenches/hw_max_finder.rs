@@ -13,7 +13,7 @@ struct Bench {
 
 impl Bench {
     fn new(dist_bits: u32) -> Self {
-        let mut uut = MaxFinder::new(dist_bits);
+        let mut uut = MaxFinder::new(dist_bits, 32);
         uut.connect_all();
         check_all(&uut).expect("MaxFinder checks");
         let mut b = Bench { uut, dist_bits };
@@ -138,6 +138,22 @@ fn ties_pick_the_lowest_slot() {
     // The maximum at the last and at the first slot only.
     check_list(&mut b, &[3, 3, 3, 7]);
     check_list(&mut b, &[7, 3, 3, 7]);
+}
+
+#[test]
+fn only_the_configured_slots_exist() {
+    // A 5-slot MaxFinder ignores writes and candidates beyond slot 4.
+    let mut uut = MaxFinder::new(8, 5);
+    uut.connect_all();
+    let mut b = Bench { uut, dist_bits: 8 };
+    b.settle();
+    for (s, &d) in [10u64, 20, 30, 40, 50].iter().enumerate() {
+        b.write(s, d);
+    }
+    b.write(7, 255);
+    assert_eq!(b.read(7), 0);
+    let (max, filter, slot, _) = b.find(0xFF);
+    assert_eq!((max, filter, slot), (50, 1 << 4, 1 << 4));
 }
 
 #[test]

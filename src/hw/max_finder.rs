@@ -43,14 +43,19 @@ pub struct MaxFinder {
     max_reg: DFF<Dist>,
     busy_reg: DFF<bool>,
     top_row: Constant<Dist>,
+    /// The K slots that exist: the other row bits are constant zero, so synthesis
+    /// drops them (the datapath type is 32 slots wide).
+    slot_mask: Constant<SlotMask>,
+    slot_write: Signal<Local, SlotMask>,
     current_row: Signal<Local, SlotMask>,
     row_and_filter: Signal<Local, SlotMask>,
 }
 
 impl MaxFinder {
-    /// A MaxFinder over distances of `dist_bits` bits (slots: up to 32).
-    pub fn new(dist_bits: u32) -> Self {
+    /// A MaxFinder over `slots` (1..=32) distances of `dist_bits` bits.
+    pub fn new(dist_bits: u32, slots: usize) -> Self {
         assert!((1..=32).contains(&dist_bits));
+        assert!((1..=32).contains(&slots));
         MaxFinder {
             clock: Default::default(),
             write_enable: Default::default(),
@@ -70,6 +75,8 @@ impl MaxFinder {
             max_reg: Default::default(),
             busy_reg: Default::default(),
             top_row: Constant::new(Dist::from(1u64 << (dist_bits - 1))),
+            slot_mask: Constant::new(SlotMask::from((1u64 << slots) - 1)),
+            slot_write: Default::default(),
             current_row: Default::default(),
             row_and_filter: Default::default(),
         }
@@ -85,12 +92,13 @@ impl Logic for MaxFinder {
             self.rows[n].d.next = self.rows[n].q.val();
         }
         // Write one slot: bit n of the distance goes to row n.
+        self.slot_write.next = self.write_slot.val() & self.slot_mask.val();
         if self.write_enable.val() {
             for n in 0..self.rows.len() {
                 if self.write_dist.val().get_bit(n) {
-                    self.rows[n].d.next = self.rows[n].q.val() | self.write_slot.val();
+                    self.rows[n].d.next = self.rows[n].q.val() | self.slot_write.val();
                 } else {
-                    self.rows[n].d.next = self.rows[n].q.val() & (!self.write_slot.val());
+                    self.rows[n].d.next = self.rows[n].q.val() & (!self.slot_write.val());
                 }
             }
         }
@@ -107,7 +115,7 @@ impl Logic for MaxFinder {
         }
         self.row_and_filter.next = self.current_row.val() & self.filter_reg.q.val();
         if self.start.val() {
-            self.filter_reg.d.next = self.candidates.val();
+            self.filter_reg.d.next = self.candidates.val() & self.slot_mask.val();
             self.row_select.d.next = self.top_row.val();
             self.max_reg.d.next = 0.into();
             self.busy_reg.d.next = true;

@@ -13,7 +13,7 @@
 use crate::hw::config::{Addr, Dist};
 use rust_hdl::prelude::*;
 
-#[derive(LogicBlock, Default)]
+#[derive(LogicBlock)]
 pub struct NextIndexModule {
     /// Address of the photon just read, and how we got there.
     pub address: Signal<In, Addr>,
@@ -32,21 +32,49 @@ pub struct NextIndexModule {
     pub next_came_from_right: Signal<Out, bool>,
     /// The search is over (up from the root).
     pub done: Signal<Out, bool>,
+    /// H+1 address bits hold every child address 2i+1 <= 2N+1 < 2^(H+1); masking
+    /// with it tells synthesis that the upper bits of the 24-bit datapath are zero.
+    address_mask: Constant<Addr>,
     near_child: Signal<Local, Addr>,
     far_child: Signal<Local, Addr>,
     within_radius: Signal<Local, bool>,
     go_far: Signal<Local, bool>,
 }
 
+impl NextIndexModule {
+    /// For a TreeModule of 2^`address_bits` words.
+    pub fn new(address_bits: u32) -> Self {
+        NextIndexModule {
+            address: Default::default(),
+            up: Default::default(),
+            came_from_right: Default::default(),
+            near_right: Default::default(),
+            axis_dist: Default::default(),
+            radius: Default::default(),
+            full: Default::default(),
+            photon_count: Default::default(),
+            next_address: Default::default(),
+            next_up: Default::default(),
+            next_came_from_right: Default::default(),
+            done: Default::default(),
+            address_mask: Constant::new(Addr::from((1u64 << (address_bits + 1)) - 1)),
+            near_child: Default::default(),
+            far_child: Default::default(),
+            within_radius: Default::default(),
+            go_far: Default::default(),
+        }
+    }
+}
+
 impl Logic for NextIndexModule {
     #[hdl_gen]
     fn update(&mut self) {
         if self.near_right.val() {
-            self.near_child.next = (self.address.val() << 1) + 1;
-            self.far_child.next = self.address.val() << 1;
+            self.near_child.next = ((self.address.val() << 1) + 1) & self.address_mask.val();
+            self.far_child.next = (self.address.val() << 1) & self.address_mask.val();
         } else {
-            self.near_child.next = self.address.val() << 1;
-            self.far_child.next = (self.address.val() << 1) + 1;
+            self.near_child.next = (self.address.val() << 1) & self.address_mask.val();
+            self.far_child.next = ((self.address.val() << 1) + 1) & self.address_mask.val();
         }
         if self.full.val() {
             self.within_radius.next = self.axis_dist.val() < self.radius.val();

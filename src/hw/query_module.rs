@@ -161,7 +161,7 @@ impl QueryModule {
             search_done: Default::default(),
             visited: Default::default(),
             found: (0..cfg.k).map(|_| DFF::default()).collect(),
-            max_finder: MaxFinder::new(cfg.dist_bits()),
+            max_finder: MaxFinder::new(cfg.dist_bits(), cfg.k),
             result_mine: Default::default(),
             insert: Default::default(),
             insert_slot: Default::default(),

@@ -123,7 +123,7 @@ impl SearchModule {
             result_done: Default::default(),
             axis_dist: AxisDistModule::new(cfg.metric),
             dist_module: DistModule::new(cfg.metric),
-            next_index: Default::default(),
+            next_index: NextIndexModule::new(cfg.address_bits),
             offset_x: offset(l.offset(0)),
             offset_y: offset(l.offset(1)),
             offset_z: offset(l.offset(2)),
