@@ -42,3 +42,4 @@ pub mod shell;
 pub mod sim;
 pub mod tree_module;
 pub mod verilog;
+pub mod xsim;

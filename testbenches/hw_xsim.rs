@@ -1,0 +1,361 @@
+//! Cycle-exact cross-simulation: the rust-hdl simulation of the core records the
+//! input vector of every cycle and every handshake (src/hw/xsim.rs documents both
+//! files); the exported Verilog replays the stimulus blindly under Icarus Verilog
+//! and Verilator and must write the same response file byte for byte, so every
+//! load, query and result beat moves at the same cycle with the same bits. The
+//! recorded results must also equal `knn::search` (same slots, same reads) and brute
+//! force. A deliberately broken export (one `(a & b) == c` losing its parentheses,
+//! the rust-hdl precedence hazard) must be reported as a mismatch.
+//!
+//! Both simulators get the small and the paper configuration (random maps, a map
+//! reloaded after queries, a Cornell-box map, hard cases). Icarus simulates the
+//! `xsim::glitch_free` rewrite of the export (the raw export loops forever in
+//! Icarus at the first result beat; see there). A missing simulator fails
+//! the test when CI=true and is reported loudly otherwise.
+//! `PHOTON_FPGA_XSIM_DIR=dir` keeps every file (plus a hand-replay directory per case).
+
+mod common;
+use common::*;
+use photon_fpga::host::gather::{GatherParams, QuantizedMap};
+use photon_fpga::host::photons::trace_photons;
+use photon_fpga::host::render::{self, eye_queries, RenderSettings};
+use photon_fpga::host::scene::Scene;
+use photon_fpga::hw::config::CoreConfig;
+use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::photon_word::PhotonLayout;
+use photon_fpga::hw::sim::HwQuery;
+use photon_fpga::hw::verilog::export_verilog;
+use photon_fpga::hw::xsim::{self, Simulator, XsimMap, XsimRun};
+use std::path::PathBuf;
+use std::time::Instant;
+
+fn available(sim: Simulator) -> bool {
+    if sim.available() {
+        return true;
+    }
+    if std::env::var("CI").map(|v| v == "true").unwrap_or(false) {
+        panic!("{} is not installed (CI=true)", sim.name());
+    }
+    eprintln!(
+        "\n!!! {} NOT FOUND: the exported Verilog was NOT cross-simulated with it !!!\n",
+        sim.name()
+    );
+    false
+}
+
+/// A map with the grid points it was built from (for brute force).
+struct Map {
+    points: Vec<[u32; 3]>,
+    xmap: XsimMap,
+}
+
+struct Case {
+    name: &'static str,
+    maps: Vec<Map>,
+    stall_seed: u64,
+}
+
+fn map(points: Vec<[u32; 3]>, layout: PhotonLayout, queries: Vec<HwQuery>) -> Map {
+    let tree = pack(&points, layout);
+    Map {
+        points,
+        xmap: XsimMap { tree, queries },
+    }
+}
+
+/// Boundary queries: grid corners and photons, radius 0 / a photon's exact distance
+/// (a tie at the bound) / unbounded, k = 1, K and in between.
+fn hard_queries(points: &[[u32; 3]], cfg: &CoreConfig, n: usize) -> Vec<HwQuery> {
+    let max = [0, 1, 2].map(|a| cfg.layout.coord_max(a));
+    let mut at = vec![[0, 0, 0], max];
+    at.extend(points.iter().take(3).copied());
+    let ks = [1, cfg.k as u32, (cfg.k as u32).div_ceil(2)];
+    let mut queries = vec![];
+    for (i, &c) in at.iter().enumerate() {
+        let p = points[(i * 7) % points.len()];
+        for (j, radius) in [0, cfg.metric.dist(p, c), u64::MAX].into_iter().enumerate() {
+            queries.push(HwQuery {
+                id: queries.len() as u32,
+                coords: c,
+                radius,
+                k: ks[(i + j) % ks.len()],
+            });
+        }
+    }
+    queries.truncate(n);
+    queries
+}
+
+/// Six photons at equal distance around a centre, three shells.
+fn cross(centre: [u32; 3]) -> Vec<[u32; 3]> {
+    let mut pts = vec![];
+    for d in 1..3u32 {
+        for a in 0..3 {
+            let mut p = centre;
+            p[a] += d;
+            pts.push(p);
+            p[a] -= 2 * d;
+            pts.push(p);
+        }
+    }
+    pts
+}
+
+/// A Cornell-box photon map quantized to `bits`, with eye-ray queries.
+/// At most `photons` stored photons (the first of the traced ones).
+fn cornell(photons: usize, bits: u32, k: usize, metric: Metric, nq: usize) -> (Map, QuantizedMap) {
+    let scene = Scene::cornell_box();
+    let mut world = render::photon_points(&trace_photons(&scene, photons, 5, false));
+    world.truncate(photons);
+    let settings = RenderSettings {
+        width: 4,
+        height: 3,
+        spp: 1,
+        ..RenderSettings::default()
+    };
+    let (eye, _) = eye_queries(&scene, &settings);
+    let params = GatherParams {
+        k,
+        radius: None,
+        bits,
+        metric,
+        ..GatherParams::default()
+    };
+    let qmap = QuantizedMap::new(&world, &params).unwrap();
+    let points: Vec<[u32; 3]> = world.iter().map(|&p| qmap.quant.quantize(p)).collect();
+    let queries: Vec<HwQuery> = render::query_points(&eye)
+        .iter()
+        .take(nq)
+        .enumerate()
+        .map(|(i, &q)| HwQuery {
+            id: 500 + i as u32,
+            coords: qmap.quant.quantize(q),
+            radius: qmap.radius_bound,
+            k: k as u32,
+        })
+        .collect();
+    let m = Map {
+        points,
+        xmap: XsimMap {
+            tree: qmap.tree.clone(),
+            queries,
+        },
+    };
+    (m, qmap)
+}
+
+/// The small configuration: the layout of a small Cornell-box map (6-bit grid),
+/// H = 5, K = 3, Q = 2 per port, squared L2. Returns it with the Cornell map.
+fn small() -> (CoreConfig, Map) {
+    let (m, qmap) = cornell(24, 6, 3, Metric::L2, 3);
+    let mut cfg = CoreConfig::for_map(&qmap.tree, 3, Metric::L2).unwrap();
+    cfg.address_bits = 5;
+    cfg.queries_per_port = 2;
+    cfg.check_map(&m.xmap.tree).unwrap();
+    (cfg, m)
+}
+
+fn small_cases() -> (CoreConfig, Vec<Case>) {
+    let (cfg, cornell_map) = small();
+    let layout = cfg.layout;
+    let mut r = rng(71);
+    let a = random_points(&mut r, 20, layout);
+    let qa = random_queries(&mut r, 5, layout, cfg.k, cfg.metric);
+    let b = random_points(&mut r, 9, layout);
+    let qb = random_queries(&mut r, 3, layout, cfg.k, cfg.metric);
+    let one = vec![[1, 2, 3]; 7];
+    let q_one = hard_queries(&one, &cfg, 4);
+    let c = [3, 3, 3].map(|x: u32| x.min(layout.coord_max(0)));
+    let ties = cross(c);
+    let q_ties = hard_queries(&ties, &cfg, 5);
+    let cases = vec![
+        Case {
+            name: "small_random_two_maps",
+            maps: vec![map(a, layout, qa), map(b, layout, qb)],
+            stall_seed: 1,
+        },
+        Case {
+            name: "small_cornell",
+            maps: vec![cornell_map],
+            stall_seed: 2,
+        },
+        Case {
+            name: "small_hard",
+            maps: vec![map(one, layout, q_one), map(ties, layout, q_ties)],
+            stall_seed: 3,
+        },
+    ];
+    (cfg, cases)
+}
+
+fn paper_cases() -> (CoreConfig, Vec<Case>) {
+    let cfg = CoreConfig::paper();
+    let layout = cfg.layout;
+    let mut r = rng(72);
+    let a = random_points(&mut r, 1000, layout);
+    let qa = random_queries(&mut r, 40, layout, cfg.k, cfg.metric);
+    let b = random_points(&mut r, 200, layout);
+    let qb = random_queries(&mut r, 12, layout, cfg.k, cfg.metric);
+    let (cm, qmap) = cornell(800, 10, cfg.k, cfg.metric, 12);
+    assert_eq!(
+        qmap.tree.layout, layout,
+        "Cornell map layout != paper layout"
+    );
+    let one = vec![[512, 3, 1023]; 40];
+    let q_one = hard_queries(&one, &cfg, 15);
+    let ties = cross([500, 500, 500]);
+    let q_ties = hard_queries(&ties, &cfg, 15);
+    let plane: Vec<[u32; 3]> = (0..100)
+        .map(|i| [(i * 37) % 1024, (i * 91) % 1024, 64])
+        .collect();
+    let q_plane = hard_queries(&plane, &cfg, 15);
+    let cases = vec![
+        Case {
+            name: "paper_random_two_maps",
+            maps: vec![map(a, layout, qa), map(b, layout, qb)],
+            stall_seed: 11,
+        },
+        Case {
+            name: "paper_cornell",
+            maps: vec![cm],
+            stall_seed: 12,
+        },
+        Case {
+            name: "paper_hard",
+            maps: vec![
+                map(one, layout, q_one),
+                map(ties, layout, q_ties),
+                map(plane, layout, q_plane),
+            ],
+            stall_seed: 13,
+        },
+    ];
+    (cfg, cases)
+}
+
+/// Record every case in rust-hdl and check its results against the software search.
+fn record(cfg: &CoreConfig, cases: &[Case]) -> Vec<XsimRun> {
+    cases
+        .iter()
+        .map(|case| {
+            let t = Instant::now();
+            let maps: Vec<XsimMap> = case.maps.iter().map(|m| m.xmap.clone()).collect();
+            let run = xsim::record(cfg, &maps, Some(case.stall_seed)).unwrap();
+            for (m, results) in case.maps.iter().zip(&run.results) {
+                check_results(cfg, &m.xmap.tree, &m.points, &m.xmap.queries, results);
+            }
+            eprintln!(
+                "{}: rust-hdl recorded {} cycles, {} response lines in {:.1?}",
+                case.name,
+                run.cycles(),
+                run.responses.lines().count(),
+                t.elapsed()
+            );
+            run
+        })
+        .collect()
+}
+
+fn work_dir(label: &str) -> (Option<tempfile::TempDir>, PathBuf) {
+    match std::env::var_os("PHOTON_FPGA_XSIM_DIR") {
+        Some(d) => {
+            let p = PathBuf::from(d).join(label);
+            std::fs::create_dir_all(&p).unwrap();
+            (None, p)
+        }
+        None => {
+            let t = tempfile::tempdir().unwrap();
+            let p = t.path().to_path_buf();
+            (Some(t), p)
+        }
+    }
+}
+
+/// Build `verilog` in `sim` and replay every run; the first mismatch, if any.
+fn cross_simulate(
+    sim: Simulator,
+    label: &str,
+    verilog: &str,
+    cases: &[Case],
+    runs: &[XsimRun],
+) -> Result<(), String> {
+    let (_keep, dir) = work_dir(&format!("{label}_{}", sim.name()));
+    let max_cycles = runs.iter().map(XsimRun::cycles).max().unwrap();
+    let t = Instant::now();
+    xsim::build(sim, &dir, verilog, max_cycles).unwrap();
+    eprintln!("{label}: {} build {:.1?}", sim.name(), t.elapsed());
+    for (case, run) in cases.iter().zip(runs) {
+        if std::env::var_os("PHOTON_FPGA_XSIM_DIR").is_some() {
+            xsim::write_replay_dir(&dir.join(format!("{}_replay", case.name)), verilog, run)
+                .unwrap();
+        }
+        let t = Instant::now();
+        let got = xsim::replay(sim, &dir, case.name, run).unwrap();
+        eprintln!(
+            "{label}/{}: {} replayed {} cycles in {:.1?}",
+            case.name,
+            sim.name(),
+            run.cycles(),
+            t.elapsed()
+        );
+        if let Err(m) = xsim::compare(&run.responses, &got) {
+            let msg = format!("{label}/{} under {}: {m}", case.name, sim.name());
+            eprintln!("{msg}");
+            return Err(msg);
+        }
+    }
+    Ok(())
+}
+
+fn small_and_paper(sim: Simulator) {
+    if !available(sim) {
+        return;
+    }
+    for (label, (cfg, cases)) in [("small", small_cases()), ("paper", paper_cases())] {
+        let runs = record(&cfg, &cases);
+        let verilog = export_verilog(&cfg).unwrap();
+        cross_simulate(sim, label, &verilog, &cases, &runs).unwrap();
+    }
+}
+
+#[test]
+fn icarus_small_and_paper_config() {
+    small_and_paper(Simulator::Icarus);
+}
+
+#[test]
+fn verilator_small_and_paper_config() {
+    small_and_paper(Simulator::Verilator);
+}
+
+/// rust-hdl prints `(a & b) == c` without the parentheses when they are left out in
+/// Rust, where Verilog then reads `a & (b == c)`. Reproduce that on SearchPort's
+/// `idle` (which gates the load stream) and require a reported mismatch.
+#[test]
+fn broken_export_is_caught() {
+    const GOOD: &str = "idle = (free_mask & all_modules) == all_modules;";
+    const BAD: &str = "idle = free_mask & all_modules == all_modules;";
+    let sims: Vec<Simulator> = [Simulator::Verilator, Simulator::Icarus]
+        .into_iter()
+        .filter(|&s| available(s))
+        .collect();
+    if sims.is_empty() {
+        return;
+    }
+    let (cfg, cases) = small_cases();
+    let cases: Vec<Case> = cases
+        .into_iter()
+        .filter(|c| c.name == "small_random_two_maps")
+        .collect();
+    let runs = record(&cfg, &cases);
+    let verilog = export_verilog(&cfg).unwrap();
+    let hits = verilog.matches(GOOD).count();
+    assert!(hits > 0, "mutation site `{GOOD}` not found in the export");
+    let broken = verilog.replacen(GOOD, BAD, 1);
+    for sim in sims {
+        match cross_simulate(sim, "broken", &broken, &cases, &runs) {
+            Ok(()) => panic!("{}: the broken export was NOT caught", sim.name()),
+            Err(m) => eprintln!("caught as expected: {m}"),
+        }
+    }
+}
