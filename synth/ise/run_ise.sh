@@ -12,7 +12,9 @@ for tool in xst ngdbuild map par trce; do
   command -v "$tool" >/dev/null || { echo "error: $tool not on PATH (source ISE's settings64.sh)" >&2; exit 2; }
 done
 mkdir -p build/xst_tmp build/xst
-# Export the core's Verilog (top module "top") with the requested configuration.
+# Export the core's Verilog (top module "top") with the requested configuration;
+# without options, the paper's core (K = 10, 10-bit, L1, H = 10, 2 x 21 QueryModules).
+[ $# -gt 0 ] || set -- --k 10 --bits 10 --address-bits 10 --metric l1 --queries-per-port 21
 cargo run --release --quiet --manifest-path ../../Cargo.toml -- \
   export-verilog "$@" --out build
 [ -f build/photon_search_core.v ] || { echo "error: export produced no build/photon_search_core.v" >&2; exit 2; }
