@@ -116,6 +116,7 @@ def main():
     rows = []
     for name, opts, trees in CONFIGS:
         if only and not any(o.lower() in name.lower() for o in only):
+            rows.append((name, trees, None, None, None, "not run in this generation (synth/run.sh with no filter runs it)"))
             continue
         d = os.path.join(BUILD, slug(name))
         os.makedirs(d, exist_ok=True)
@@ -154,11 +155,12 @@ def write(rows):
         if err and not x:
             L.append(f"| {name} | {trees} | n/a: {err} | | | | | | | | | | |")
             continue
-        xs = [str(x[k]) if x else "?" for k in ("luts", "ffs", "ramb36", "ramb18", "carry4", "dsp", "slices_est")]
+        xs = [f"{x[k]:,}" if x else "?" for k in ("luts", "ffs", "ramb36", "ramb18", "carry4", "dsp", "slices_est")]
         fm = f"{e['best'][0]:.1f} ({', '.join(f'{f:.1f}' for f in e['fmax'])})" if e else "?"
         rpc = f"{s['rpc'] * trees:.3f}" if s else "?"
         busy = s["busy"] if s else (err or "?")
-        pps = f"{s['rpc'] * trees * e['best'][0] / 1000:.0f} M" if (s and e) else "?"
+        # reads per cycle x MHz = million photons per second
+        pps = f"{s['rpc'] * trees * e['best'][0]:.0f} M" if (s and e) else "?"
         L.append(f"| {name} | {trees} | " + " | ".join(xs) + f" | {fm} | {rpc} | {busy} | {pps} |")
         if e:
             crit.append(f"- **{name}**: {e['best'][1]} → {e['best'][2]} ({len(e['best'][3])} nets)")
