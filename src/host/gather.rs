@@ -400,12 +400,12 @@ impl GatherBackend for RtlBackend {
         // QueryModule or simulation serves it, so independent simulations of the
         // core on chunks of the stream give the same results for any thread count.
         // A waveform dump wants one simulation.
-        let chunks = if self.options.vcd.is_some() || std::env::var_os("PHOTON_FPGA_VCD").is_some()
-        {
-            1
-        } else {
-            rayon::current_num_threads().max(1)
-        };
+        let chunks =
+            if self.options.vcd.is_some() || std::env::var_os(crate::hw::sim::VCD_ENV).is_some() {
+                1
+            } else {
+                rayon::current_num_threads().max(1)
+            };
         let size = hw.len().div_ceil(chunks).max(1);
         let runs: Vec<_> = hw
             .par_chunks(size)
