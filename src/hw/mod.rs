@@ -9,10 +9,11 @@
 //! │   ├── QueryModule × Q (query_module.rs)
 //! │   │   └── MaxFinder (max_finder.rs) bit-transposed distance list, §4.4
 //! │   ├── PortArbiter (port_arbiter.rs) one read per cycle, round robin, §4.5
-//! │   └── SearchModule (search_module.rs)
-//! │       ├── AxisDistModule (axis_dist.rs)
-//! │       ├── DistModule (dist_module.rs)
-//! │       └── NextIndexModule (next_index.rs)
+//! │   ├── SearchModule (search_module.rs)
+//! │   │   ├── AxisDistModule (axis_dist.rs)
+//! │   │   ├── DistModule (dist_module.rs)
+//! │   │   └── NextIndexModule (next_index.rs)
+//! │   └── ResultRegister (result_register.rs) skid buffer on the result stream
 //! └── SearchPort B                      TreeModule port B
 //! ```
 //!
@@ -36,6 +37,7 @@ pub mod next_index;
 pub mod photon_word;
 pub mod port_arbiter;
 pub mod query_module;
+pub mod result_register;
 pub mod search_module;
 pub mod search_port;
 pub mod shell;

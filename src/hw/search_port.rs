@@ -4,13 +4,16 @@
 //!
 //! Result stream, one beat per cycle when valid & ready: a header beat (`header`,
 //! id, count, visited; `last` iff count = 0), then `count` entry beats (heap address
-//! and distance in found-list slot order; `last` on the final one).
+//! and distance in found-list slot order; `last` on the final one). The beats pass
+//! through a [`ResultRegister`], so with `CoreConfig::register_results` every result
+//! output is a flip-flop and a result leaves one cycle after it is read out.
 
 use crate::hw::config::{
     Addr, Coord, CoreConfig, Count, Dist, ModuleMask, QueryId, ReadCount, SlotMask, Word,
 };
 use crate::hw::port_arbiter::PortArbiter;
 use crate::hw::query_module::QueryModule;
+use crate::hw::result_register::ResultRegister;
 use crate::hw::search_module::SearchModule;
 use rust_hdl::prelude::*;
 
@@ -48,6 +51,7 @@ pub struct SearchPort {
     modules: Vec<QueryModule>,
     arbiter: PortArbiter,
     search: SearchModule,
+    result_register: ResultRegister,
     /// One bit per QueryModule of this port.
     all_modules: Constant<ModuleMask>,
     requests: Signal<Local, ModuleMask>,
@@ -55,6 +59,13 @@ pub struct SearchPort {
     load_pick: Signal<Local, ModuleMask>,
     finished_mask: Signal<Local, ModuleMask>,
     result_fire: Signal<Local, bool>,
+    /// The beat being read out, before the ResultRegister.
+    beat_last: Signal<Local, bool>,
+    beat_id: Signal<Local, QueryId>,
+    beat_count: Signal<Local, Count>,
+    beat_visited: Signal<Local, ReadCount>,
+    beat_address: Signal<Local, Addr>,
+    beat_dist: Signal<Local, Dist>,
     out_active: DFF<bool>,
     out_select: DFF<ModuleMask>,
     out_header: DFF<bool>,
@@ -94,12 +105,19 @@ impl SearchPort {
             modules: (0..q).map(|i| QueryModule::new(cfg, i)).collect(),
             arbiter: Default::default(),
             search: SearchModule::new(cfg),
+            result_register: ResultRegister::new(!cfg.register_results),
             all_modules: Constant::new(ModuleMask::from(((1u64 << q) - 1) & 0xFFFF_FFFF)),
             requests: Default::default(),
             free_mask: Default::default(),
             load_pick: Default::default(),
             finished_mask: Default::default(),
             result_fire: Default::default(),
+            beat_last: Default::default(),
+            beat_id: Default::default(),
+            beat_count: Default::default(),
+            beat_visited: Default::default(),
+            beat_address: Default::default(),
+            beat_dist: Default::default(),
             out_active: Default::default(),
             out_select: Default::default(),
             out_header: Default::default(),
@@ -143,14 +161,12 @@ impl Logic for SearchPort {
         self.query_ready.next = self.free_mask.val().any();
 
         // Read-out sequencer signals (registered state, see below).
-        self.result_valid.next = self.out_active.q.val();
-        self.result_header.next = self.out_header.q.val();
-        self.result_fire.next = self.out_active.q.val() && self.result_ready.val();
-        self.result_id.next = 0.into();
-        self.result_count.next = 0.into();
-        self.result_visited.next = 0.into();
-        self.result_address.next = 0.into();
-        self.result_dist.next = 0.into();
+        self.result_fire.next = self.out_active.q.val() && self.result_register.in_ready.val();
+        self.beat_id.next = 0.into();
+        self.beat_count.next = 0.into();
+        self.beat_visited.next = 0.into();
+        self.beat_address.next = 0.into();
+        self.beat_dist.next = 0.into();
 
         // The granted read goes to the TreeModule and, with its context, the SearchModule.
         self.ram_address.next = 0.into();
@@ -200,31 +216,50 @@ impl Logic for SearchPort {
             self.modules[i].load_z.next = self.query_z.val();
             self.modules[i].load_radius.next = self.query_radius.val();
             self.modules[i].load_k.next = self.query_k.val();
-            // Result read-out from the selected module.
-            // Only the selected module sees a slot to read out.
+            // Result read-out: only the selected module drives its outputs (the
+            // others are zero), so the beat is the OR of all modules' outputs.
+            self.modules[i].out_enable.next = self.out_select.q.val().get_bit(i);
             self.modules[i].out_slot.next = 0.into();
             if self.out_select.q.val().get_bit(i) {
                 self.modules[i].out_slot.next = self.out_slot.q.val();
             }
-            if self.out_select.q.val().get_bit(i) {
-                self.result_id.next = self.modules[i].out_id.val();
-                self.result_count.next = self.modules[i].out_count.val();
-                self.result_visited.next = self.modules[i].out_visited.val();
-                self.result_address.next = self.modules[i].out_address.val();
-                self.result_dist.next = self.modules[i].out_dist.val();
-            }
+            self.beat_id.next = self.beat_id.val() | self.modules[i].out_id.val();
+            self.beat_count.next = self.beat_count.val() | self.modules[i].out_count.val();
+            self.beat_visited.next = self.beat_visited.val() | self.modules[i].out_visited.val();
+            self.beat_address.next = self.beat_address.val() | self.modules[i].out_address.val();
+            self.beat_dist.next = self.beat_dist.val() | self.modules[i].out_dist.val();
         }
         if self.out_header.q.val() {
-            self.result_last.next = self.result_count.val() == 0;
+            self.beat_last.next = self.beat_count.val() == 0;
         } else {
-            self.result_last.next = self.out_left.q.val() == 1;
+            self.beat_last.next = self.out_left.q.val() == 1;
         }
         // The last beat frees the selected module.
         for i in 0..self.modules.len() {
             self.modules[i].result_taken.next = self.result_fire.val()
-                && self.result_last.val()
+                && self.beat_last.val()
                 && self.out_select.q.val().get_bit(i);
         }
+        // The beat leaves through the ResultRegister.
+        self.result_register.clock.next = self.clock.val();
+        self.result_register.reset.next = self.reset.val();
+        self.result_register.in_valid.next = self.out_active.q.val();
+        self.result_register.in_header.next = self.out_header.q.val();
+        self.result_register.in_last.next = self.beat_last.val();
+        self.result_register.in_id.next = self.beat_id.val();
+        self.result_register.in_count.next = self.beat_count.val();
+        self.result_register.in_visited.next = self.beat_visited.val();
+        self.result_register.in_address.next = self.beat_address.val();
+        self.result_register.in_dist.next = self.beat_dist.val();
+        self.result_register.out_ready.next = self.result_ready.val();
+        self.result_valid.next = self.result_register.out_valid.val();
+        self.result_header.next = self.result_register.out_header.val();
+        self.result_last.next = self.result_register.out_last.val();
+        self.result_id.next = self.result_register.out_id.val();
+        self.result_count.next = self.result_register.out_count.val();
+        self.result_visited.next = self.result_register.out_visited.val();
+        self.result_address.next = self.result_register.out_address.val();
+        self.result_dist.next = self.result_register.out_dist.val();
 
         // Read-out sequencer: pick a finished module, stream header then entries.
         if !self.out_active.q.val() {
@@ -238,12 +273,12 @@ impl Logic for SearchPort {
             if self.out_header.q.val() {
                 self.out_header.d.next = false;
                 self.out_slot.d.next = 1.into();
-                self.out_left.d.next = self.result_count.val();
+                self.out_left.d.next = self.beat_count.val();
             } else {
                 self.out_slot.d.next = self.out_slot.q.val() << 1;
                 self.out_left.d.next = self.out_left.q.val() - 1;
             }
-            if self.result_last.val() {
+            if self.beat_last.val() {
                 self.out_active.d.next = false;
                 self.out_select.d.next = 0.into();
                 self.out_slot.d.next = 0.into();
