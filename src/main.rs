@@ -388,6 +388,15 @@ fn export(args: &ExportArgs) -> Result<()> {
         .map_err(|e| Error::new(format!("{}: cannot create: {e}", args.out.display())))?;
     let path = args.out.join("photon_search_core.v");
     csvio::write_atomically(&path, |w| w.write_all(verilog.as_bytes()))?;
+    // Event-driven simulators (Icarus, ISim, ModelSim) hang on the raw export's
+    // glitch loops; this rewrite is what the CI cross-simulation runs under Icarus.
+    let sim_path = args.out.join("photon_search_core_sim.v");
+    let sim_verilog = photon_fpga::hw::xsim::glitch_free(&verilog)?;
+    csvio::write_atomically(&sim_path, |w| w.write_all(sim_verilog.as_bytes()))?;
+    println!(
+        "wrote {}: the same core for event-driven simulators (glitch-free rewrite)",
+        sim_path.display()
+    );
     if let Some(trees) = args.shell_trees {
         let shell = registered_shell(&verilog, trees)?;
         let spath = args.out.join("shell.v");

@@ -180,6 +180,29 @@ fn paper_config_matches_software() {
     );
 }
 
+/// K > 32 switches the core to 64-bit slot masks: K = 50 (the paper's §5 example)
+/// and K = 64 (every slot bit used), with ties at the K-th distance.
+#[test]
+fn wide_found_lists() {
+    let layout = PhotonLayout::new([6, 6, 6]);
+    let mut r = rng(50);
+    let mut points = random_points(&mut r, 150, layout);
+    points.extend(vec![[20, 20, 20]; 70]);
+    for (k, metric) in [(50usize, Metric::L1), (64, Metric::L2)] {
+        let mut queries = random_queries(&mut r, 10, layout, k, metric);
+        queries.extend(hard_queries(&points, layout, metric, k, k as u64));
+        for (i, q) in queries.iter_mut().enumerate() {
+            q.id = i as u32;
+        }
+        let tree = pack(&points, layout);
+        let cfg = small_core(&tree, k, metric);
+        assert_eq!(cfg.slot_bits(), 64);
+        let (results, _) = run_gather(&cfg, &tree, &queries, &SimOptions::default()).expect("sim");
+        check_results(&cfg, &tree, &points, &queries, &results);
+        assert!(results.iter().any(|r| r.found.len() == k));
+    }
+}
+
 #[test]
 fn random_stalls_on_every_stream() {
     let layout = PhotonLayout::new([7, 7, 7]);
@@ -253,7 +276,7 @@ fn rejects_what_it_cannot_do() {
     // Too wide for the 32-bit word / distance datapath, too many slots.
     let wide = pack(&points, PhotonLayout::new([16, 16, 16]));
     assert!(CoreConfig::for_map(&wide, 4, Metric::L2).is_err());
-    assert!(CoreConfig::for_map(&tree, 33, Metric::L2).is_err());
+    assert!(CoreConfig::for_map(&tree, 65, Metric::L2).is_err());
     let other_layout = pack(&points, PhotonLayout::new([6, 6, 7]));
     assert!(run_gather(&cfg, &other_layout, &[], &SimOptions::default()).is_err());
 }

@@ -6,14 +6,14 @@ use photon_fpga::hw::max_finder::MaxFinder;
 use rand::Rng;
 use rust_hdl::prelude::*;
 
-struct Bench {
-    uut: MaxFinder,
+struct Bench<const S: usize> {
+    uut: MaxFinder<S>,
     dist_bits: u32,
 }
 
-impl Bench {
+impl<const S: usize> Bench<S> {
     fn new(dist_bits: u32) -> Self {
-        let mut uut = MaxFinder::new(dist_bits, 32);
+        let mut uut = MaxFinder::<S>::new(dist_bits, S);
         uut.connect_all();
         check_all(&uut).expect("MaxFinder checks");
         let mut b = Bench { uut, dist_bits };
@@ -78,14 +78,14 @@ fn model(list: &[u64]) -> (u64, u64, u64) {
     (max, filter, 1 << lowest)
 }
 
-fn check_list(b: &mut Bench, list: &[u64]) {
+fn check_list<const S: usize>(b: &mut Bench<S>, list: &[u64]) {
     for (s, &d) in list.iter().enumerate() {
         b.write(s, d);
     }
     for (s, &d) in list.iter().enumerate() {
         assert_eq!(b.read(s), d, "column read-out of slot {s}");
     }
-    let candidates = (1u64 << list.len()) - 1;
+    let candidates = u64::MAX >> (64 - list.len());
     let (max, filter, slot, cycles) = b.find(candidates);
     assert_eq!((max, filter, slot), model(list), "list {list:?}");
     assert_eq!(
@@ -98,7 +98,7 @@ fn check_list(b: &mut Bench, list: &[u64]) {
 fn random_lists() {
     let mut r = common::rng(7);
     for &bits in &[1u32, 5, 12, 22, 32] {
-        let mut b = Bench::new(bits);
+        let mut b = Bench::<32>::new(bits);
         let top = if bits == 64 {
             u64::MAX
         } else {
@@ -115,7 +115,7 @@ fn random_lists() {
 #[test]
 fn all_equal_and_extremes() {
     for &bits in &[12u32, 32] {
-        let mut b = Bench::new(bits);
+        let mut b = Bench::<32>::new(bits);
         let top = (1u64 << bits) - 1;
         for &v in &[0, 1, top, top / 2] {
             for &k in &[1usize, 2, 10, 32] {
@@ -128,7 +128,7 @@ fn all_equal_and_extremes() {
 #[test]
 fn ties_pick_the_lowest_slot() {
     let mut r = common::rng(11);
-    let mut b = Bench::new(12);
+    let mut b = Bench::<32>::new(12);
     for _ in 0..40 {
         let k = r.gen_range(2..=32usize);
         // Few distinct values: many ties at the maximum and below.
@@ -140,10 +140,27 @@ fn ties_pick_the_lowest_slot() {
     check_list(&mut b, &[7, 3, 3, 7]);
 }
 
+/// The 64-bit slot masks of K > 32 (K = 50 and all 64 slots), ties included.
+#[test]
+fn wide_lists() {
+    let mut r = common::rng(13);
+    for &bits in &[12u32, 32] {
+        let mut b = Bench::<64>::new(bits);
+        let top = (1u64 << bits) - 1;
+        for k in [33usize, 50, 64] {
+            for spread in [top, 3] {
+                let list: Vec<u64> = (0..k).map(|_| r.gen_range(0..=spread)).collect();
+                check_list(&mut b, &list);
+            }
+        }
+        check_list(&mut b, &vec![top; 64]);
+    }
+}
+
 #[test]
 fn only_the_configured_slots_exist() {
     // A 5-slot MaxFinder ignores writes and candidates beyond slot 4.
-    let mut uut = MaxFinder::new(8, 5);
+    let mut uut = MaxFinder::<32>::new(8, 5);
     uut.connect_all();
     let mut b = Bench { uut, dist_bits: 8 };
     b.settle();
@@ -159,7 +176,7 @@ fn only_the_configured_slots_exist() {
 #[test]
 fn candidates_restrict_the_search() {
     // Only the candidate slots take part (the list is not full yet).
-    let mut b = Bench::new(12);
+    let mut b = Bench::<32>::new(12);
     let list = [4000u64, 5, 9, 100, 4095];
     for (s, &d) in list.iter().enumerate() {
         b.write(s, d);

@@ -7,8 +7,8 @@
 //! force. A deliberately broken export (one `(a & b) == c` losing its parentheses,
 //! the rust-hdl precedence hazard) must be reported as a mismatch.
 //!
-//! Both simulators get the small configuration (with and without its ResultRegisters)
-//! and the paper configuration (random maps, a map
+//! Both simulators get the small configuration (with and without its ResultRegisters),
+//! a K = 40 configuration (64-bit slot masks) and the paper configuration (random maps, a map
 //! reloaded after queries, a Cornell-box map, hard cases). Icarus simulates the
 //! `xsim::glitch_free` rewrite of the export (the raw export loops forever in
 //! Icarus at the first result beat; see there). A missing simulator fails
@@ -189,6 +189,30 @@ fn small_cases() -> (CoreConfig, Vec<Case>) {
     (cfg, cases)
 }
 
+/// K = 40 > 32: the 64-bit slot masks (H = 7, Q = 3 per port, L1), with a cluster
+/// of equal photons so that lists fill and ties sit at the K-th distance.
+fn wide_cases() -> (CoreConfig, Vec<Case>) {
+    let layout = PhotonLayout::new([6, 6, 6]);
+    let mut r = rng(73);
+    let mut a = random_points(&mut r, 90, layout);
+    a.extend(vec![[9, 9, 9]; 30]);
+    let tree = pack(&a, layout);
+    let mut cfg = CoreConfig::for_map(&tree, 40, Metric::L1).unwrap();
+    cfg.queries_per_port = 3;
+    assert_eq!(cfg.slot_bits(), 64);
+    let mut qa = random_queries(&mut r, 6, layout, cfg.k, cfg.metric);
+    qa.extend(hard_queries(&a, &cfg, 6));
+    for (i, q) in qa.iter_mut().enumerate() {
+        q.id = i as u32;
+    }
+    let cases = vec![Case {
+        name: "wide_k40",
+        maps: vec![map(a, layout, qa)],
+        stall_seed: 4,
+    }];
+    (cfg, cases)
+}
+
 fn paper_cases() -> (CoreConfig, Vec<Case>) {
     let cfg = CoreConfig::paper();
     let layout = cfg.layout;
@@ -321,6 +345,7 @@ fn small_and_paper(sim: Simulator) {
     for (label, (cfg, cases)) in [
         ("small", small_cases()),
         ("small_unregistered", unregistered),
+        ("wide", wide_cases()),
         ("paper", paper_cases()),
     ] {
         let runs = record(&cfg, &cases);

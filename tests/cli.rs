@@ -1,5 +1,5 @@
 //! `photon-fpga gather`: exact answers on a user's CSV, and a clear error, exit
-//! status 2 and no output file for every bad input.
+//! status 2 and no output file for every bad input; `export-verilog`'s files and errors.
 
 use assert_cmd::Command;
 use rand::{Rng, SeedableRng};
@@ -226,4 +226,43 @@ fn empty_photon_set() {
         &["--photons", empty.to_str().unwrap(), "--queries", &q],
         "the photon set is empty",
     );
+}
+
+/// export-verilog writes the core, its event-driven-simulator rewrite and the shell;
+/// a core beyond the limits is refused with exit status 2 and no files.
+#[test]
+fn export_verilog_files_and_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("v");
+    let args = [
+        "export-verilog",
+        "--k",
+        "3",
+        "--bits",
+        "4",
+        "--address-bits",
+        "4",
+    ];
+    bin()
+        .args(args)
+        .args(["--queries-per-port", "2", "--shell-trees", "2", "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+    let core = std::fs::read_to_string(out.join("photon_search_core.v")).unwrap();
+    let sim = std::fs::read_to_string(out.join("photon_search_core_sim.v")).unwrap();
+    let shell = std::fs::read_to_string(out.join("shell.v")).unwrap();
+    assert!(core.contains("module top("));
+    assert!(sim.contains("module top(") && sim.contains("__xs") && !core.contains("__xs"));
+    assert!(shell.contains("top core_0(") && shell.contains("top core_1("));
+
+    let bad = dir.path().join("bad");
+    let assert = bin()
+        .args(["export-verilog", "--k", "65", "--out"])
+        .arg(&bad)
+        .assert()
+        .code(2);
+    let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
+    assert!(stderr.contains("K = 65 unsupported (1..=64)"), "{stderr}");
+    assert!(!bad.exists(), "a refused export created {}", bad.display());
 }

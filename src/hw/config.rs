@@ -24,8 +24,13 @@ pub const MAX_HW_COORD_BITS: u32 = 15;
 pub const MAX_DIST_BITS: u32 = 32;
 /// Tree height H limit: 2^20 photon words (the host's default capacity, 2^20 - 1).
 pub const MAX_ADDRESS_BITS: u32 = 20;
-/// Found-list depth limit (one bit per entry in a 32-bit MaxFinder row).
-pub const MAX_K: usize = 32;
+/// Found-list depth limit: one bit per entry in a MaxFinder row, 64 bits wide at most.
+pub const MAX_K: usize = 64;
+/// Slot-mask widths the core is built with: 32 bits up to K = 32 (rust-hdl keeps
+/// `Bits<=32>` in a machine word), 64 bits beyond (a bit vector, about 1.5x slower to
+/// simulate). The choice is made once, by [`CoreConfig::slot_bits`].
+pub const NARROW_SLOTS: usize = 32;
+pub const WIDE_SLOTS: usize = 64;
 /// QueryModules per port limit (one bit per module in the 32-bit arbiter masks).
 pub const MAX_QUERIES_PER_PORT: usize = 32;
 /// TreeModule ports = SearchModules (paper §4.5: both BlockRAM ports are used).
@@ -39,8 +44,9 @@ pub type Coord = Bits<16>;
 pub type Dist = Bits<32>;
 /// A heap address; 24 bits hold the child address 2i+1 of any i < 2^20.
 pub type Addr = Bits<24>;
-/// One bit per found-list slot (MaxFinder rows, filter, one-hot slot pointers).
-pub type SlotMask = Bits<32>;
+/// One bit per found-list slot (MaxFinder rows, filter, one-hot slot pointers);
+/// `S` is [`NARROW_SLOTS`] or [`WIDE_SLOTS`].
+pub type SlotMask<const S: usize> = Bits<S>;
 /// One bit per QueryModule of a port (arbiter masks).
 pub type ModuleMask = Bits<32>;
 /// The host's query id, returned with the result.
@@ -122,6 +128,15 @@ impl CoreConfig {
     /// insertion cycle, one MaxFinder cycle per distance bit, the update of R.
     pub fn issue_interval(&self) -> usize {
         5 + self.dist_bits() as usize
+    }
+
+    /// Width of the slot masks this K needs: [`NARROW_SLOTS`] or [`WIDE_SLOTS`].
+    pub fn slot_bits(&self) -> usize {
+        if self.k <= NARROW_SLOTS {
+            NARROW_SLOTS
+        } else {
+            WIDE_SLOTS
+        }
     }
 
     /// Total QueryModules.

@@ -19,7 +19,7 @@ use crate::hw::tree_module::TreeModule;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
-pub struct PhotonSearchCore {
+pub struct PhotonSearchCore<const S: usize> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, bool>,
     // Photon load.
@@ -52,8 +52,8 @@ pub struct PhotonSearchCore {
     pub port_b_reading: Signal<Out, bool>,
     pub all_busy: Signal<Out, bool>,
     tree: TreeModule,
-    port_a: SearchPort,
-    port_b: SearchPort,
+    port_a: SearchPort<S>,
+    port_b: SearchPort<S>,
     photon_count: DFF<Addr>,
     loaded: DFF<bool>,
     /// Dispatcher turn: the next query prefers port B.
@@ -69,7 +69,7 @@ pub struct PhotonSearchCore {
     result_fire: Signal<Local, bool>,
 }
 
-impl PhotonSearchCore {
+impl<const S: usize> PhotonSearchCore<S> {
     /// Elaborate a core for `cfg` (call `cfg.validate()` first).
     pub fn new(cfg: &CoreConfig) -> Self {
         PhotonSearchCore {
@@ -118,7 +118,7 @@ impl PhotonSearchCore {
     }
 }
 
-impl Logic for PhotonSearchCore {
+impl<const S: usize> Logic for PhotonSearchCore<S> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(

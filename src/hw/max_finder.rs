@@ -10,52 +10,55 @@
 //!
 //! Slots are addressed one-hot throughout (write slot, read slot, max slot), which is
 //! what the filter naturally is.
+//!
+//! `S` is the width of the slot masks (32 or 64, see `CoreConfig::slot_bits`): a
+//! const generic because rust-hdl's `Bits` width must be a constant.
 
 use crate::hw::config::{Dist, SlotMask};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
-pub struct MaxFinder {
+pub struct MaxFinder<const S: usize> {
     pub clock: Signal<In, Clock>,
     /// Store `write_dist` into the slot `write_slot` (one-hot) at the clock edge.
     pub write_enable: Signal<In, bool>,
-    pub write_slot: Signal<In, SlotMask>,
+    pub write_slot: Signal<In, SlotMask<S>>,
     pub write_dist: Signal<In, Dist>,
     /// Start a search over the slots set in `candidates`; may coincide with a write
     /// (the rows are read from the next cycle on).
     pub start: Signal<In, bool>,
-    pub candidates: Signal<In, SlotMask>,
+    pub candidates: Signal<In, SlotMask<S>>,
     /// Column read-out of one slot (one-hot), combinational.
-    pub read_slot: Signal<In, SlotMask>,
+    pub read_slot: Signal<In, SlotMask<S>>,
     pub read_dist: Signal<Out, Dist>,
     /// High from the cycle after `start` for one cycle per distance bit.
     pub busy: Signal<Out, bool>,
     /// Valid when not busy after a search: the maximum, the slots holding it and the
     /// lowest of them (one-hot).
     pub max_dist: Signal<Out, Dist>,
-    pub filter: Signal<Out, SlotMask>,
-    pub max_slot: Signal<Out, SlotMask>,
+    pub filter: Signal<Out, SlotMask<S>>,
+    pub max_slot: Signal<Out, SlotMask<S>>,
     /// rows[n] = bit n of every slot's distance.
-    rows: Vec<DFF<SlotMask>>,
-    filter_reg: DFF<SlotMask>,
+    rows: Vec<DFF<SlotMask<S>>>,
+    filter_reg: DFF<SlotMask<S>>,
     /// One-hot: the row being examined, which is also its weight in the maximum.
     row_select: DFF<Dist>,
     max_reg: DFF<Dist>,
     busy_reg: DFF<bool>,
     top_row: Constant<Dist>,
     /// The K slots that exist: the other row bits are constant zero, so synthesis
-    /// drops them (the datapath type is 32 slots wide).
-    slot_mask: Constant<SlotMask>,
-    slot_write: Signal<Local, SlotMask>,
-    current_row: Signal<Local, SlotMask>,
-    row_and_filter: Signal<Local, SlotMask>,
+    /// drops them (the slot masks are S bits wide).
+    slot_mask: Constant<SlotMask<S>>,
+    slot_write: Signal<Local, SlotMask<S>>,
+    current_row: Signal<Local, SlotMask<S>>,
+    row_and_filter: Signal<Local, SlotMask<S>>,
 }
 
-impl MaxFinder {
-    /// A MaxFinder over `slots` (1..=32) distances of `dist_bits` bits.
+impl<const S: usize> MaxFinder<S> {
+    /// A MaxFinder over `slots` (1..=S) distances of `dist_bits` bits.
     pub fn new(dist_bits: u32, slots: usize) -> Self {
         assert!((1..=32).contains(&dist_bits));
-        assert!((1..=32).contains(&slots));
+        assert!((1..=S).contains(&slots));
         MaxFinder {
             clock: Default::default(),
             write_enable: Default::default(),
@@ -75,7 +78,7 @@ impl MaxFinder {
             max_reg: Default::default(),
             busy_reg: Default::default(),
             top_row: Constant::new(Dist::from(1u64 << (dist_bits - 1))),
-            slot_mask: Constant::new(SlotMask::from((1u64 << slots) - 1)),
+            slot_mask: Constant::new(SlotMask::<S>::from(u64::MAX >> (64 - slots))),
             slot_write: Default::default(),
             current_row: Default::default(),
             row_and_filter: Default::default(),
@@ -83,7 +86,7 @@ impl MaxFinder {
     }
 }
 
-impl Logic for MaxFinder {
+impl<const S: usize> Logic for MaxFinder<S> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, filter_reg, row_select, max_reg, busy_reg);

@@ -25,7 +25,7 @@
 //!
 //! Host-facing API: [`config::CoreConfig`], [`sim::run_gather`] (fast native
 //! simulation, optional VCD), [`verilog::export_verilog`]. The datapath limits
-//! (32-bit words and distances, H <= 20, K <= 32, Q <= 32) are in [`config`].
+//! (32-bit words and distances, H <= 20, K <= 64, Q <= 32) are in [`config`].
 
 pub mod axis_dist;
 pub mod config;

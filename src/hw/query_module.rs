@@ -29,7 +29,7 @@ pub enum QueryState {
 }
 
 #[derive(LogicBlock)]
-pub struct QueryModule {
+pub struct QueryModule<const S: usize> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, bool>,
     // Query load from the dispatcher (taken when `free`).
@@ -69,7 +69,7 @@ pub struct QueryModule {
     /// This module is the one being read out: its `out_*` are zero otherwise, so the
     /// SearchPort combines all modules with an OR tree instead of a Q-deep mux chain.
     pub out_enable: Signal<In, bool>,
-    pub out_slot: Signal<In, SlotMask>,
+    pub out_slot: Signal<In, SlotMask<S>>,
     pub out_id: Signal<Out, QueryId>,
     pub out_count: Signal<Out, Count>,
     pub out_visited: Signal<Out, ReadCount>,
@@ -86,24 +86,24 @@ pub struct QueryModule {
     k_reg: DFF<Count>,
     count: DFF<Count>,
     /// One-hot: the slot the next append goes to (slot `count`).
-    append_slot: DFF<SlotMask>,
+    append_slot: DFF<SlotMask<S>>,
     /// Slots holding a photon.
-    occupied: DFF<SlotMask>,
+    occupied: DFF<SlotMask<S>>,
     /// One-hot: the slot holding the maximum (valid once full).
-    max_slot: DFF<SlotMask>,
+    max_slot: DFF<SlotMask<S>>,
     address: DFF<Addr>,
     up: DFF<bool>,
     came_from_right: DFF<bool>,
     search_done: DFF<bool>,
     visited: DFF<ReadCount>,
     found: Vec<DFF<Addr>>,
-    max_finder: MaxFinder,
+    max_finder: MaxFinder<S>,
     result_mine: Signal<Local, bool>,
     insert: Signal<Local, bool>,
-    insert_slot: Signal<Local, SlotMask>,
+    insert_slot: Signal<Local, SlotMask<S>>,
 }
 
-impl QueryModule {
+impl<const S: usize> QueryModule<S> {
     /// QueryModule number `index` of its port.
     pub fn new(cfg: &CoreConfig, index: usize) -> Self {
         QueryModule {
@@ -173,7 +173,7 @@ impl QueryModule {
     }
 }
 
-impl Logic for QueryModule {
+impl<const S: usize> Logic for QueryModule<S> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(

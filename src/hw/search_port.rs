@@ -18,7 +18,7 @@ use crate::hw::search_module::SearchModule;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
-pub struct SearchPort {
+pub struct SearchPort<const S: usize> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, bool>,
     pub photon_count: Signal<In, Addr>,
@@ -48,7 +48,7 @@ pub struct SearchPort {
     pub reading: Signal<Out, bool>,
     pub all_busy: Signal<Out, bool>,
     pub idle: Signal<Out, bool>,
-    modules: Vec<QueryModule>,
+    modules: Vec<QueryModule<S>>,
     arbiter: PortArbiter,
     search: SearchModule,
     result_register: ResultRegister,
@@ -69,11 +69,11 @@ pub struct SearchPort {
     out_active: DFF<bool>,
     out_select: DFF<ModuleMask>,
     out_header: DFF<bool>,
-    out_slot: DFF<SlotMask>,
+    out_slot: DFF<SlotMask<S>>,
     out_left: DFF<Count>,
 }
 
-impl SearchPort {
+impl<const S: usize> SearchPort<S> {
     pub fn new(cfg: &CoreConfig) -> Self {
         let q = cfg.queries_per_port;
         SearchPort {
@@ -127,7 +127,7 @@ impl SearchPort {
     }
 }
 
-impl Logic for SearchPort {
+impl<const S: usize> Logic for SearchPort<S> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, out_active, out_select, out_header, out_slot, out_left);

@@ -8,7 +8,7 @@
 
 use crate::host::error::Error;
 use crate::host::kdtree::PackedTree;
-use crate::hw::config::CoreConfig;
+use crate::hw::config::{CoreConfig, NARROW_SLOTS, WIDE_SLOTS};
 use crate::hw::core::PhotonSearchCore;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
@@ -58,10 +58,10 @@ pub struct SimOptions {
 /// Env var naming a VCD file to trace into when `SimOptions::vcd` is unset.
 pub const VCD_ENV: &str = "PHOTON_FPGA_VCD";
 
-/// The simulated core and the host side of its streams.
-pub struct CoreSim {
+/// The simulated core (slot masks `S` bits wide) and the host side of its streams.
+pub struct CoreSimOf<const S: usize> {
     cfg: CoreConfig,
-    uut: Box<PhotonSearchCore>,
+    uut: Box<PhotonSearchCore<S>>,
     stalls: Option<Pcg64>,
     vcd: Option<VCDProbe<BufWriter<File>>>,
     time: u64,
@@ -73,7 +73,7 @@ fn sim_error(msg: impl Into<String>) -> Error {
     Error::new(format!("hardware simulation: {}", msg.into()))
 }
 
-impl CoreSim {
+impl<const S: usize> CoreSimOf<S> {
     /// Elaborate and check a core for `cfg`.
     pub fn new(cfg: &CoreConfig, opts: &SimOptions) -> Result<Self, Error> {
         cfg.validate()?;
@@ -93,7 +93,7 @@ impl CoreSim {
             }
             None => None,
         };
-        let mut sim = CoreSim {
+        let mut sim = CoreSimOf {
             cfg: *cfg,
             uut,
             stalls: opts.stall_seed.map(Pcg64::seed_from_u64),
@@ -379,6 +379,69 @@ impl CoreSim {
             let _ = vcd.timestamp(self.time);
         }
         Ok(results)
+    }
+}
+
+/// The simulated core for any K: the slot-mask width is chosen from K
+/// ([`CoreConfig::slot_bits`]), so K <= 32 keeps rust-hdl's fast 32-bit `Bits`.
+pub enum CoreSim {
+    Narrow(CoreSimOf<NARROW_SLOTS>),
+    Wide(CoreSimOf<WIDE_SLOTS>),
+}
+
+/// `$body` with `$s` bound to whichever core `$sim` holds.
+macro_rules! with_core {
+    ($sim:expr, $s:ident => $body:expr) => {
+        match $sim {
+            CoreSim::Narrow($s) => $body,
+            CoreSim::Wide($s) => $body,
+        }
+    };
+}
+
+impl CoreSim {
+    /// Elaborate and check a core for `cfg`.
+    pub fn new(cfg: &CoreConfig, opts: &SimOptions) -> Result<Self, Error> {
+        cfg.validate()?;
+        Ok(if cfg.slot_bits() == NARROW_SLOTS {
+            CoreSim::Narrow(CoreSimOf::new(cfg, opts)?)
+        } else {
+            CoreSim::Wide(CoreSimOf::new(cfg, opts)?)
+        })
+    }
+
+    pub fn config(&self) -> &CoreConfig {
+        with_core!(self, s => s.config())
+    }
+
+    /// Counters since the core was built.
+    pub fn stats(&self) -> &SimStats {
+        with_core!(self, s => s.stats())
+    }
+
+    /// Synchronous reset for two cycles.
+    pub fn reset(&mut self) -> Result<(), Error> {
+        with_core!(self, s => s.reset())
+    }
+
+    /// Stream `tree`'s words into the TreeModule (addresses 1..=N, `last` on N).
+    pub fn load_map(&mut self, tree: &PackedTree) -> Result<(), Error> {
+        with_core!(self, s => s.load_map(tree))
+    }
+
+    /// Run `queries` on the loaded map; results in input order.
+    pub fn run_queries(&mut self, queries: &[HwQuery]) -> Result<Vec<HwResult>, Error> {
+        with_core!(self, s => s.run_queries(queries))
+    }
+
+    /// Feed `queries` for at most `cycles` cycles and return what completed by then
+    /// (`None` for the rest), leaving the others in flight.
+    pub fn run_queries_for(
+        &mut self,
+        queries: &[HwQuery],
+        cycles: u64,
+    ) -> Result<Vec<Option<HwResult>>, Error> {
+        with_core!(self, s => s.run_queries_for(queries, cycles))
     }
 }
 

@@ -53,7 +53,7 @@
 
 use crate::host::error::Error;
 use crate::host::kdtree::PackedTree;
-use crate::hw::config::CoreConfig;
+use crate::hw::config::{CoreConfig, NARROW_SLOTS, WIDE_SLOTS};
 use crate::hw::core::PhotonSearchCore;
 use crate::hw::sim::{HwQuery, HwResult};
 use rand::{Rng, SeedableRng};
@@ -202,10 +202,23 @@ pub fn record(
             }
         }
     }
-    let mut uut = Box::new(PhotonSearchCore::new(cfg));
+    if cfg.slot_bits() == NARROW_SLOTS {
+        record_with::<NARROW_SLOTS>(cfg, maps, stall_seed)
+    } else {
+        record_with::<WIDE_SLOTS>(cfg, maps, stall_seed)
+    }
+}
+
+/// [`record`] on a core with `S`-bit slot masks.
+fn record_with<const S: usize>(
+    cfg: &CoreConfig,
+    maps: &[XsimMap],
+    stall_seed: Option<u64>,
+) -> Result<XsimRun, Error> {
+    let mut uut = Box::new(PhotonSearchCore::<S>::new(cfg));
     uut.connect_all();
     check_all(uut.as_ref()).map_err(|e| xsim_error(format!("circuit check failed: {e:?}")))?;
-    let settle = |uut: &mut PhotonSearchCore| -> Result<(), Error> {
+    let settle = |uut: &mut PhotonSearchCore<S>| -> Result<(), Error> {
         if simulate(uut, 200) {
             Ok(())
         } else {
