@@ -140,7 +140,10 @@ fn tree_module_infers_block_ram() {
 
 #[test]
 fn export_rejects_unsupported_configs() {
-    let mut cfg = CoreConfig::paper();
-    cfg.k = 40;
-    assert!(export_verilog(&cfg).is_err());
+    for (k, q) in [(0, 21), (65, 21), (10, 0), (10, 33)] {
+        let mut cfg = CoreConfig::paper();
+        cfg.k = k;
+        cfg.queries_per_port = q;
+        assert!(export_verilog(&cfg).is_err(), "K = {k}, Q = {q} accepted");
+    }
 }
