@@ -261,10 +261,10 @@ struct CoreArgs {
     /// Distance metric: l1 (the paper's 12-bit distance) or l2 (squared Euclidean).
     #[arg(long, default_value_t = CoreConfig::paper().metric)]
     metric: Metric,
-    /// Leave the result streams unregistered (no ResultRegister): one cycle less
-    /// latency, a longer critical path. For before/after timing.
+    /// Leave out the pipeline registers (BlockRAM read data, result streams): two
+    /// cycles less latency, longer critical paths. For before/after timing.
     #[arg(long)]
-    unregistered_results: bool,
+    unpipelined: bool,
 }
 
 impl CoreArgs {
@@ -282,7 +282,7 @@ impl CoreArgs {
             k: self.k,
             queries_per_port: 1,
             metric: self.metric,
-            register_results: !self.unregistered_results,
+            pipelined: !self.unpipelined,
         };
         cfg.queries_per_port = self.queries_per_port.unwrap_or(cfg.issue_interval());
         cfg.validate()?;

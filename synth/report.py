@@ -17,8 +17,8 @@ PAPER = ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l1", 
 # name, export-verilog/bench-core options, replicated trees T
 CONFIGS = [
     ("paper (K=10, 10-bit, L1, 2x21)", PAPER, 1),
-    # Before the ResultRegister: the read-out mux runs from the sequencer to the pins.
-    ("paper, unregistered read-out (before)", PAPER + ["--unregistered-results"], 1),
+    # Before pipelining: no register on the BlockRAM read data nor on the result streams.
+    ("paper, unpipelined (before)", PAPER + ["--unpipelined"], 1),
     ("K=50", ["--k", "50", "--bits", "10", "--address-bits", "10", "--metric", "l1"], 1),
     ("12-bit coordinates", ["--k", "10", "--bits", "12", "--address-bits", "10", "--metric", "l1"], 1),
     ("squared L2", ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l2"], 1),

@@ -23,7 +23,7 @@ fn throughput(metric: Metric, photons: usize, queries: usize, seed: u64, paper_c
     let cfg = if paper_core {
         CoreConfig {
             metric,
-            register_results: true,
+            pipelined: true,
             ..CoreConfig::paper()
         }
     } else {

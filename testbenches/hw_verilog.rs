@@ -100,7 +100,7 @@ fn small_core_verilog_is_clean() {
         k: 4,
         queries_per_port: 3,
         metric: Metric::L2,
-        register_results: true,
+        pipelined: true,
     });
 }
 

@@ -336,10 +336,10 @@ fn small_and_paper(sim: Simulator) {
     if !available(sim) {
         return;
     }
-    // The small config also without its ResultRegisters (the "before" of synth/REPORT.md).
+    // The small config also unpipelined (the "before" of synth/REPORT.md).
     let unregistered = {
         let (mut cfg, cases) = small_cases();
-        cfg.register_results = false;
+        cfg.pipelined = false;
         (cfg, cases)
     };
     for (label, (cfg, cases)) in [

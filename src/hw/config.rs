@@ -71,17 +71,18 @@ pub struct CoreConfig {
     pub queries_per_port: usize,
     /// Distance metric of DistModule / AxisDistModule.
     pub metric: Metric,
-    /// Register each SearchPort's result stream (a ResultRegister skid buffer): one
-    /// cycle more latency per result, and the read-out mux off the critical path.
-    /// `false` keeps the unregistered read-out, for before/after timing.
-    pub register_results: bool,
+    /// Pipeline registers that shorten the critical paths, each one cycle of latency:
+    /// the BlockRAM's read data (SearchModule stage W) and each SearchPort's result
+    /// stream (a ResultRegister skid buffer). `false` builds the unpipelined core, for
+    /// before/after timing.
+    pub pipelined: bool,
 }
 
 impl CoreConfig {
     /// The paper's core (§4, §5): 10-bit coordinates in a 32-bit word, K = 10, two
     /// ports. The metric is L1, the paper's 12-bit "absolute distance": with a 12-bit
-    /// distance one QueryModule issues a read every `5 + 12 = 17` cycles here (the
-    /// paper's Verilog needed 21), and Q = 21 per port as in the paper keeps every
+    /// distance one QueryModule issues a read every `6 + 12 = 18` cycles here, 17
+    /// unpipelined (the paper's Verilog needed 21), and Q = 21 per port as in the paper keeps every
     /// port busy with slack. H = 10 holds the paper's 1023-photon map.
     pub fn paper() -> Self {
         CoreConfig {
@@ -90,7 +91,7 @@ impl CoreConfig {
             k: 10,
             queries_per_port: 21,
             metric: Metric::L1,
-            register_results: true,
+            pipelined: true,
         }
     }
 
@@ -105,7 +106,7 @@ impl CoreConfig {
             k,
             queries_per_port: 1,
             metric,
-            register_results: true,
+            pipelined: true,
         };
         cfg.queries_per_port = cfg.issue_interval().min(MAX_QUERIES_PER_PORT);
         cfg.validate()?;
@@ -124,10 +125,11 @@ impl CoreConfig {
     }
 
     /// Cycles between two reads of one QueryModule in the worst case (an insertion
-    /// that runs the MaxFinder): grant, BlockRAM read, two SearchModule stages, the
-    /// insertion cycle, one MaxFinder cycle per distance bit, the update of R.
+    /// that runs the MaxFinder): grant, BlockRAM read, (pipelined: the read-data
+    /// register,) two SearchModule stages, the insertion cycle, one MaxFinder cycle
+    /// per distance bit, the update of R.
     pub fn issue_interval(&self) -> usize {
-        5 + self.dist_bits() as usize
+        5 + self.pipelined as usize + self.dist_bits() as usize
     }
 
     /// Width of the slot masks this K needs: [`NARROW_SLOTS`] or [`WIDE_SLOTS`].

@@ -18,8 +18,9 @@
 //! ```
 //!
 //! A QueryModule issues a read at most every `CoreConfig::issue_interval()` =
-//! 5 + distance-bits cycles (grant, BlockRAM, two SearchModule stages, insertion,
-//! one MaxFinder cycle per distance bit, the R update); with Q >= that interval a
+//! 6 + distance-bits cycles (grant, BlockRAM, its read-data register, two
+//! SearchModule stages, insertion, one MaxFinder cycle per distance bit, the R
+//! update; 5 + distance bits unpipelined); with Q >= that interval a
 //! port reads a photon every cycle while all its QueryModules are busy. Results are
 //! bit-identical to `host::knn::search` (same slots, same number of reads).
 //!

@@ -66,9 +66,6 @@ pub struct QueryModule<const S: usize> {
     // Result read-out.
     pub finished: Signal<Out, bool>,
     pub result_taken: Signal<In, bool>,
-    /// This module is the one being read out: its `out_*` are zero otherwise, so the
-    /// SearchPort combines all modules with an OR tree instead of a Q-deep mux chain.
-    pub out_enable: Signal<In, bool>,
     pub out_slot: Signal<In, SlotMask<S>>,
     pub out_id: Signal<Out, QueryId>,
     pub out_count: Signal<Out, Count>,
@@ -139,7 +136,6 @@ impl<const S: usize> QueryModule<S> {
             result_done: Default::default(),
             finished: Default::default(),
             result_taken: Default::default(),
-            out_enable: Default::default(),
             out_slot: Default::default(),
             out_id: Default::default(),
             out_count: Default::default(),
@@ -319,21 +315,16 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.query_z.next = self.qz.q.val();
         self.radius.next = self.radius_reg.q.val();
         self.full.next = self.full_reg.q.val();
-        self.out_id.next = 0.into();
-        self.out_count.next = 0.into();
-        self.out_visited.next = 0.into();
-        if self.out_enable.val() {
-            self.out_id.next = self.query_id.q.val();
-            self.out_count.next = self.count.q.val();
-            self.out_visited.next = self.visited.q.val();
-        }
-        // Column read-out; zero unless a slot is selected.
+        self.out_id.next = self.query_id.q.val();
+        self.out_count.next = self.count.q.val();
+        self.out_visited.next = self.visited.q.val();
         self.out_dist.next = self.max_finder.read_dist.val();
-        // One-hot slot: OR the selected entry in (an OR tree, not a K-deep mux chain).
         self.out_address.next = 0.into();
-        for i in 0..self.found.len() {
-            if self.out_slot.val().get_bit(i) {
-                self.out_address.next = self.out_address.val() | self.found[i].q.val();
+        if self.out_slot.val().any() {
+            for i in 0..self.found.len() {
+                if self.out_slot.val().get_bit(i) {
+                    self.out_address.next = self.found[i].q.val();
+                }
             }
         }
     }

@@ -10,7 +10,7 @@
 //! beat per cycle) is kept by the second, "skid" register that catches the beat sent
 //! in the cycle the output stalls.
 //!
-//! With `bypass` (an elaboration constant, `CoreConfig::register_results` false) the
+//! With `bypass` (an elaboration constant, `CoreConfig::pipelined` false) the
 //! slice is wires, as verilog-axis' REG_TYPE = 0, so the unpipelined core can still be
 //! built and measured.
 

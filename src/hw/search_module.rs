@@ -5,8 +5,11 @@
 //!
 //! Timing, with the read granted in cycle t:
 //! * t:   request latched (stage 0) while the TreeModule reads the word;
-//! * t+1: word unpacked; AxisDistModule and DistModule in parallel -> stage 1;
-//! * t+2: NextIndexModule -> result registers, seen by the QueryModules at t+3.
+//! * t+1: (pipelined core) word and request registered (stage W);
+//! * t+1 (t+2 pipelined): word unpacked; AxisDistModule and DistModule in parallel
+//!   -> stage 1;
+//! * t+2 (t+3): NextIndexModule -> result registers, seen by the QueryModules at
+//!   t+3 (t+4).
 
 use crate::hw::axis_dist::AxisDistModule;
 use crate::hw::config::{Addr, Coord, CoreConfig, Dist, ModuleIndex, Word};
@@ -68,6 +71,34 @@ pub struct SearchModule {
     s0_z: DFF<Coord>,
     s0_radius: DFF<Dist>,
     s0_full: DFF<bool>,
+    /// `CoreConfig::pipelined`: register the BlockRAM's read data (stage W) before
+    /// the distances, so the RAM's clock-to-out and the distance arithmetic are not
+    /// one path (the critical path of the unpipelined core on ECP5).
+    word_stage: Constant<bool>,
+    // Stage W: the word and its request, one cycle after stage 0 (pipelined only).
+    w_word: DFF<Word>,
+    w_valid: DFF<bool>,
+    w_module: DFF<ModuleIndex>,
+    w_address: DFF<Addr>,
+    w_up: DFF<bool>,
+    w_came_from_right: DFF<bool>,
+    w_x: DFF<Coord>,
+    w_y: DFF<Coord>,
+    w_z: DFF<Coord>,
+    w_radius: DFF<Dist>,
+    w_full: DFF<bool>,
+    // Stage 1's inputs: stage W, or stage 0 and the BlockRAM output directly.
+    in_word: Signal<Local, Word>,
+    in_valid: Signal<Local, bool>,
+    in_module: Signal<Local, ModuleIndex>,
+    in_address: Signal<Local, Addr>,
+    in_up: Signal<Local, bool>,
+    in_came_from_right: Signal<Local, bool>,
+    in_x: Signal<Local, Coord>,
+    in_y: Signal<Local, Coord>,
+    in_z: Signal<Local, Coord>,
+    in_radius: Signal<Local, Dist>,
+    in_full: Signal<Local, bool>,
     // Stage 1: distances.
     s1_valid: DFF<bool>,
     s1_module: DFF<ModuleIndex>,
@@ -144,6 +175,29 @@ impl SearchModule {
             s0_z: Default::default(),
             s0_radius: Default::default(),
             s0_full: Default::default(),
+            word_stage: Constant::new(cfg.pipelined),
+            w_word: Default::default(),
+            w_valid: Default::default(),
+            w_module: Default::default(),
+            w_address: Default::default(),
+            w_up: Default::default(),
+            w_came_from_right: Default::default(),
+            w_x: Default::default(),
+            w_y: Default::default(),
+            w_z: Default::default(),
+            w_radius: Default::default(),
+            w_full: Default::default(),
+            in_word: Default::default(),
+            in_valid: Default::default(),
+            in_module: Default::default(),
+            in_address: Default::default(),
+            in_up: Default::default(),
+            in_came_from_right: Default::default(),
+            in_x: Default::default(),
+            in_y: Default::default(),
+            in_z: Default::default(),
+            in_radius: Default::default(),
+            in_full: Default::default(),
             s1_valid: Default::default(),
             s1_module: Default::default(),
             s1_address: Default::default(),
@@ -184,6 +238,17 @@ impl Logic for SearchModule {
             s0_z,
             s0_radius,
             s0_full,
+            w_word,
+            w_valid,
+            w_module,
+            w_address,
+            w_up,
+            w_came_from_right,
+            w_x,
+            w_y,
+            w_z,
+            w_radius,
+            w_full,
             s1_valid,
             s1_module,
             s1_address,
@@ -217,36 +282,74 @@ impl Logic for SearchModule {
         self.s0_radius.d.next = self.request_radius.val();
         self.s0_full.d.next = self.request_full.val();
 
+        // Stage W: register the word with its request (wires when not pipelined).
+        self.w_word.d.next = self.word.val();
+        self.w_valid.d.next = self.s0_valid.q.val();
+        self.w_module.d.next = self.s0_module.q.val();
+        self.w_address.d.next = self.s0_address.q.val();
+        self.w_up.d.next = self.s0_up.q.val();
+        self.w_came_from_right.d.next = self.s0_came_from_right.q.val();
+        self.w_x.d.next = self.s0_x.q.val();
+        self.w_y.d.next = self.s0_y.q.val();
+        self.w_z.d.next = self.s0_z.q.val();
+        self.w_radius.d.next = self.s0_radius.q.val();
+        self.w_full.d.next = self.s0_full.q.val();
+        if self.word_stage.val() {
+            self.in_word.next = self.w_word.q.val();
+            self.in_valid.next = self.w_valid.q.val();
+            self.in_module.next = self.w_module.q.val();
+            self.in_address.next = self.w_address.q.val();
+            self.in_up.next = self.w_up.q.val();
+            self.in_came_from_right.next = self.w_came_from_right.q.val();
+            self.in_x.next = self.w_x.q.val();
+            self.in_y.next = self.w_y.q.val();
+            self.in_z.next = self.w_z.q.val();
+            self.in_radius.next = self.w_radius.q.val();
+            self.in_full.next = self.w_full.q.val();
+        } else {
+            self.in_word.next = self.word.val();
+            self.in_valid.next = self.s0_valid.q.val();
+            self.in_module.next = self.s0_module.q.val();
+            self.in_address.next = self.s0_address.q.val();
+            self.in_up.next = self.s0_up.q.val();
+            self.in_came_from_right.next = self.s0_came_from_right.q.val();
+            self.in_x.next = self.s0_x.q.val();
+            self.in_y.next = self.s0_y.q.val();
+            self.in_z.next = self.s0_z.q.val();
+            self.in_radius.next = self.s0_radius.q.val();
+            self.in_full.next = self.s0_full.q.val();
+        }
+
         // Stage 1: unpack the photon word, distances in parallel.
         self.photon_x.next =
-            bit_cast::<16, 32>((self.word.val() >> self.offset_x.val()) & self.mask_x.val());
+            bit_cast::<16, 32>((self.in_word.val() >> self.offset_x.val()) & self.mask_x.val());
         self.photon_y.next =
-            bit_cast::<16, 32>((self.word.val() >> self.offset_y.val()) & self.mask_y.val());
+            bit_cast::<16, 32>((self.in_word.val() >> self.offset_y.val()) & self.mask_y.val());
         self.photon_z.next =
-            bit_cast::<16, 32>((self.word.val() >> self.offset_z.val()) & self.mask_z.val());
-        self.axis_dist.query_x.next = self.s0_x.q.val();
-        self.axis_dist.query_y.next = self.s0_y.q.val();
-        self.axis_dist.query_z.next = self.s0_z.q.val();
+            bit_cast::<16, 32>((self.in_word.val() >> self.offset_z.val()) & self.mask_z.val());
+        self.axis_dist.query_x.next = self.in_x.val();
+        self.axis_dist.query_y.next = self.in_y.val();
+        self.axis_dist.query_z.next = self.in_z.val();
         self.axis_dist.photon_x.next = self.photon_x.val();
         self.axis_dist.photon_y.next = self.photon_y.val();
         self.axis_dist.photon_z.next = self.photon_z.val();
         self.axis_dist.axis.next =
-            bit_cast::<2, 32>((self.word.val() >> self.offset_axis.val()) & 3);
-        self.dist_module.query_x.next = self.s0_x.q.val();
-        self.dist_module.query_y.next = self.s0_y.q.val();
-        self.dist_module.query_z.next = self.s0_z.q.val();
+            bit_cast::<2, 32>((self.in_word.val() >> self.offset_axis.val()) & 3);
+        self.dist_module.query_x.next = self.in_x.val();
+        self.dist_module.query_y.next = self.in_y.val();
+        self.dist_module.query_z.next = self.in_z.val();
         self.dist_module.photon_x.next = self.photon_x.val();
         self.dist_module.photon_y.next = self.photon_y.val();
         self.dist_module.photon_z.next = self.photon_z.val();
-        self.dist_module.radius.next = self.s0_radius.q.val();
-        self.dist_module.full.next = self.s0_full.q.val();
-        self.s1_valid.d.next = self.s0_valid.q.val();
-        self.s1_module.d.next = self.s0_module.q.val();
-        self.s1_address.d.next = self.s0_address.q.val();
-        self.s1_up.d.next = self.s0_up.q.val();
-        self.s1_came_from_right.d.next = self.s0_came_from_right.q.val();
-        self.s1_radius.d.next = self.s0_radius.q.val();
-        self.s1_full.d.next = self.s0_full.q.val();
+        self.dist_module.radius.next = self.in_radius.val();
+        self.dist_module.full.next = self.in_full.val();
+        self.s1_valid.d.next = self.in_valid.val();
+        self.s1_module.d.next = self.in_module.val();
+        self.s1_address.d.next = self.in_address.val();
+        self.s1_up.d.next = self.in_up.val();
+        self.s1_came_from_right.d.next = self.in_came_from_right.val();
+        self.s1_radius.d.next = self.in_radius.val();
+        self.s1_full.d.next = self.in_full.val();
         self.s1_axis_dist.d.next = self.axis_dist.axis_dist.val();
         self.s1_near_right.d.next = self.axis_dist.near_right.val();
         self.s1_dist.d.next = self.dist_module.distance.val();
@@ -274,6 +377,7 @@ impl Logic for SearchModule {
 
         if self.reset.val() {
             self.s0_valid.d.next = false;
+            self.w_valid.d.next = false;
             self.s1_valid.d.next = false;
             self.s2_valid.d.next = false;
         }

@@ -5,7 +5,7 @@
 //! Result stream, one beat per cycle when valid & ready: a header beat (`header`,
 //! id, count, visited; `last` iff count = 0), then `count` entry beats (heap address
 //! and distance in found-list slot order; `last` on the final one). The beats pass
-//! through a [`ResultRegister`], so with `CoreConfig::register_results` every result
+//! through a [`ResultRegister`], so with `CoreConfig::pipelined` every result
 //! output is a flip-flop and a result leaves one cycle after it is read out.
 
 use crate::hw::config::{
@@ -105,7 +105,7 @@ impl<const S: usize> SearchPort<S> {
             modules: (0..q).map(|i| QueryModule::new(cfg, i)).collect(),
             arbiter: Default::default(),
             search: SearchModule::new(cfg),
-            result_register: ResultRegister::new(!cfg.register_results),
+            result_register: ResultRegister::new(!cfg.pipelined),
             all_modules: Constant::new(ModuleMask::from(((1u64 << q) - 1) & 0xFFFF_FFFF)),
             requests: Default::default(),
             free_mask: Default::default(),
@@ -216,18 +216,16 @@ impl<const S: usize> Logic for SearchPort<S> {
             self.modules[i].load_z.next = self.query_z.val();
             self.modules[i].load_radius.next = self.query_radius.val();
             self.modules[i].load_k.next = self.query_k.val();
-            // Result read-out: only the selected module drives its outputs (the
-            // others are zero), so the beat is the OR of all modules' outputs.
-            self.modules[i].out_enable.next = self.out_select.q.val().get_bit(i);
+            // Result read-out from the selected module; only it sees a slot.
             self.modules[i].out_slot.next = 0.into();
             if self.out_select.q.val().get_bit(i) {
                 self.modules[i].out_slot.next = self.out_slot.q.val();
+                self.beat_id.next = self.modules[i].out_id.val();
+                self.beat_count.next = self.modules[i].out_count.val();
+                self.beat_visited.next = self.modules[i].out_visited.val();
+                self.beat_address.next = self.modules[i].out_address.val();
+                self.beat_dist.next = self.modules[i].out_dist.val();
             }
-            self.beat_id.next = self.beat_id.val() | self.modules[i].out_id.val();
-            self.beat_count.next = self.beat_count.val() | self.modules[i].out_count.val();
-            self.beat_visited.next = self.beat_visited.val() | self.modules[i].out_visited.val();
-            self.beat_address.next = self.beat_address.val() | self.modules[i].out_address.val();
-            self.beat_dist.next = self.beat_dist.val() | self.modules[i].out_dist.val();
         }
         if self.out_header.q.val() {
             self.beat_last.next = self.beat_count.val() == 0;

@@ -111,6 +111,6 @@ pub fn small_config(
         k,
         queries_per_port: q,
         metric,
-        register_results: true,
+        pipelined: true,
     }
 }
