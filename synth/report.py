@@ -232,7 +232,7 @@ def write(rows):
         if isinstance(e, str):
             fm, e = e, None
         else:
-            fm = f"{e['best'][0]:.1f} ({', '.join(f'{f:.1f}' for f in e['fmax'])})" if e else "?"
+            fm = f"{e['best'][0]:.1f} ({', '.join(f'{f:.1f}' for f in e['fmax'])})" if e else "not run yet"
         rpc = f"{s['rpc'] * trees:.3f}" if s else "?"
         busy = s["busy"] if s else (err or "?")
         # reads per cycle x MHz = million photons per second
