@@ -11,9 +11,7 @@ use photon_fpga::hw::tree_module::TreeModule;
 use rand::Rng;
 use rust_hdl::prelude::*;
 
-fn settle<B: Block>(b: &mut B) {
-    assert!(simulate(b, 100), "did not settle");
-}
+use common::settle;
 
 /// Independent model of one axis distance.
 fn axis_model(metric: Metric, q: u64, p: u64) -> u64 {

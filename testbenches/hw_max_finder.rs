@@ -21,7 +21,7 @@ impl<const S: usize> Bench<S> {
         b
     }
     fn settle(&mut self) {
-        assert!(simulate(&mut self.uut, 100), "did not settle");
+        common::settle(&mut self.uut);
     }
     fn tick(&mut self) {
         self.uut.clock.next = true.into();

@@ -41,7 +41,7 @@ impl Bench {
         b
     }
     fn settle(&mut self) {
-        assert!(simulate(&mut self.uut, 100), "did not settle");
+        common::settle(&mut self.uut);
     }
     fn tick(&mut self) {
         self.uut.clock.next = true.into();

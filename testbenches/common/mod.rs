@@ -10,6 +10,12 @@ use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::sim::{HwQuery, HwResult};
 use rand::Rng;
 use rand_pcg::Pcg64;
+use rust_hdl::prelude::{simulate, Block};
+
+/// Propagate a block's combinational logic until it settles (fails the test if not).
+pub fn settle<B: Block>(b: &mut B) {
+    assert!(simulate(b, 100), "did not settle");
+}
 
 pub fn rng(seed: u64) -> Pcg64 {
     use rand::SeedableRng;
