@@ -163,25 +163,35 @@ fn next_index_follows_the_traversal_rule() {
     }
 }
 
-#[test]
-fn tree_module_read_after_write_on_both_ports() {
+fn tick<const W: usize>(uut: &mut TreeModule<W>) {
+    uut.clock.next = true.into();
+    settle(uut);
+    uut.clock.next = false.into();
+    settle(uut);
+}
+
+/// Random reads and writes on a TreeModule with `W`-bit ports holding `word_bits`-bit
+/// words, against a Vec model: registered read-first reads on both ports, and only
+/// the word's own bits are stored.
+fn tree_module_against_model<const W: usize>(word_bits: u32, seed: u64) {
     let h = 6;
-    let mut uut = TreeModule::new(h, 32);
+    let mut uut = TreeModule::<W>::new(h, word_bits);
     uut.connect_all();
     check_all(&uut).unwrap();
-    let tick = |uut: &mut TreeModule| {
-        uut.clock.next = true.into();
-        settle(uut);
-        uut.clock.next = false.into();
-        settle(uut);
+    let port_mask = if W == 64 { u64::MAX } else { (1u64 << W) - 1 };
+    let word_mask = if word_bits == 64 {
+        u64::MAX
+    } else {
+        (1u64 << word_bits) - 1
     };
     let mut model = vec![0u64; 1 << h];
-    let mut r = common::rng(9);
+    let mut r = common::rng(seed);
     for _ in 0..500 {
         let a: u64 = r.gen_range(0..1 << h);
         let b: u64 = r.gen_range(0..1 << h);
         let we = r.gen_bool(0.5);
-        let w: u64 = r.gen::<u32>() as u64;
+        // Any value the port can carry; bits above the word are dropped.
+        let w: u64 = r.gen::<u64>() & port_mask;
         uut.a_address.next = a.into();
         uut.b_address.next = b.into();
         uut.a_write_enable.next = we;
@@ -192,26 +202,28 @@ fn tree_module_read_after_write_on_both_ports() {
         assert_eq!(uut.a_read_data.val().to_u64(), model[a as usize]);
         assert_eq!(uut.b_read_data.val().to_u64(), model[b as usize]);
         if we {
-            model[a as usize] = w;
+            model[a as usize] = w & word_mask;
             // Read after write, both ports, next cycle.
             uut.a_write_enable.next = false;
             uut.b_address.next = a.into();
             settle(&mut uut);
             tick(&mut uut);
-            assert_eq!(uut.a_read_data.val().to_u64(), w);
-            assert_eq!(uut.b_read_data.val().to_u64(), w);
+            assert_eq!(uut.a_read_data.val().to_u64(), w & word_mask);
+            assert_eq!(uut.b_read_data.val().to_u64(), w & word_mask);
         }
     }
+}
+
+#[test]
+fn tree_module_read_after_write_on_both_ports() {
+    tree_module_against_model::<32>(32, 9);
     // A narrower word keeps only its own bits.
-    let mut narrow = TreeModule::new(4, 20);
-    narrow.connect_all();
-    narrow.a_address.next = 3.into();
-    narrow.a_write_enable.next = true;
-    narrow.a_write_data.next = 0xFFFF_FFFFu64.into();
-    settle(&mut narrow);
-    tick(&mut narrow);
-    narrow.a_write_enable.next = false;
-    settle(&mut narrow);
-    tick(&mut narrow);
-    assert_eq!(narrow.a_read_data.val().to_u64(), 0xF_FFFF);
+    tree_module_against_model::<32>(20, 10);
+}
+
+/// 12-bit coordinates: a 38-bit word on the 64-bit ports.
+#[test]
+fn tree_module_wide_word() {
+    tree_module_against_model::<64>(38, 11);
+    tree_module_against_model::<64>(47, 12);
 }

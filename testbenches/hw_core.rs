@@ -203,6 +203,36 @@ fn wide_found_lists() {
     }
 }
 
+/// Photon words wider than 32 bits (12-bit coordinates: 38 bits; 15-bit: 47 bits) on
+/// the 64-bit word ports: the split axis and z sit above bit 32, so a truncated
+/// word would send the search down the wrong subtrees. Against knn::search and brute
+/// force, with a cluster at the top of every axis.
+#[test]
+fn wide_photon_words() {
+    for (bits, metric, k, seed) in [
+        ([12, 12, 12], Metric::L1, 10usize, 55u64),
+        ([15, 15, 15], Metric::L2, 8, 56),
+    ] {
+        let layout = PhotonLayout::new(bits);
+        let mut r = rng(seed);
+        let mut points = random_points(&mut r, 200, layout);
+        let top = [0, 1, 2].map(|a| layout.coord_max(a));
+        points.extend(vec![top; 12]);
+        points.extend((0..8).map(|i| [top[0] - i, top[1], top[2] - 2 * i]));
+        let mut queries = random_queries(&mut r, 20, layout, k, metric);
+        queries.extend(hard_queries(&points, layout, metric, k, 20));
+        for (i, q) in queries.iter_mut().enumerate() {
+            q.id = i as u32;
+        }
+        let tree = pack(&points, layout);
+        let cfg = small_core(&tree, k, metric);
+        assert_eq!((cfg.slot_bits(), cfg.word_width()), (32, 64));
+        let (results, _) = run_gather(&cfg, &tree, &queries, &SimOptions::default()).expect("sim");
+        check_results(&cfg, &tree, &points, &queries, &results);
+        assert!(results.iter().any(|r| r.found.len() == k));
+    }
+}
+
 #[test]
 fn random_stalls_on_every_stream() {
     let layout = PhotonLayout::new([7, 7, 7]);

@@ -114,7 +114,7 @@ fn paper_core_verilog_is_clean() {
 fn tree_module_infers_block_ram() {
     use photon_fpga::hw::tree_module::TreeModule;
     use rust_hdl::prelude::*;
-    let mut uut = TreeModule::new(10, 32);
+    let mut uut = TreeModule::<32>::new(10, 32);
     uut.connect_all();
     check_all(&uut).unwrap();
     let dir = tempfile::tempdir().unwrap();

@@ -189,24 +189,25 @@ fn small_cases() -> (CoreConfig, Vec<Case>) {
     (cfg, cases)
 }
 
-/// K = 40 > 32: the 64-bit slot masks (H = 7, Q = 3 per port, L1), with a cluster
-/// of equal photons so that lists fill and ties sit at the K-th distance.
+/// K = 40 > 32 and 12-bit coordinates: the 64-bit slot masks and the 64-bit photon
+/// word (a 38-bit word; H = 7, Q = 3 per port, L1), with a cluster of equal photons
+/// so that lists fill and ties sit at the K-th distance.
 fn wide_cases() -> (CoreConfig, Vec<Case>) {
-    let layout = PhotonLayout::new([6, 6, 6]);
+    let layout = PhotonLayout::new([12, 12, 12]);
     let mut r = rng(73);
     let mut a = random_points(&mut r, 90, layout);
-    a.extend(vec![[9, 9, 9]; 30]);
+    a.extend(vec![[2049, 9, 4000]; 30]);
     let tree = pack(&a, layout);
     let mut cfg = CoreConfig::for_map(&tree, 40, Metric::L1).unwrap();
     cfg.queries_per_port = 3;
-    assert_eq!(cfg.slot_bits(), 64);
+    assert_eq!((cfg.slot_bits(), cfg.word_width()), (64, 64));
     let mut qa = random_queries(&mut r, 6, layout, cfg.k, cfg.metric);
     qa.extend(hard_queries(&a, &cfg, 6));
     for (i, q) in qa.iter_mut().enumerate() {
         q.id = i as u32;
     }
     let cases = vec![Case {
-        name: "wide_k40",
+        name: "wide_k40_12bit",
         maps: vec![map(a, layout, qa)],
         stall_seed: 4,
     }];
@@ -307,7 +308,8 @@ fn cross_simulate(
     let (_keep, dir) = work_dir(&format!("{label}_{}", sim.name()));
     let max_cycles = runs.iter().map(XsimRun::cycles).max().unwrap();
     let t = Instant::now();
-    xsim::build(sim, &dir, verilog, max_cycles).unwrap();
+    let word_bits = runs[0].word_bits;
+    xsim::build(sim, &dir, verilog, max_cycles, word_bits).unwrap();
     eprintln!("{label}: {} build {:.1?}", sim.name(), t.elapsed());
     for (case, run) in cases.iter().zip(runs) {
         if std::env::var_os("PHOTON_FPGA_XSIM_DIR").is_some() {

@@ -6,8 +6,11 @@
 //! widths (coordinate fields, split-axis offset, address bits, K, Q, metric) are
 //! elaboration-time constants (`Constant<>` fields, `Vec` lengths, the TreeModule's
 //! generated Verilog text). Every type is kept <= 32 bits because rust-hdl simulates
-//! wider `Bits` much more slowly; the limits that follow from that are checked by
-//! [`CoreConfig::validate`], which returns an error instead of panicking.
+//! wider `Bits` much more slowly, except the slot masks and the photon word, which are
+//! const generics that widen to 64 bits only for a configuration that needs it
+//! ([`CoreConfig::slot_bits`], [`CoreConfig::word_width`], dispatched once by
+//! [`dispatch_widths`]). The limits are checked by [`CoreConfig::validate`], which
+//! returns an error instead of panicking.
 
 use crate::host::error::Error;
 use crate::host::kdtree::PackedTree;
@@ -15,8 +18,9 @@ use crate::hw::metric::Metric;
 use crate::hw::photon_word::PhotonLayout;
 use rust_hdl::prelude::Bits;
 
-/// Widest photon word the TreeModule port carries (paper: 30 coordinate bits + 2-bit axis).
-pub const MAX_WORD_BITS: u32 = 32;
+/// Widest photon word the TreeModule port carries (paper: 30 coordinate bits + 2-bit
+/// axis in 32; three 15-bit coordinates + axis = 47 bits in the wide word).
+pub const MAX_WORD_BITS: u32 = 64;
 /// Widest coordinate per axis: 15 bits keeps the squared-L2 distance of the widest
 /// axis within the 32-bit distance path (the multiplier is rust-hdl's 16x16->32).
 pub const MAX_HW_COORD_BITS: u32 = 15;
@@ -31,13 +35,19 @@ pub const MAX_K: usize = 64;
 /// simulate). The choice is made once, by [`CoreConfig::slot_bits`].
 pub const NARROW_SLOTS: usize = 32;
 pub const WIDE_SLOTS: usize = 64;
+/// Photon-word port widths, chosen the same way by [`CoreConfig::word_width`]: 32 bits
+/// while the packed word fits (the paper's 3 x 10 + 2), 64 beyond (e.g. 12-bit
+/// coordinates, a 38-bit word). The BlockRAM itself is always exactly as wide as the
+/// layout's word (see `TreeModule`).
+pub const NARROW_WORD: usize = 32;
+pub const WIDE_WORD: usize = 64;
 /// QueryModules per port limit (one bit per module in the 32-bit arbiter masks).
 pub const MAX_QUERIES_PER_PORT: usize = 32;
 /// TreeModule ports = SearchModules (paper §4.5: both BlockRAM ports are used).
 pub const PORTS: usize = 2;
 
-/// Photon word as carried on a TreeModule port.
-pub type Word = Bits<32>;
+/// Photon word as carried on a TreeModule port; `W` is [`NARROW_WORD`] or [`WIDE_WORD`].
+pub type Word<const W: usize> = Bits<W>;
 /// One coordinate (16 bits so that the L2 square uses the 16x16->32 multiplier).
 pub type Coord = Bits<16>;
 /// A distance in the configured metric.
@@ -141,6 +151,15 @@ impl CoreConfig {
         }
     }
 
+    /// Width of the photon-word ports this layout needs: [`NARROW_WORD`] or [`WIDE_WORD`].
+    pub fn word_width(&self) -> usize {
+        if self.layout.word_bits() as usize <= NARROW_WORD {
+            NARROW_WORD
+        } else {
+            WIDE_WORD
+        }
+    }
+
     /// Total QueryModules.
     pub fn query_modules(&self) -> usize {
         PORTS * self.queries_per_port
@@ -216,3 +235,20 @@ impl CoreConfig {
         Ok(())
     }
 }
+
+/// Call the generic `$f::<S, W>($args)` with the slot-mask width `S` and photon-word
+/// width `W` that `$cfg` needs ([`CoreConfig::slot_bits`], [`CoreConfig::word_width`]):
+/// the one place where a configuration picks its monomorphised core.
+#[macro_export]
+macro_rules! dispatch_widths {
+    ($cfg:expr, $f:ident ( $($arg:expr),* $(,)? )) => {{
+        use $crate::hw::config::{NARROW_SLOTS, NARROW_WORD, WIDE_SLOTS, WIDE_WORD};
+        match ($cfg.slot_bits() == NARROW_SLOTS, $cfg.word_width() == NARROW_WORD) {
+            (true, true) => $f::<NARROW_SLOTS, NARROW_WORD>($($arg),*),
+            (true, false) => $f::<NARROW_SLOTS, WIDE_WORD>($($arg),*),
+            (false, true) => $f::<WIDE_SLOTS, NARROW_WORD>($($arg),*),
+            (false, false) => $f::<WIDE_SLOTS, WIDE_WORD>($($arg),*),
+        }
+    }};
+}
+pub use dispatch_widths;

@@ -19,14 +19,14 @@ use crate::hw::tree_module::TreeModule;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
-pub struct PhotonSearchCore<const S: usize> {
+pub struct PhotonSearchCore<const S: usize, const W: usize> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, bool>,
     // Photon load.
     pub load_valid: Signal<In, bool>,
     pub load_ready: Signal<Out, bool>,
     pub load_address: Signal<In, Addr>,
-    pub load_word: Signal<In, Word>,
+    pub load_word: Signal<In, Word<W>>,
     pub load_last: Signal<In, bool>,
     // Queries.
     pub query_valid: Signal<In, bool>,
@@ -51,9 +51,9 @@ pub struct PhotonSearchCore<const S: usize> {
     pub port_a_reading: Signal<Out, bool>,
     pub port_b_reading: Signal<Out, bool>,
     pub all_busy: Signal<Out, bool>,
-    tree: TreeModule,
-    port_a: SearchPort<S>,
-    port_b: SearchPort<S>,
+    tree: TreeModule<W>,
+    port_a: SearchPort<S, W>,
+    port_b: SearchPort<S, W>,
     photon_count: DFF<Addr>,
     loaded: DFF<bool>,
     /// Dispatcher turn: the next query prefers port B.
@@ -69,7 +69,7 @@ pub struct PhotonSearchCore<const S: usize> {
     result_fire: Signal<Local, bool>,
 }
 
-impl<const S: usize> PhotonSearchCore<S> {
+impl<const S: usize, const W: usize> PhotonSearchCore<S, W> {
     /// Elaborate a core for `cfg` (call `cfg.validate()` first).
     pub fn new(cfg: &CoreConfig) -> Self {
         PhotonSearchCore {
@@ -118,7 +118,7 @@ impl<const S: usize> PhotonSearchCore<S> {
     }
 }
 
-impl<const S: usize> Logic for PhotonSearchCore<S> {
+impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(

@@ -18,7 +18,7 @@ use crate::hw::next_index::NextIndexModule;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
-pub struct SearchModule {
+pub struct SearchModule<const W: usize> {
     pub clock: Signal<In, Clock>,
     /// Drops the reads in flight (their QueryModules are being reset too).
     pub reset: Signal<In, bool>,
@@ -34,7 +34,7 @@ pub struct SearchModule {
     pub request_radius: Signal<In, Dist>,
     pub request_full: Signal<In, bool>,
     /// The TreeModule's word, one cycle after the request.
-    pub word: Signal<In, Word>,
+    pub word: Signal<In, Word<W>>,
     pub photon_count: Signal<In, Addr>,
     /// The result, broadcast to the port's QueryModules.
     pub result_valid: Signal<Out, bool>,
@@ -54,9 +54,9 @@ pub struct SearchModule {
     offset_y: Constant<Bits<8>>,
     offset_z: Constant<Bits<8>>,
     offset_axis: Constant<Bits<8>>,
-    mask_x: Constant<Word>,
-    mask_y: Constant<Word>,
-    mask_z: Constant<Word>,
+    mask_x: Constant<Word<W>>,
+    mask_y: Constant<Word<W>>,
+    mask_z: Constant<Word<W>>,
     photon_x: Signal<Local, Coord>,
     photon_y: Signal<Local, Coord>,
     photon_z: Signal<Local, Coord>,
@@ -76,7 +76,7 @@ pub struct SearchModule {
     /// one path (the critical path of the unpipelined core on ECP5).
     word_stage: Constant<bool>,
     // Stage W: the word and its request, one cycle after stage 0 (pipelined only).
-    w_word: DFF<Word>,
+    w_word: DFF<Word<W>>,
     w_valid: DFF<bool>,
     w_module: DFF<ModuleIndex>,
     w_address: DFF<Addr>,
@@ -88,7 +88,7 @@ pub struct SearchModule {
     w_radius: DFF<Dist>,
     w_full: DFF<bool>,
     // Stage 1's inputs: stage W, or stage 0 and the BlockRAM output directly.
-    in_word: Signal<Local, Word>,
+    in_word: Signal<Local, Word<W>>,
     in_valid: Signal<Local, bool>,
     in_module: Signal<Local, ModuleIndex>,
     in_address: Signal<Local, Addr>,
@@ -123,10 +123,10 @@ pub struct SearchModule {
     s2_done: DFF<bool>,
 }
 
-impl SearchModule {
+impl<const W: usize> SearchModule<W> {
     pub fn new(cfg: &CoreConfig) -> Self {
         let l = cfg.layout;
-        let mask = |a: usize| Constant::new(Word::from(l.coord_max(a) as u64));
+        let mask = |a: usize| Constant::new(Word::<W>::from(l.coord_max(a) as u64));
         let offset = |o: u32| Constant::new(Bits::<8>::from(o as u64));
         SearchModule {
             clock: Default::default(),
@@ -222,7 +222,7 @@ impl SearchModule {
     }
 }
 
-impl Logic for SearchModule {
+impl<const W: usize> Logic for SearchModule<W> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
@@ -322,11 +322,11 @@ impl Logic for SearchModule {
 
         // Stage 1: unpack the photon word, distances in parallel.
         self.photon_x.next =
-            bit_cast::<16, 32>((self.in_word.val() >> self.offset_x.val()) & self.mask_x.val());
+            bit_cast::<16, W>((self.in_word.val() >> self.offset_x.val()) & self.mask_x.val());
         self.photon_y.next =
-            bit_cast::<16, 32>((self.in_word.val() >> self.offset_y.val()) & self.mask_y.val());
+            bit_cast::<16, W>((self.in_word.val() >> self.offset_y.val()) & self.mask_y.val());
         self.photon_z.next =
-            bit_cast::<16, 32>((self.in_word.val() >> self.offset_z.val()) & self.mask_z.val());
+            bit_cast::<16, W>((self.in_word.val() >> self.offset_z.val()) & self.mask_z.val());
         self.axis_dist.query_x.next = self.in_x.val();
         self.axis_dist.query_y.next = self.in_y.val();
         self.axis_dist.query_z.next = self.in_z.val();
@@ -334,7 +334,7 @@ impl Logic for SearchModule {
         self.axis_dist.photon_y.next = self.photon_y.val();
         self.axis_dist.photon_z.next = self.photon_z.val();
         self.axis_dist.axis.next =
-            bit_cast::<2, 32>((self.in_word.val() >> self.offset_axis.val()) & 3);
+            bit_cast::<2, W>((self.in_word.val() >> self.offset_axis.val()) & 3);
         self.dist_module.query_x.next = self.in_x.val();
         self.dist_module.query_y.next = self.in_y.val();
         self.dist_module.query_z.next = self.in_z.val();

@@ -18,13 +18,13 @@ use crate::hw::search_module::SearchModule;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
-pub struct SearchPort<const S: usize> {
+pub struct SearchPort<const S: usize, const W: usize> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, bool>,
     pub photon_count: Signal<In, Addr>,
     /// TreeModule port: read address now, word next cycle.
     pub ram_address: Signal<Out, Addr>,
-    pub ram_data: Signal<In, Word>,
+    pub ram_data: Signal<In, Word<W>>,
     // Query hand-out (valid/ready).
     pub query_valid: Signal<In, bool>,
     pub query_ready: Signal<Out, bool>,
@@ -50,7 +50,7 @@ pub struct SearchPort<const S: usize> {
     pub idle: Signal<Out, bool>,
     modules: Vec<QueryModule<S>>,
     arbiter: PortArbiter,
-    search: SearchModule,
+    search: SearchModule<W>,
     result_register: ResultRegister,
     /// One bit per QueryModule of this port.
     all_modules: Constant<ModuleMask>,
@@ -73,7 +73,7 @@ pub struct SearchPort<const S: usize> {
     out_left: DFF<Count>,
 }
 
-impl<const S: usize> SearchPort<S> {
+impl<const S: usize, const W: usize> SearchPort<S, W> {
     pub fn new(cfg: &CoreConfig) -> Self {
         let q = cfg.queries_per_port;
         SearchPort {
@@ -127,7 +127,7 @@ impl<const S: usize> SearchPort<S> {
     }
 }
 
-impl<const S: usize> Logic for SearchPort<S> {
+impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, out_active, out_select, out_header, out_slot, out_left);

@@ -8,7 +8,7 @@
 
 use crate::host::error::Error;
 use crate::host::kdtree::PackedTree;
-use crate::hw::config::{CoreConfig, NARROW_SLOTS, WIDE_SLOTS};
+use crate::hw::config::{CoreConfig, NARROW_SLOTS, NARROW_WORD, WIDE_SLOTS, WIDE_WORD};
 use crate::hw::core::PhotonSearchCore;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
@@ -58,10 +58,11 @@ pub struct SimOptions {
 /// Env var naming a VCD file to trace into when `SimOptions::vcd` is unset.
 pub const VCD_ENV: &str = "PHOTON_FPGA_VCD";
 
-/// The simulated core (slot masks `S` bits wide) and the host side of its streams.
-pub struct CoreSimOf<const S: usize> {
+/// The simulated core (slot masks `S` bits wide, photon words `W` bits) and the host
+/// side of its streams.
+pub struct CoreSimOf<const S: usize, const W: usize> {
     cfg: CoreConfig,
-    uut: Box<PhotonSearchCore<S>>,
+    uut: Box<PhotonSearchCore<S, W>>,
     stalls: Option<Pcg64>,
     vcd: Option<VCDProbe<BufWriter<File>>>,
     time: u64,
@@ -73,7 +74,7 @@ fn sim_error(msg: impl Into<String>) -> Error {
     Error::new(format!("hardware simulation: {}", msg.into()))
 }
 
-impl<const S: usize> CoreSimOf<S> {
+impl<const S: usize, const W: usize> CoreSimOf<S, W> {
     /// Elaborate and check a core for `cfg`.
     pub fn new(cfg: &CoreConfig, opts: &SimOptions) -> Result<Self, Error> {
         cfg.validate()?;
@@ -382,11 +383,14 @@ impl<const S: usize> CoreSimOf<S> {
     }
 }
 
-/// The simulated core for any K: the slot-mask width is chosen from K
-/// ([`CoreConfig::slot_bits`]), so K <= 32 keeps rust-hdl's fast 32-bit `Bits`.
+/// The simulated core for any configuration: the slot-mask width is chosen from K
+/// ([`CoreConfig::slot_bits`]) and the word width from the layout
+/// ([`CoreConfig::word_width`]), so the paper's core keeps rust-hdl's fast 32-bit `Bits`.
 pub enum CoreSim {
-    Narrow(CoreSimOf<NARROW_SLOTS>),
-    Wide(CoreSimOf<WIDE_SLOTS>),
+    Narrow(CoreSimOf<NARROW_SLOTS, NARROW_WORD>),
+    WideSlots(CoreSimOf<WIDE_SLOTS, NARROW_WORD>),
+    WideWord(CoreSimOf<NARROW_SLOTS, WIDE_WORD>),
+    Wide(CoreSimOf<WIDE_SLOTS, WIDE_WORD>),
 }
 
 /// `$body` with `$s` bound to whichever core `$sim` holds.
@@ -394,6 +398,8 @@ macro_rules! with_core {
     ($sim:expr, $s:ident => $body:expr) => {
         match $sim {
             CoreSim::Narrow($s) => $body,
+            CoreSim::WideSlots($s) => $body,
+            CoreSim::WideWord($s) => $body,
             CoreSim::Wide($s) => $body,
         }
     };
@@ -403,10 +409,13 @@ impl CoreSim {
     /// Elaborate and check a core for `cfg`.
     pub fn new(cfg: &CoreConfig, opts: &SimOptions) -> Result<Self, Error> {
         cfg.validate()?;
-        Ok(if cfg.slot_bits() == NARROW_SLOTS {
-            CoreSim::Narrow(CoreSimOf::new(cfg, opts)?)
-        } else {
-            CoreSim::Wide(CoreSimOf::new(cfg, opts)?)
+        // The variant's type parameters pick the monomorphised core.
+        let narrow_slots = cfg.slot_bits() == NARROW_SLOTS;
+        Ok(match (narrow_slots, cfg.word_width() == NARROW_WORD) {
+            (true, true) => CoreSim::Narrow(CoreSimOf::new(cfg, opts)?),
+            (false, true) => CoreSim::WideSlots(CoreSimOf::new(cfg, opts)?),
+            (true, false) => CoreSim::WideWord(CoreSimOf::new(cfg, opts)?),
+            (false, false) => CoreSim::Wide(CoreSimOf::new(cfg, opts)?),
         })
     }
 

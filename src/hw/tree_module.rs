@@ -6,30 +6,35 @@
 //! rust-hdl has no true dual-port RAM, so this is a custom block: `update()` is the
 //! simulation model and `hdl()` emits the standard two-`always` template that yosys
 //! and Vivado/ISE infer as RAMB36E1/RAMB18E1, with the exact word width and depth of
-//! the configuration (the port types are the datapath's fixed maximum widths).
+//! the configuration (the ports are `W` = 32 or 64 bits, the memory only as wide as
+//! the layout's word).
 
 use crate::hw::config::{Addr, Word};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
-pub struct TreeModule {
+pub struct TreeModule<const W: usize> {
     pub clock: Signal<In, Clock>,
     /// Port A: address for the load write and for reads.
     pub a_address: Signal<In, Addr>,
     pub a_write_enable: Signal<In, bool>,
-    pub a_write_data: Signal<In, Word>,
-    pub a_read_data: Signal<Out, Word>,
+    pub a_write_data: Signal<In, Word<W>>,
+    pub a_read_data: Signal<Out, Word<W>>,
     /// Port B: read only.
     pub b_address: Signal<In, Addr>,
-    pub b_read_data: Signal<Out, Word>,
-    _mem: Vec<u32>,
+    pub b_read_data: Signal<Out, Word<W>>,
+    _mem: Vec<u64>,
     _address_bits: u32,
     _word_bits: u32,
 }
 
-impl TreeModule {
+impl<const W: usize> TreeModule<W> {
     /// A TreeModule of 2^`address_bits` words of `word_bits` bits.
     pub fn new(address_bits: u32, word_bits: u32) -> Self {
+        assert!(
+            (1..=W as u32).contains(&word_bits),
+            "a {word_bits}-bit word does not fit the {W}-bit TreeModule ports"
+        );
         TreeModule {
             clock: Default::default(),
             a_address: Default::default(),
@@ -48,25 +53,25 @@ impl TreeModule {
         (address.to_u64() as usize) & (self._mem.len() - 1)
     }
 
-    fn word_mask(&self) -> u32 {
-        if self._word_bits >= 32 {
-            u32::MAX
+    fn word_mask(&self) -> u64 {
+        if self._word_bits >= 64 {
+            u64::MAX
         } else {
-            (1u32 << self._word_bits) - 1
+            (1u64 << self._word_bits) - 1
         }
     }
 }
 
-impl Logic for TreeModule {
+impl<const W: usize> Logic for TreeModule<W> {
     fn update(&mut self) {
         if self.clock.pos_edge() {
             let a = self.index(self.a_address.val());
             let b = self.index(self.b_address.val());
             // Read-first on port A, as in the Verilog below.
-            self.a_read_data.next = (self._mem[a] as u64).into();
-            self.b_read_data.next = (self._mem[b] as u64).into();
+            self.a_read_data.next = self._mem[a].into();
+            self.b_read_data.next = self._mem[b].into();
             if self.a_write_enable.val() {
-                self._mem[a] = self.a_write_data.val().to_u64() as u32 & self.word_mask();
+                self._mem[a] = self.a_write_data.val().to_u64() & self.word_mask();
             }
         }
     }

@@ -16,11 +16,12 @@
 //! # Stimulus file (`stim.hex`)
 //!
 //! Text, read by `$readmemh`. Lines starting with `//` are comments. Then one line
-//! per clock cycle, cycle 0 first, with [`INPUTS`]`.len()` = 13 hexadecimal fields
-//! separated by one space, in this fixed column order (width in bits):
+//! per clock cycle, cycle 0 first, with [`inputs`]`().len()` = 13 hexadecimal fields
+//! separated by one space, in this fixed column order (width in bits; `W`, the
+//! photon-word width [`CoreConfig::word_width`], is 32 or 64):
 //!
 //! ```text
-//! reset(1) load_valid(1) load_address(24) load_word(32) load_last(1)
+//! reset(1) load_valid(1) load_address(24) load_word(W) load_last(1)
 //! query_valid(1) query_id(32) query_x(16) query_y(16) query_z(16)
 //! query_radius(32) query_k(8) result_ready(1)
 //! ```
@@ -53,7 +54,7 @@
 
 use crate::host::error::Error;
 use crate::host::kdtree::PackedTree;
-use crate::hw::config::{CoreConfig, NARROW_SLOTS, WIDE_SLOTS};
+use crate::hw::config::{dispatch_widths, CoreConfig};
 use crate::hw::core::PhotonSearchCore;
 use crate::hw::sim::{HwQuery, HwResult};
 use rand::{Rng, SeedableRng};
@@ -63,24 +64,27 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// Input ports of `top` in stimulus column order, with their widths.
-pub const INPUTS: [(&str, u32); 13] = [
-    ("reset", 1),
-    ("load_valid", 1),
-    ("load_address", 24),
-    ("load_word", 32),
-    ("load_last", 1),
-    ("query_valid", 1),
-    ("query_id", 32),
-    ("query_x", 16),
-    ("query_y", 16),
-    ("query_z", 16),
-    ("query_radius", 32),
-    ("query_k", 8),
-    ("result_ready", 1),
-];
+/// Input ports of `top` in stimulus column order, with their widths, for a core with
+/// `word_bits`-bit photon words.
+pub fn inputs(word_bits: u32) -> [(&'static str, u32); 13] {
+    [
+        ("reset", 1),
+        ("load_valid", 1),
+        ("load_address", 24),
+        ("load_word", word_bits),
+        ("load_last", 1),
+        ("query_valid", 1),
+        ("query_id", 32),
+        ("query_x", 16),
+        ("query_y", 16),
+        ("query_z", 16),
+        ("query_radius", 32),
+        ("query_k", 8),
+        ("result_ready", 1),
+    ]
+}
 
-/// One cycle's input vector, in [`INPUTS`] order.
+/// One cycle's input vector, in [`inputs`] order.
 pub type InputVector = [u64; 13];
 
 /// Reset cycles at the start of every recording.
@@ -98,6 +102,8 @@ pub struct XsimMap {
 /// A recorded rust-hdl run.
 #[derive(Clone, Debug)]
 pub struct XsimRun {
+    /// The core's photon-word width ([`CoreConfig::word_width`]).
+    pub word_bits: u32,
     pub stimulus: Vec<InputVector>,
     /// The response file's text.
     pub responses: String,
@@ -120,15 +126,16 @@ fn hex_digits(bits: u32) -> usize {
 }
 
 /// The stimulus file's text (see the module doc).
-pub fn stimulus_text(stimulus: &[InputVector]) -> String {
-    let mut s = String::with_capacity(stimulus.len() * 64 + 512);
+pub fn stimulus_text(run_: &XsimRun) -> String {
+    let columns = inputs(run_.word_bits);
+    let mut s = String::with_capacity(run_.stimulus.len() * 64 + 512);
     s.push_str("// photon-fpga cross-simulation stimulus: one line per cycle, columns:\n//");
-    for (name, bits) in INPUTS {
+    for (name, bits) in columns {
         let _ = write!(s, " {name}({bits})");
     }
     s.push('\n');
-    for v in stimulus {
-        for (i, (&x, (_, bits))) in v.iter().zip(INPUTS).enumerate() {
+    for v in &run_.stimulus {
+        for (i, (&x, (_, bits))) in v.iter().zip(columns).enumerate() {
             if i > 0 {
                 s.push(' ');
             }
@@ -202,23 +209,19 @@ pub fn record(
             }
         }
     }
-    if cfg.slot_bits() == NARROW_SLOTS {
-        record_with::<NARROW_SLOTS>(cfg, maps, stall_seed)
-    } else {
-        record_with::<WIDE_SLOTS>(cfg, maps, stall_seed)
-    }
+    dispatch_widths!(cfg, record_with(cfg, maps, stall_seed))
 }
 
-/// [`record`] on a core with `S`-bit slot masks.
-fn record_with<const S: usize>(
+/// [`record`] on a core with `S`-bit slot masks and `W`-bit photon words.
+fn record_with<const S: usize, const W: usize>(
     cfg: &CoreConfig,
     maps: &[XsimMap],
     stall_seed: Option<u64>,
 ) -> Result<XsimRun, Error> {
-    let mut uut = Box::new(PhotonSearchCore::<S>::new(cfg));
+    let mut uut = Box::new(PhotonSearchCore::<S, W>::new(cfg));
     uut.connect_all();
     check_all(uut.as_ref()).map_err(|e| xsim_error(format!("circuit check failed: {e:?}")))?;
-    let settle = |uut: &mut PhotonSearchCore<S>| -> Result<(), Error> {
+    let settle = |uut: &mut PhotonSearchCore<S, W>| -> Result<(), Error> {
         if simulate(uut, 200) {
             Ok(())
         } else {
@@ -250,6 +253,7 @@ fn record_with<const S: usize>(
         received: 0,
         current: None,
     };
+    let word_bits = W as u32;
     let mut stimulus: Vec<InputVector> = vec![];
     let mut resp = String::new();
     let mut status: Option<[bool; 3]> = None;
@@ -325,7 +329,14 @@ fn record_with<const S: usize>(
         let query_fire = v[5] != 0 && u.query_ready.val();
         let result_fire = v[12] != 0 && u.result_valid.val();
         if load_fire {
-            let _ = writeln!(resp, "{cycle} L {:06x} {:08x} {:x}", v[2], v[3], v[4]);
+            let _ = writeln!(
+                resp,
+                "{cycle} L {:06x} {:0w$x} {:x}",
+                v[2],
+                v[3],
+                v[4],
+                w = hex_digits(word_bits)
+            );
         }
         if query_fire {
             let _ = writeln!(
@@ -441,6 +452,7 @@ fn record_with<const S: usize>(
         .map(|m| m.into_iter().map(|r| r.expect("all received")).collect())
         .collect();
     Ok(XsimRun {
+        word_bits,
         stimulus,
         responses: resp,
         results,
@@ -451,11 +463,15 @@ fn record_with<const S: usize>(
 /// the response file. Plusargs: `+stim=FILE +resp=FILE +cycles=N` (N <= `max_cycles`).
 /// It drives the clock itself (inputs at the falling edge, outputs sampled 1 ns
 /// before the rising edge), so Verilator's extra edge at time 0 cannot occur.
-pub fn testbench_verilog(max_cycles: usize) -> String {
-    let ninputs = INPUTS.len();
+/// `word_bits` is the core's photon-word width ([`CoreConfig::word_width`]).
+pub fn testbench_verilog(max_cycles: usize, word_bits: u32) -> String {
+    let columns = inputs(word_bits);
+    let ninputs = columns.len();
+    // One memory word per stimulus field: as wide as the widest field.
+    let stim_bits = columns.iter().map(|c| c.1).max().unwrap_or(32);
     let mut decl = String::new();
     let mut apply = String::new();
-    for (i, (name, bits)) in INPUTS.iter().enumerate() {
+    for (i, (name, bits)) in columns.iter().enumerate() {
         if *bits == 1 {
             let _ = writeln!(decl, "  reg {name} = 0;");
         } else {
@@ -483,7 +499,7 @@ module xsim_tb;
     .result_last(result_last), .result_id(result_id), .result_count(result_count),
     .result_visited(result_visited), .result_address(result_address), .result_dist(result_dist),
     .port_a_reading(port_a_reading), .port_b_reading(port_b_reading), .all_busy(all_busy));
-  reg [31:0] stim [0:{words}];
+  reg [{stim_msb}:0] stim [0:{words}];
   reg [8*512-1:0] stim_file, resp_file;
   integer cycles, c, base, fd, have_status;
   reg [2:0] status;
@@ -521,6 +537,7 @@ module xsim_tb;
 endmodule
 "#,
         words = max_cycles * ninputs - 1,
+        stim_msb = stim_bits - 1,
     )
 }
 
@@ -607,7 +624,14 @@ fn run(dir: &Path, argv: &[&str], what: &str) -> Result<String, Error> {
 /// `max_cycles` cycles in `dir` (writes `top.v`, `xsim_tb.v`). Verilator gets the
 /// export as it is; Icarus gets its [`glitch_free`] rewrite (the raw export makes
 /// Icarus loop forever at one simulation time).
-pub fn build(sim: Simulator, dir: &Path, verilog: &str, max_cycles: usize) -> Result<(), Error> {
+/// `word_bits` is the core's photon-word width ([`CoreConfig::word_width`]).
+pub fn build(
+    sim: Simulator,
+    dir: &Path,
+    verilog: &str,
+    max_cycles: usize,
+    word_bits: u32,
+) -> Result<(), Error> {
     let io = |e: std::io::Error| xsim_error(format!("{}: {e}", dir.display()));
     std::fs::create_dir_all(dir).map_err(io)?;
     let verilog = match sim {
@@ -615,7 +639,11 @@ pub fn build(sim: Simulator, dir: &Path, verilog: &str, max_cycles: usize) -> Re
         Simulator::Verilator => verilog.to_string(),
     };
     std::fs::write(dir.join("top.v"), verilog).map_err(io)?;
-    std::fs::write(dir.join("xsim_tb.v"), testbench_verilog(max_cycles)).map_err(io)?;
+    std::fs::write(
+        dir.join("xsim_tb.v"),
+        testbench_verilog(max_cycles, word_bits),
+    )
+    .map_err(io)?;
     let mut argv = sim.build_command();
     argv.extend(["xsim_tb.v", "top.v"]);
     run(dir, &argv, &format!("{} build", sim.name()))?;
@@ -628,7 +656,7 @@ pub fn replay(sim: Simulator, dir: &Path, name: &str, run_: &XsimRun) -> Result<
     let io = |e: std::io::Error| xsim_error(format!("{}: {e}", dir.display()));
     let stim = format!("{name}.stim.hex");
     let resp = format!("{name}.{}.resp.txt", sim.name());
-    std::fs::write(dir.join(&stim), stimulus_text(&run_.stimulus)).map_err(io)?;
+    std::fs::write(dir.join(&stim), stimulus_text(run_)).map_err(io)?;
     std::fs::write(dir.join(format!("{name}.expected.txt")), &run_.responses).map_err(io)?;
     let _ = std::fs::remove_file(dir.join(&resp));
     let mut argv = sim.run_command();
@@ -695,8 +723,12 @@ pub fn write_replay_dir(dir: &Path, verilog: &str, run_: &XsimRun) -> Result<Pat
     std::fs::create_dir_all(dir).map_err(io)?;
     std::fs::write(dir.join("top.v"), verilog).map_err(io)?;
     std::fs::write(dir.join("top_icarus.v"), glitch_free(verilog)?).map_err(io)?;
-    std::fs::write(dir.join("xsim_tb.v"), testbench_verilog(run_.cycles())).map_err(io)?;
-    std::fs::write(dir.join("stim.hex"), stimulus_text(&run_.stimulus)).map_err(io)?;
+    std::fs::write(
+        dir.join("xsim_tb.v"),
+        testbench_verilog(run_.cycles(), run_.word_bits),
+    )
+    .map_err(io)?;
+    std::fs::write(dir.join("stim.hex"), stimulus_text(run_)).map_err(io)?;
     std::fs::write(dir.join("expected.txt"), &run_.responses).map_err(io)?;
     for sim in [Simulator::Icarus, Simulator::Verilator] {
         let quote = |a: &str| {
