@@ -265,6 +265,10 @@ struct CoreArgs {
     /// cycles less latency, longer critical paths. For before/after timing.
     #[arg(long)]
     unpipelined: bool,
+    /// Replicated trees T (the paper's future work): T copies of the core, each with
+    /// its own copy of the map, behind one set of streams (src/hw/array.rs).
+    #[arg(long, default_value_t = 1)]
+    trees: usize,
 }
 
 impl CoreArgs {
@@ -283,6 +287,7 @@ impl CoreArgs {
             queries_per_port: 1,
             metric: self.metric,
             pipelined: !self.unpipelined,
+            trees: self.trees,
         };
         cfg.queries_per_port = self.queries_per_port.unwrap_or(cfg.issue_interval());
         cfg.validate()?;
@@ -347,7 +352,8 @@ fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         .map(|r| format!("{:.3}", *r as f64 / st.busy_cycles.max(1) as f64))
         .collect();
     println!(
-        "core: H = {}, K = {}, {} x {} QueryModules, {} metric, {}-bit distances, issue interval {}",
+        "core: T = {} tree(s), H = {}, K = {}, {} x {} QueryModules per tree, {} metric, {}-bit distances, issue interval {}",
+        cfg.trees,
         cfg.address_bits,
         cfg.k,
         photon_fpga::hw::config::PORTS,
@@ -369,7 +375,7 @@ fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         sw_visited as f64 / queries.len() as f64
     );
     println!(
-        "reads per cycle (both ports, whole run): {:.3}",
+        "reads per cycle (all ports of all trees, whole run): {:.3}",
         reads as f64 / cycles.max(1) as f64
     );
     println!(
@@ -407,8 +413,9 @@ fn export(args: &ExportArgs) -> Result<()> {
         );
     }
     println!(
-        "wrote {}: H = {}, K = {}, {} x {} QueryModules, {}-bit coordinates, {} metric, {}-bit distances",
+        "wrote {}: T = {} tree(s), H = {}, K = {}, {} x {} QueryModules per tree, {}-bit coordinates, {} metric, {}-bit distances",
         path.display(),
+        cfg.trees,
         cfg.address_bits,
         cfg.k,
         photon_fpga::hw::config::PORTS,

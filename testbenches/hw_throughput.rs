@@ -24,6 +24,7 @@ fn throughput(metric: Metric, photons: usize, queries: usize, seed: u64, paper_c
         CoreConfig {
             metric,
             pipelined: true,
+            trees: 1,
             ..CoreConfig::paper()
         }
     } else {

@@ -101,6 +101,7 @@ fn small_core_verilog_is_clean() {
         queries_per_port: 3,
         metric: Metric::L2,
         pipelined: true,
+        trees: 1,
     });
 }
 

@@ -7,9 +7,10 @@
 //! force. A deliberately broken export (one `(a & b) == c` losing its parentheses,
 //! the rust-hdl precedence hazard) must be reported as a mismatch.
 //!
-//! Both simulators get the small configuration (with and without its ResultRegisters),
-//! a K = 40 configuration (64-bit slot masks) and the paper configuration (random maps, a map
-//! reloaded after queries, a Cornell-box map, hard cases). Icarus simulates the
+//! Both simulators get the small configuration (with and without its ResultRegisters,
+//! and as a PhotonSearchArray of two replicated trees), a K = 40 configuration with
+//! 12-bit coordinates (64-bit slot masks and photon words) and the paper configuration
+//! (random maps, a map reloaded after queries, a Cornell-box map, hard cases). Icarus simulates the
 //! `xsim::glitch_free` rewrite of the export (the raw export loops forever in
 //! Icarus at the first result beat; see there). A missing simulator fails
 //! the test when CI=true and is reported loudly otherwise.
@@ -344,9 +345,16 @@ fn small_and_paper(sim: Simulator) {
         cfg.pipelined = false;
         (cfg, cases)
     };
+    // Two replicated trees (PhotonSearchArray) on the small config's cases.
+    let array = {
+        let (mut cfg, cases) = small_cases();
+        cfg.trees = 2;
+        (cfg, cases)
+    };
     for (label, (cfg, cases)) in [
         ("small", small_cases()),
         ("small_unregistered", unregistered),
+        ("array_t2", array),
         ("wide", wide_cases()),
         ("paper", paper_cases()),
     ] {

@@ -45,6 +45,9 @@ pub const WIDE_WORD: usize = 64;
 pub const MAX_QUERIES_PER_PORT: usize = 32;
 /// TreeModule ports = SearchModules (paper §4.5: both BlockRAM ports are used).
 pub const PORTS: usize = 2;
+/// Replicated trees limit (`PhotonSearchArray`): four already exceed the largest
+/// ECP5, and one bit per tree fits the arbiter masks.
+pub const MAX_TREES: usize = 8;
 
 /// Photon word as carried on a TreeModule port; `W` is [`NARROW_WORD`] or [`WIDE_WORD`].
 pub type Word<const W: usize> = Bits<W>;
@@ -86,6 +89,9 @@ pub struct CoreConfig {
     /// stream (a ResultRegister skid buffer). `false` builds the unpipelined core, for
     /// before/after timing.
     pub pipelined: bool,
+    /// Replicated trees T (the paper's future work): 1 builds the core itself, T > 1 a
+    /// `PhotonSearchArray` of T cores, each with its own copy of the map.
+    pub trees: usize,
 }
 
 impl CoreConfig {
@@ -102,6 +108,7 @@ impl CoreConfig {
             queries_per_port: 21,
             metric: Metric::L1,
             pipelined: true,
+            trees: 1,
         }
     }
 
@@ -117,6 +124,7 @@ impl CoreConfig {
             queries_per_port: 1,
             metric,
             pipelined: true,
+            trees: 1,
         };
         cfg.queries_per_port = cfg.issue_interval().min(MAX_QUERIES_PER_PORT);
         cfg.validate()?;
@@ -160,9 +168,9 @@ impl CoreConfig {
         }
     }
 
-    /// Total QueryModules.
+    /// Total QueryModules (all trees).
     pub fn query_modules(&self) -> usize {
-        PORTS * self.queries_per_port
+        self.trees * PORTS * self.queries_per_port
     }
 
     /// Photon words the TreeModule holds.
@@ -202,6 +210,12 @@ impl CoreConfig {
             return Err(Error::new(format!(
                 "hardware core: K = {} unsupported (1..={MAX_K})",
                 self.k
+            )));
+        }
+        if self.trees == 0 || self.trees > MAX_TREES {
+            return Err(Error::new(format!(
+                "hardware core: {} replicated trees unsupported (1..={MAX_TREES})",
+                self.trees
             )));
         }
         if self.queries_per_port == 0 || self.queries_per_port > MAX_QUERIES_PER_PORT {

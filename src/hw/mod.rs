@@ -28,6 +28,7 @@
 //! simulation, optional VCD), [`verilog::export_verilog`]. The datapath limits
 //! (32-bit words and distances, H <= 20, K <= 64, Q <= 32) are in [`config`].
 
+pub mod array;
 pub mod axis_dist;
 pub mod config;
 pub mod core;
@@ -43,6 +44,7 @@ pub mod search_module;
 pub mod search_port;
 pub mod shell;
 pub mod sim;
+pub mod top;
 pub mod tree_module;
 pub mod verilog;
 pub mod xsim;

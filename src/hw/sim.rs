@@ -8,8 +8,10 @@
 
 use crate::host::error::Error;
 use crate::host::kdtree::PackedTree;
-use crate::hw::config::{CoreConfig, NARROW_SLOTS, NARROW_WORD, WIDE_SLOTS, WIDE_WORD};
+use crate::hw::array::PhotonSearchArray;
+use crate::hw::config::{dispatch_widths, CoreConfig};
 use crate::hw::core::PhotonSearchCore;
+use crate::hw::top::SearchTop;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use rust_hdl::core::vcd_probe::VCDProbe;
@@ -37,12 +39,13 @@ pub struct HwResult {
     pub visited: u32,
 }
 
-/// What the run cost, in clock cycles.
+/// What the run cost, in clock cycles. Ports are listed tree by tree (A, B of tree
+/// 0, then of tree 1, ...).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct SimStats {
     pub cycles: u64,
     pub reads_per_port: Vec<u64>,
-    /// Cycles with every QueryModule occupied.
+    /// Cycles with every QueryModule (of every tree) occupied.
     pub busy_cycles: u64,
     pub busy_reads_per_port: Vec<u64>,
 }
@@ -58,11 +61,11 @@ pub struct SimOptions {
 /// Env var naming a VCD file to trace into when `SimOptions::vcd` is unset.
 pub const VCD_ENV: &str = "PHOTON_FPGA_VCD";
 
-/// The simulated core (slot masks `S` bits wide, photon words `W` bits) and the host
+/// The simulated top `U` (a core or an array, photon words `W` bits) and the host
 /// side of its streams.
-pub struct CoreSimOf<const S: usize, const W: usize> {
+struct CoreSimOf<const W: usize, U: SearchTop<W>> {
     cfg: CoreConfig,
-    uut: Box<PhotonSearchCore<S, W>>,
+    uut: Box<U>,
     stalls: Option<Pcg64>,
     vcd: Option<VCDProbe<BufWriter<File>>>,
     time: u64,
@@ -74,11 +77,11 @@ fn sim_error(msg: impl Into<String>) -> Error {
     Error::new(format!("hardware simulation: {}", msg.into()))
 }
 
-impl<const S: usize, const W: usize> CoreSimOf<S, W> {
+impl<const W: usize, U: SearchTop<W>> CoreSimOf<W, U> {
     /// Elaborate and check a core for `cfg`.
-    pub fn new(cfg: &CoreConfig, opts: &SimOptions) -> Result<Self, Error> {
+    fn new(cfg: &CoreConfig, opts: &SimOptions) -> Result<Self, Error> {
         cfg.validate()?;
-        let mut uut = Box::new(PhotonSearchCore::new(cfg));
+        let mut uut = Box::new(U::elaborate(cfg));
         uut.connect_all();
         check_all(uut.as_ref()).map_err(|e| sim_error(format!("circuit check failed: {e:?}")))?;
         let vcd_path = opts
@@ -102,8 +105,8 @@ impl<const S: usize, const W: usize> CoreSimOf<S, W> {
             time: 0,
             clock_high: false,
             stats: SimStats {
-                reads_per_port: vec![0; 2],
-                busy_reads_per_port: vec![0; 2],
+                reads_per_port: vec![0; 2 * cfg.trees],
+                busy_reads_per_port: vec![0; 2 * cfg.trees],
                 ..Default::default()
             },
         };
@@ -113,15 +116,6 @@ impl<const S: usize, const W: usize> CoreSimOf<S, W> {
         }
         sim.reset()?;
         Ok(sim)
-    }
-
-    pub fn config(&self) -> &CoreConfig {
-        &self.cfg
-    }
-
-    /// Counters since the core was built.
-    pub fn stats(&self) -> &SimStats {
-        &self.stats
     }
 
     fn settle(&mut self) -> Result<(), Error> {
@@ -144,7 +138,7 @@ impl<const S: usize, const W: usize> CoreSimOf<S, W> {
     /// Falling edge (if the clock is high) merged with the settling of the inputs
     /// the caller just set: one `simulate` per half cycle.
     fn settle_low(&mut self) -> Result<(), Error> {
-        self.uut.clock.next = false.into();
+        self.uut.ports().clock.next = false.into();
         self.settle()?;
         if self.clock_high {
             self.clock_high = false;
@@ -160,20 +154,19 @@ impl<const S: usize, const W: usize> CoreSimOf<S, W> {
         if self.clock_high {
             self.settle_low()?;
         }
-        let uut = self.uut.as_mut();
-        if uut.port_a_reading.val() {
-            self.stats.reads_per_port[0] += 1;
-        }
-        if uut.port_b_reading.val() {
-            self.stats.reads_per_port[1] += 1;
-        }
-        if uut.all_busy.val() {
-            self.stats.busy_cycles += 1;
-            self.stats.busy_reads_per_port[0] += uut.port_a_reading.val() as u64;
-            self.stats.busy_reads_per_port[1] += uut.port_b_reading.val() as u64;
+        let all_busy = self.uut.ports().all_busy.val();
+        self.stats.busy_cycles += all_busy as u64;
+        for t in 0..self.cfg.trees {
+            let [a, b, _] = self.uut.tree_status(t);
+            for (port, reading) in [(2 * t, a), (2 * t + 1, b)] {
+                self.stats.reads_per_port[port] += reading as u64;
+                if all_busy {
+                    self.stats.busy_reads_per_port[port] += reading as u64;
+                }
+            }
         }
         self.stats.cycles += 1;
-        self.uut.clock.next = true.into();
+        self.uut.ports().clock.next = true.into();
         self.settle()?;
         self.clock_high = true;
         self.time += 5;
@@ -190,17 +183,17 @@ impl<const S: usize, const W: usize> CoreSimOf<S, W> {
     }
 
     /// Synchronous reset for two cycles.
-    pub fn reset(&mut self) -> Result<(), Error> {
-        self.uut.reset.next = true;
+    fn reset(&mut self) -> Result<(), Error> {
+        self.uut.ports().reset.next = true;
         self.settle_low()?;
         self.tick()?;
         self.tick()?;
-        self.uut.reset.next = false;
+        self.uut.ports().reset.next = false;
         self.settle_low()
     }
 
     /// Stream `tree`'s words into the TreeModule (addresses 1..=N, `last` on N).
-    pub fn load_map(&mut self, tree: &PackedTree) -> Result<(), Error> {
+    fn load_map(&mut self, tree: &PackedTree) -> Result<(), Error> {
         self.cfg.check_map(tree)?;
         let n = tree.len();
         let mut next = 1usize;
@@ -210,13 +203,13 @@ impl<const S: usize, const W: usize> CoreSimOf<S, W> {
             if !presenting && !self.stall() {
                 presenting = true;
             }
-            let uut = self.uut.as_mut();
+            let uut = self.uut.ports();
             uut.load_valid.next = presenting;
             uut.load_address.next = (next as u64).into();
             uut.load_word.next = tree.words[next].into();
             uut.load_last.next = next == n;
             self.settle_low()?;
-            let fire = presenting && self.uut.load_ready.val();
+            let fire = presenting && self.uut.ports().load_ready.val();
             self.tick()?;
             if fire {
                 next += 1;
@@ -229,28 +222,8 @@ impl<const S: usize, const W: usize> CoreSimOf<S, W> {
                 }
             }
         }
-        self.uut.load_valid.next = false;
+        self.uut.ports().load_valid.next = false;
         self.settle_low()
-    }
-
-    /// Run `queries` on the loaded map; results in input order.
-    pub fn run_queries(&mut self, queries: &[HwQuery]) -> Result<Vec<HwResult>, Error> {
-        let results = self.drive_queries(queries, None)?;
-        Ok(results
-            .into_iter()
-            .map(|r| r.expect("all received"))
-            .collect())
-    }
-
-    /// Feed `queries` for at most `cycles` cycles and return what completed by then
-    /// (`None` for the rest), leaving the others in flight: e.g. to test a reset
-    /// in the middle of a search.
-    pub fn run_queries_for(
-        &mut self,
-        queries: &[HwQuery],
-        cycles: u64,
-    ) -> Result<Vec<Option<HwResult>>, Error> {
-        self.drive_queries(queries, Some(cycles))
     }
 
     fn drive_queries(
@@ -293,7 +266,7 @@ impl<const S: usize, const W: usize> CoreSimOf<S, W> {
             }
             let result_ready = !self.stall();
             {
-                let uut = self.uut.as_mut();
+                let uut = self.uut.ports();
                 uut.query_valid.next = presenting;
                 if next_query < queries.len() {
                     let q = &queries[next_query];
@@ -307,8 +280,8 @@ impl<const S: usize, const W: usize> CoreSimOf<S, W> {
                 uut.result_ready.next = result_ready;
             }
             self.settle_low()?;
-            let query_fire = presenting && self.uut.query_ready.val();
-            let uut = self.uut.as_ref();
+            let uut = self.uut.ports();
+            let query_fire = presenting && uut.query_ready.val();
             let result_fire = result_ready && uut.result_valid.val();
             if result_fire {
                 let id = uut.result_id.val().to_u64() as usize;
@@ -371,7 +344,7 @@ impl<const S: usize, const W: usize> CoreSimOf<S, W> {
             }
         }
         {
-            let uut = self.uut.as_mut();
+            let uut = self.uut.ports();
             uut.query_valid.next = false;
             uut.result_ready.next = false;
         }
@@ -383,74 +356,104 @@ impl<const S: usize, const W: usize> CoreSimOf<S, W> {
     }
 }
 
-/// The simulated core for any configuration: the slot-mask width is chosen from K
-/// ([`CoreConfig::slot_bits`]) and the word width from the layout
-/// ([`CoreConfig::word_width`]), so the paper's core keeps rust-hdl's fast 32-bit `Bits`.
-pub enum CoreSim {
-    Narrow(CoreSimOf<NARROW_SLOTS, NARROW_WORD>),
-    WideSlots(CoreSimOf<WIDE_SLOTS, NARROW_WORD>),
-    WideWord(CoreSimOf<NARROW_SLOTS, WIDE_WORD>),
-    Wide(CoreSimOf<WIDE_SLOTS, WIDE_WORD>),
+/// What [`CoreSim`] needs from a [`CoreSimOf`], whatever its top and widths.
+trait Driver {
+    fn config(&self) -> &CoreConfig;
+    fn stats(&self) -> &SimStats;
+    fn reset(&mut self) -> Result<(), Error>;
+    fn load_map(&mut self, tree: &PackedTree) -> Result<(), Error>;
+    fn drive_queries(
+        &mut self,
+        queries: &[HwQuery],
+        max_cycles: Option<u64>,
+    ) -> Result<Vec<Option<HwResult>>, Error>;
 }
 
-/// `$body` with `$s` bound to whichever core `$sim` holds.
-macro_rules! with_core {
-    ($sim:expr, $s:ident => $body:expr) => {
-        match $sim {
-            CoreSim::Narrow($s) => $body,
-            CoreSim::WideSlots($s) => $body,
-            CoreSim::WideWord($s) => $body,
-            CoreSim::Wide($s) => $body,
-        }
-    };
+impl<const W: usize, U: SearchTop<W>> Driver for CoreSimOf<W, U> {
+    fn config(&self) -> &CoreConfig {
+        &self.cfg
+    }
+    fn stats(&self) -> &SimStats {
+        &self.stats
+    }
+    fn reset(&mut self) -> Result<(), Error> {
+        CoreSimOf::reset(self)
+    }
+    fn load_map(&mut self, tree: &PackedTree) -> Result<(), Error> {
+        CoreSimOf::load_map(self, tree)
+    }
+    fn drive_queries(
+        &mut self,
+        queries: &[HwQuery],
+        max_cycles: Option<u64>,
+    ) -> Result<Vec<Option<HwResult>>, Error> {
+        CoreSimOf::drive_queries(self, queries, max_cycles)
+    }
 }
+
+/// The core (T = 1) or the array of T trees for `cfg`, with the slot-mask and word
+/// widths `S`, `W` that `cfg` needs.
+fn driver<const S: usize, const W: usize>(
+    cfg: &CoreConfig,
+    opts: &SimOptions,
+) -> Result<Box<dyn Driver>, Error> {
+    Ok(if cfg.trees == 1 {
+        Box::new(CoreSimOf::<W, PhotonSearchCore<S, W>>::new(cfg, opts)?)
+    } else {
+        Box::new(CoreSimOf::<W, PhotonSearchArray<S, W>>::new(cfg, opts)?)
+    })
+}
+
+/// The simulated core for any configuration: the slot-mask width is chosen from K
+/// ([`CoreConfig::slot_bits`]), the word width from the layout
+/// ([`CoreConfig::word_width`]), so the paper's core keeps rust-hdl's fast 32-bit
+/// `Bits`; T > 1 simulates a [`PhotonSearchArray`].
+pub struct CoreSim(Box<dyn Driver>);
 
 impl CoreSim {
     /// Elaborate and check a core for `cfg`.
     pub fn new(cfg: &CoreConfig, opts: &SimOptions) -> Result<Self, Error> {
         cfg.validate()?;
-        // The variant's type parameters pick the monomorphised core.
-        let narrow_slots = cfg.slot_bits() == NARROW_SLOTS;
-        Ok(match (narrow_slots, cfg.word_width() == NARROW_WORD) {
-            (true, true) => CoreSim::Narrow(CoreSimOf::new(cfg, opts)?),
-            (false, true) => CoreSim::WideSlots(CoreSimOf::new(cfg, opts)?),
-            (true, false) => CoreSim::WideWord(CoreSimOf::new(cfg, opts)?),
-            (false, false) => CoreSim::Wide(CoreSimOf::new(cfg, opts)?),
-        })
+        Ok(CoreSim(dispatch_widths!(cfg, driver(cfg, opts))?))
     }
 
     pub fn config(&self) -> &CoreConfig {
-        with_core!(self, s => s.config())
+        self.0.config()
     }
 
     /// Counters since the core was built.
     pub fn stats(&self) -> &SimStats {
-        with_core!(self, s => s.stats())
+        self.0.stats()
     }
 
     /// Synchronous reset for two cycles.
     pub fn reset(&mut self) -> Result<(), Error> {
-        with_core!(self, s => s.reset())
+        self.0.reset()
     }
 
     /// Stream `tree`'s words into the TreeModule (addresses 1..=N, `last` on N).
     pub fn load_map(&mut self, tree: &PackedTree) -> Result<(), Error> {
-        with_core!(self, s => s.load_map(tree))
+        self.0.load_map(tree)
     }
 
     /// Run `queries` on the loaded map; results in input order.
     pub fn run_queries(&mut self, queries: &[HwQuery]) -> Result<Vec<HwResult>, Error> {
-        with_core!(self, s => s.run_queries(queries))
+        let results = self.0.drive_queries(queries, None)?;
+        Ok(results
+            .into_iter()
+            .map(|r| r.expect("all received"))
+            .collect())
     }
 
     /// Feed `queries` for at most `cycles` cycles and return what completed by then
-    /// (`None` for the rest), leaving the others in flight.
+    /// (`None` for the rest), leaving the others in flight: e.g. to test a reset
+    /// in the middle of a search.
     pub fn run_queries_for(
         &mut self,
         queries: &[HwQuery],
         cycles: u64,
     ) -> Result<Vec<Option<HwResult>>, Error> {
-        with_core!(self, s => s.run_queries_for(queries, cycles))
+        self.0.drive_queries(queries, Some(cycles))
     }
 }
 

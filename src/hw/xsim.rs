@@ -1,6 +1,7 @@
 //! Cycle-exact cross-simulation of the exported Verilog against the rust-hdl model.
 //!
-//! [`record`] drives a [`PhotonSearchCore`] cycle by cycle with a reactive host
+//! [`record`] drives a [`PhotonSearchCore`] (or, for T > 1 trees, a
+//! [`PhotonSearchArray`]) cycle by cycle with a reactive host
 //! (reset, load each map, stream its queries, accept results; seeded random stalls on
 //! every valid/ready stream; the next map is presented as soon as the previous map's
 //! queries are all accepted, so the core must hold it back until its searches are
@@ -54,9 +55,11 @@
 
 use crate::host::error::Error;
 use crate::host::kdtree::PackedTree;
+use crate::hw::array::PhotonSearchArray;
 use crate::hw::config::{dispatch_widths, CoreConfig};
 use crate::hw::core::PhotonSearchCore;
 use crate::hw::sim::{HwQuery, HwResult};
+use crate::hw::top::SearchTop;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use rust_hdl::prelude::*;
@@ -212,23 +215,36 @@ pub fn record(
     dispatch_widths!(cfg, record_with(cfg, maps, stall_seed))
 }
 
-/// [`record`] on a core with `S`-bit slot masks and `W`-bit photon words.
+/// [`record`] on the top for `cfg` (the core, or the array of T > 1 trees) with
+/// `S`-bit slot masks and `W`-bit photon words.
 fn record_with<const S: usize, const W: usize>(
     cfg: &CoreConfig,
     maps: &[XsimMap],
     stall_seed: Option<u64>,
 ) -> Result<XsimRun, Error> {
-    let mut uut = Box::new(PhotonSearchCore::<S, W>::new(cfg));
+    if cfg.trees == 1 {
+        record_top::<W, PhotonSearchCore<S, W>>(cfg, maps, stall_seed)
+    } else {
+        record_top::<W, PhotonSearchArray<S, W>>(cfg, maps, stall_seed)
+    }
+}
+
+fn record_top<const W: usize, U: SearchTop<W>>(
+    cfg: &CoreConfig,
+    maps: &[XsimMap],
+    stall_seed: Option<u64>,
+) -> Result<XsimRun, Error> {
+    let mut uut = Box::new(U::elaborate(cfg));
     uut.connect_all();
     check_all(uut.as_ref()).map_err(|e| xsim_error(format!("circuit check failed: {e:?}")))?;
-    let settle = |uut: &mut PhotonSearchCore<S, W>| -> Result<(), Error> {
+    let settle = |uut: &mut U| -> Result<(), Error> {
         if simulate(uut, 200) {
             Ok(())
         } else {
             Err(xsim_error("the circuit did not settle"))
         }
     };
-    uut.clock.next = false.into();
+    uut.ports().clock.next = false.into();
     settle(uut.as_mut())?;
 
     let mut tags = vec![];
@@ -306,7 +322,7 @@ fn record_with<const S: usize, const W: usize>(
         }
         stimulus.push(v);
         {
-            let u = uut.as_mut();
+            let u = uut.ports();
             u.reset.next = v[0] != 0;
             u.load_valid.next = v[1] != 0;
             u.load_address.next = v[2].into();
@@ -324,7 +340,7 @@ fn record_with<const S: usize, const W: usize>(
         }
         settle(uut.as_mut())?;
         // Sample what the rising edge will act on.
-        let u = uut.as_ref();
+        let u = uut.ports();
         let load_fire = v[1] != 0 && u.load_ready.val();
         let query_fire = v[5] != 0 && u.query_ready.val();
         let result_fire = v[12] != 0 && u.result_valid.val();
@@ -410,7 +426,7 @@ fn record_with<const S: usize, const W: usize>(
             status = Some(st);
         }
         // Rising edge.
-        uut.clock.next = true.into();
+        uut.ports().clock.next = true.into();
         settle(uut.as_mut())?;
         // Host bookkeeping after the edge.
         if load_fire {

@@ -118,5 +118,6 @@ pub fn small_config(
         queries_per_port: q,
         metric,
         pipelined: true,
+        trees: 1,
     }
 }
