@@ -265,4 +265,30 @@ fn export_verilog_files_and_errors() {
     let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
     assert!(stderr.contains("K = 65 unsupported (1..=64)"), "{stderr}");
     assert!(!bad.exists(), "a refused export created {}", bad.display());
+
+    // Replicated trees: T = 3 cores inside one top; T = 9 is refused.
+    let array = dir.path().join("array");
+    bin()
+        .args(args)
+        .args(["--queries-per-port", "2", "--trees", "3", "--out"])
+        .arg(&array)
+        .assert()
+        .success();
+    let core = std::fs::read_to_string(array.join("photon_search_core.v")).unwrap();
+    assert_eq!(core.matches("module top(").count(), 1);
+    for t in 0..3 {
+        assert!(core.contains(&format!("trees${t}$")), "tree {t} missing");
+    }
+    assert!(!core.contains("trees$3$"));
+    let assert = bin()
+        .args(["export-verilog", "--trees", "9", "--out"])
+        .arg(&bad)
+        .assert()
+        .code(2);
+    let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
+    assert!(
+        stderr.contains("9 replicated trees unsupported (1..=8)"),
+        "{stderr}"
+    );
+    assert!(!bad.exists(), "a refused export created {}", bad.display());
 }

@@ -3,6 +3,7 @@
 //! Block structure (one block per file, ports first, `#[hdl_gen] fn update`):
 //!
 //! ```text
+//! PhotonSearchArray (array.rs)          T > 1 replicated trees: T cores, same streams
 //! PhotonSearchCore (core.rs)            load / query / result valid-ready streams
 //! ├── TreeModule (tree_module.rs)       true dual-port BlockRAM, 2^H words
 //! ├── SearchPort A (search_port.rs)     TreeModule port A (also the load port)
@@ -25,8 +26,9 @@
 //! bit-identical to `host::knn::search` (same slots, same number of reads).
 //!
 //! Host-facing API: [`config::CoreConfig`], [`sim::run_gather`] (fast native
-//! simulation, optional VCD), [`verilog::export_verilog`]. The datapath limits
-//! (32-bit words and distances, H <= 20, K <= 64, Q <= 32) are in [`config`].
+//! simulation, optional VCD), [`verilog::export_verilog`]; both tops implement
+//! [`top::SearchTop`]. The datapath limits (words <= 47 bits, 32-bit distances,
+//! H <= 20, K <= 64, Q <= 32, T <= 8) are in [`config`].
 
 pub mod array;
 pub mod axis_dist;
