@@ -68,9 +68,22 @@ fn limits_are_errors_not_panics() {
     assert!(CoreConfig::for_map(&tree, 0, Metric::L2).is_err());
     assert!(CoreConfig::for_map(&tree, MAX_K + 1, Metric::L2).is_err());
     assert!(CoreConfig::for_map(&tree, MAX_K, Metric::L2).is_ok());
-    // 3 x 11 bits + 2 do not fit the 32-bit word.
+    // 3 x 11 bits + 2 need the 64-bit word; 16 bits on an axis exceed the datapath.
     let wide = pack(&[[1, 2, 3]], PhotonLayout::new([11, 10, 10]));
-    assert!(CoreConfig::for_map(&wide, 4, Metric::L1).is_err());
+    let cfg = CoreConfig::for_map(&wide, 4, Metric::L1).unwrap();
+    assert_eq!((cfg.layout.word_bits(), cfg.word_width()), (33, 64));
+    let paper_word = CoreConfig::paper();
+    assert_eq!(
+        (paper_word.layout.word_bits(), paper_word.word_width()),
+        (32, 32)
+    );
+    let too_wide = pack(&[[1, 2, 3]], PhotonLayout::new([16, 10, 10]));
+    let err = CoreConfig::for_map(&too_wide, 4, Metric::L1).unwrap_err();
+    assert!(err.to_string().contains("coordinate widths"), "{err}");
+    cfg.validate().unwrap();
+    let mut no_trees = cfg;
+    no_trees.trees = 0;
+    assert!(no_trees.validate().is_err());
     // 15 + 8 + 7 bits fit the word, and L2 still fits 32 distance bits.
     let skewed = pack(&[[1, 2, 3]], PhotonLayout::new([15, 8, 7]));
     assert!(CoreConfig::for_map(&skewed, 4, Metric::L2).is_ok());
