@@ -14,7 +14,7 @@ ECP5_85K_FFS = 83_640  # LFE5U-85F: 41,820 slices of 2 LUT4s and 2 flip-flops
 JOBS = int(os.environ.get("PHOTON_FPGA_JOBS", "2"))
 # A nextpnr seed that has not finished after this many minutes is stopped and reported
 # as not routed in that time (designs near the ECP5-85k's capacity congest router1).
-PNR_MINUTES = float(os.environ.get("PHOTON_FPGA_PNR_MINUTES", "60"))
+PNR_MINUTES = float(os.environ.get("PHOTON_FPGA_PNR_MINUTES", "90"))
 STOPPED = "photon-fpga: nextpnr stopped after"
 
 PAPER = ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l1", "--queries-per-port", "21"]

@@ -12,7 +12,7 @@
 # The cheap steps go first (the first row's fmax, then every row's yosys resources
 # and simulation, then the other rows' place and route). PHOTON_FPGA_JOBS (default
 # 2) rows run side by side; PHOTON_FPGA_SEEDS (default 1,2,3) sets the seeds;
-# PHOTON_FPGA_PNR_MINUTES (default 60) stops a nextpnr seed that has not finished by
+# PHOTON_FPGA_PNR_MINUTES (default 90) stops a nextpnr seed that has not finished by
 # then (designs near the ECP5-85k's capacity congest the router) and reports the row
 # as not routed in that time, with the arcs left.
 #
