@@ -116,6 +116,8 @@ def ecp5(d, files, seeds, cache_only):
         old = open(log).read() if os.path.exists(log) else ""
         if "Program finished normally" in old or unrouted(old):
             rc, out = 0, old  # this seed already ran (or ran out of time) on this netlist
+        elif re.search(r"^ERROR: ", old, re.M):
+            rc, out = 1, old  # it ran and failed (e.g. the design does not fit)
         elif cache_only:
             continue
         else:
@@ -128,7 +130,12 @@ def ecp5(d, files, seeds, cache_only):
             continue
         if rc != 0 or not m:
             err = re.findall(r"ERROR: (.*)", out)
-            errors.append(err[-1] if err else "nextpnr failed")
+            luts = re.search(r"Total LUT4s:\s+(\d+)/\s*(\d+)", out)
+            if luts and int(luts.group(1)) > int(luts.group(2)):
+                errors.append(f"does not fit the ECP5-85k: {int(luts.group(1)):,} LUT4s, it has "
+                              f"{int(luts.group(2)):,}")
+            else:
+                errors.append(err[-1] if err else "nextpnr failed")
             print(f"  {d}: nextpnr seed {s}: {errors[-1]}", flush=True)
             continue
         f = float(m[-1])
@@ -141,7 +148,7 @@ def ecp5(d, files, seeds, cache_only):
             snk = re.findall(r"Sink (\S+)", path)
             best = (f, (src.group(1) if src else "?"), (snk[-1] if snk else "?"), nets)
     if not fmax:
-        if errors and errors[-1].startswith("not routed"):
+        if errors and errors[-1].startswith(("not routed", "does not fit")):
             return errors[-1]
         return f"does not place on ECP5-85k: {errors[-1]}" if errors else None
     return dict(fmax=fmax, best=best)
