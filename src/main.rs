@@ -14,6 +14,7 @@ use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::shell::registered_shell;
 use photon_fpga::hw::sim::SimOptions;
+use photon_fpga::hw::traversal::Traversal;
 use photon_fpga::hw::verilog::export_verilog;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -52,6 +53,10 @@ struct GatherOpts {
     /// Distance metric: l2 (squared Euclidean) or l1 (Manhattan).
     #[arg(long, default_value_t = Metric::L2)]
     metric: Metric,
+    /// How the search climbs back up: remember (each level's axis distance, no
+    /// re-reads) or reread (the paper's). Changes read counts, never neighbours.
+    #[arg(long, default_value_t = Traversal::default())]
+    traversal: Traversal,
     /// Who answers the gathers: float, sw or rtl.
     #[arg(long, default_value_t = BackendKind::Sw)]
     backend: BackendKind,
@@ -81,6 +86,7 @@ impl GatherOpts {
             radius: self.radius,
             bits: self.bits,
             metric: self.metric,
+            traversal: self.traversal,
             capacity: self.capacity,
         }
     }
@@ -240,6 +246,14 @@ struct BenchCoreArgs {
     /// Seed of the random photon map (2^H − 1 photons) and queries.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Clock of the core in MHz (e.g. a placed-and-routed fmax from synth/REPORT.md):
+    /// prints the core's queries/s = reads/cycle × fmax / reads per query.
+    #[arg(long)]
+    fmax_mhz: Option<f64>,
+    /// Also time kiddo (ImmutableKdTree, f32) and the software search on the same
+    /// points, queries and k, one thread each, side by side.
+    #[arg(long)]
+    cpu: bool,
 }
 
 /// The elaboration-time parameters of a core.
@@ -265,6 +279,10 @@ struct CoreArgs {
     /// cycles less latency, longer critical paths. For before/after timing.
     #[arg(long)]
     unpipelined: bool,
+    /// How a QueryModule climbs back up: remember (path memory, no re-reads) or
+    /// reread (the paper's re-read of every parent).
+    #[arg(long, default_value_t = Traversal::default())]
+    traversal: Traversal,
     /// Replicated trees T (the paper's future work): T copies of the core, each with
     /// its own copy of the map, behind one set of streams (src/hw/array.rs).
     #[arg(long, default_value_t = 1)]
@@ -288,6 +306,7 @@ impl CoreArgs {
             metric: self.metric,
             pipelined: !self.unpipelined,
             trees: self.trees,
+            traversal: self.traversal,
         };
         cfg.queries_per_port = self.queries_per_port.unwrap_or(cfg.issue_interval());
         cfg.validate()?;
@@ -300,7 +319,7 @@ impl CoreArgs {
 /// software search) and simulation speed.
 fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     use photon_fpga::host::kdtree::{KdTree, PackedTree};
-    use photon_fpga::host::knn::search;
+    use photon_fpga::host::knn::search_with;
     use photon_fpga::hw::sim::{CoreSim, HwQuery};
     use rand::{Rng, SeedableRng};
     let cfg = args.core.config()?;
@@ -328,8 +347,9 @@ fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     let secs = t0.elapsed().as_secs_f64();
     let st = sim.stats().clone();
     let mut sw_visited = 0u64;
+    let mut sw_tested = 0u64;
     for (q, r) in queries.iter().zip(&results) {
-        let f = search(&tree, q.coords, cfg.k, max, cfg.metric);
+        let f = search_with(&tree, q.coords, cfg.k, max, cfg.metric, cfg.traversal);
         if f.visited != r.visited
             || f.sorted_dists() != {
                 let mut d: Vec<u64> = r.found.iter().map(|x| x.1).collect();
@@ -343,6 +363,7 @@ fn bench_core(args: &BenchCoreArgs) -> Result<()> {
             )));
         }
         sw_visited += f.visited as u64;
+        sw_tested += f.tested as u64;
     }
     let cycles = st.cycles - load_cycles;
     let reads: u64 = st.reads_per_port.iter().sum();
@@ -352,7 +373,7 @@ fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         .map(|r| format!("{:.3}", *r as f64 / st.busy_cycles.max(1) as f64))
         .collect();
     println!(
-        "core: T = {} tree(s), H = {}, K = {}, {} x {} QueryModules per tree, {} metric, {}-bit distances, issue interval {}",
+        "core: T = {} tree(s), H = {}, K = {}, {} x {} QueryModules per tree, {} metric, {}-bit distances, {} traversal, issue interval {}",
         cfg.trees,
         cfg.address_bits,
         cfg.k,
@@ -360,6 +381,7 @@ fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         cfg.queries_per_port,
         cfg.metric,
         cfg.dist_bits(),
+        cfg.traversal,
         cfg.issue_interval()
     );
     println!(
@@ -375,6 +397,10 @@ fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         sw_visited as f64 / queries.len() as f64
     );
     println!(
+        "distance tests per query: {:.1}",
+        sw_tested as f64 / queries.len() as f64
+    );
+    println!(
         "reads per cycle (all ports of all trees, whole run): {:.3}",
         reads as f64 / cycles.max(1) as f64
     );
@@ -384,6 +410,29 @@ fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         busy_per_port.join(", ")
     );
     println!("simulation speed: {:.0} cycles/s", cycles as f64 / secs);
+    let reads_per_query = reads as f64 / queries.len() as f64;
+    let core_qps = args
+        .fmax_mhz
+        .map(|f| reads as f64 / cycles.max(1) as f64 * f * 1e6 / reads_per_query);
+    if let (Some(f), Some(q)) = (args.fmax_mhz, core_qps) {
+        println!(
+            "core queries/s at {f} MHz (given): {q:.0} (simulated reads/cycle x fmax / reads per query)"
+        );
+    }
+    if args.cpu {
+        let coords: Vec<[u32; 3]> = queries.iter().map(|q| q.coords).collect();
+        let min = std::time::Duration::from_millis(500);
+        let cpu =
+            photon_fpga::host::cpu_ref::measure(&points, &tree, &coords, cfg.k, cfg.metric, min)
+                .map_err(Error::new)?;
+        println!(
+            "cpu queries/s, 1 thread, same queries: kiddo {:.0}, software search {:.0}",
+            cpu.kiddo, cpu.sw
+        );
+        if let Some(q) = core_qps {
+            println!("core / kiddo: {:.2}", q / cpu.kiddo);
+        }
+    }
     Ok(())
 }
 

@@ -21,6 +21,8 @@ PAPER = ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l1", 
 # name, export-verilog/bench-core options, replicated trees T (a PhotonSearchArray)
 CONFIGS = [
     ("paper (K=10, 10-bit, L1, 2x21)", PAPER, 1),
+    # Before the path memory: the paper's ascent, every parent read again on the way up.
+    ("paper, re-read ascent (before)", PAPER + ["--traversal", "reread"], 1),
     # Before pipelining: no register on the BlockRAM read data nor on the result streams.
     ("paper, unpipelined (before)", PAPER + ["--unpipelined"], 1),
     ("K=50", ["--k", "50", "--bits", "10", "--address-bits", "10", "--metric", "l1"], 1),
@@ -155,19 +157,27 @@ def ecp5(d, files, seeds, cache_only):
 
 
 def sim(d, opts, files, cache_only):
-    """Reads per cycle from bench-core; cached with the Verilog it was measured on."""
+    """Reads per cycle and per query from bench-core, with kiddo and the software search
+    timed on the same queries in the same run; cached with the Verilog it was measured on."""
     hit, stamp = cached(d, "sim", files)
+    log = os.path.join(d, "bench.log")
+    if hit and "cpu queries/s" not in open(log).read():
+        hit = False  # measured before bench-core timed the CPU searches
     if not hit:
         if cache_only:
             return None, None
-        rc, out = run([BIN, "bench-core", *opts, "--queries", "300"], os.path.join(d, "bench.log"))
+        rc, out = run([BIN, "bench-core", *opts, "--queries", "300", "--cpu"], log)
         if rc != 0:
             return None, out.strip().splitlines()[-1]
         stamp()
-    out = open(os.path.join(d, "bench.log")).read()
+    out = open(log).read()
     rpc = float(re.search(r"reads per cycle \([^)]*\): ([\d.]+)", out).group(1))
     busy = re.search(r"while every QueryModule is busy \((\d+) cycles\): (.*)", out)
-    return dict(rpc=rpc, busy=busy.group(2)), None
+    rpq = float(re.search(r"photons visited per query: ([\d.]+)", out).group(1))
+    tests = float(re.search(r"distance tests per query: ([\d.]+)", out).group(1))
+    cpu = re.search(r"kiddo (\d+), software search (\d+)", out)
+    return dict(rpc=rpc, busy=busy.group(2), rpq=rpq, tests=tests, kiddo=float(cpu.group(1)),
+                sw=float(cpu.group(2))), None
 
 
 def export(name, opts, trees):
@@ -217,10 +227,15 @@ def main():
     # Cheapest first, so that a run stopped early still reports every row's resources:
     # the first row's fmax, then every row's yosys resources and simulation, then the
     # remaining ECP5 place-and-route runs. One lock per row keeps its steps in order.
+    # The simulations go first, one at a time and before any synthesis starts: bench-core
+    # also times kiddo and the software search, which must not share the machine.
+    for c in wanted:
+        if not errors.get(c[0]):
+            row(*c, {"sim"})
     tasks = []
     if wanted and wanted[0] == CONFIGS[0]:
-        tasks.append((CONFIGS[0], {"ecp5", "xc6v", "sim"}))
-    tasks += [(c, {"xc6v", "sim"}) for c in wanted if c != CONFIGS[0]]
+        tasks.append((CONFIGS[0], {"ecp5", "xc6v"}))
+    tasks += [(c, {"xc6v"}) for c in wanted if c != CONFIGS[0]]
     tasks += [(c, {"ecp5"}) for c in wanted if c != CONFIGS[0]]
     locks = {c[0]: threading.Lock() for c in CONFIGS}
     report_lock = threading.Lock()
@@ -254,14 +269,17 @@ def write(rows):
              f"seed {SEEDS[0]} for the others (best, and all). "
              "Reads/cycle: all 2T ports, from the rust-hdl simulation of the whole top (`photon-fpga bench-core`, "
              "300 random queries on a full random 1023-photon map, whole run including fill and drain). "
-             "Photons/s = reads/cycle x best ECP5 fmax.\n")
-    L.append("| configuration | T | LUTs | FFs | RAMB36E1 | RAMB18E1 | CARRY4 | DSP48E1 | slices (est.) | ECP5 fmax MHz (seeds) | reads/cycle | busy reads/port/cycle | photons/s |")
-    L.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---|---:|")
-    L.append("| **paper, Table 2** (XC6VSX475T, ISE 13.1) | 1 | 10,177 | – | 45 BlockRAM | | | | 7,718 | 215 (Virtex-6) | 2 | 1, 1 | 430 M (text: 520 M) |")
+             "Photons/s = reads/cycle x best ECP5 fmax. Queries/s (simulated x placed and routed) = "
+             "reads/cycle x best ECP5 fmax / reads per query, beside kiddo (the current release, "
+             "`ImmutableKdTree<f32, 3>`, one thread of this 2-core machine) timed by the same bench-core run on "
+             "the same points, queries, k and metric (`--cpu`).\n")
+    L.append("| configuration | T | LUTs | FFs | RAMB36E1 | RAMB18E1 | CARRY4 | DSP48E1 | slices (est.) | ECP5 fmax MHz (seeds) | reads/cycle | busy reads/port/cycle | photons/s | reads/query | distance tests/query | queries/s | kiddo queries/s (1 thread) | core / kiddo |")
+    L.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---|---:|---:|---:|---:|---:|---:|")
+    L.append("| **paper, Table 2** (XC6VSX475T, ISE 13.1) | 1 | 10,177 | – | 45 BlockRAM | | | | 7,718 | 215 (Virtex-6) | 2 | 1, 1 | 430 M (text: 520 M) | | 78.6 (C code) | | | |")
     crit = []
     for name, trees, x, e, s, err in rows:
         if err and not x:
-            L.append(f"| {name} | {trees} | n/a: {err} | | | | | | | | | | |")
+            L.append(f"| {name} | {trees} | n/a: {err} | | | | | | | | | | | | | | | |")
             continue
         xs = [f"{x[k]:,}" if x else "?" for k in ("luts", "ffs", "ramb36", "ramb18", "carry4", "dsp", "slices_est")]
         if isinstance(e, str):
@@ -272,7 +290,10 @@ def write(rows):
         busy = s["busy"] if s else (err or "?")
         # reads per cycle x MHz = million photons per second
         pps = f"{s['rpc'] * e['best'][0]:.0f} M" if (s and e) else "?"
-        L.append(f"| {name} | {trees} | " + " | ".join(xs) + f" | {fm} | {rpc} | {busy} | {pps} |")
+        qps = s["rpc"] * e["best"][0] * 1e6 / s["rpq"] if (s and e) else None
+        cpu = (f"{s['rpq']:.1f} | {s['tests']:.1f} | " + (f"{qps / 1e3:,.0f} K" if qps else "?")
+               + f" | {s['kiddo'] / 1e3:,.0f} K | " + (f"{qps / s['kiddo']:.2f}" if qps else "?")) if s else "? | ? | ? | ? | ?"
+        L.append(f"| {name} | {trees} | " + " | ".join(xs) + f" | {fm} | {rpc} | {busy} | {pps} | {cpu} |")
         if e:
             crit.append(f"- **{name}**: {e['best'][1]} → {e['best'][2]} ({len(e['best'][3])} nets)")
     L.append("\n## Critical paths (best seed)\n")

@@ -8,6 +8,7 @@ use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::sim::{run_gather, CoreSim, HwQuery, SimOptions};
+use photon_fpga::hw::traversal::Traversal;
 use rand::Rng;
 
 /// A small core for the map: Q capped to keep the simulation quick.
@@ -29,9 +30,15 @@ fn run_case(
     queries: &[HwQuery],
 ) {
     let tree = pack(points, layout);
-    let cfg = small_core(&tree, k, metric);
-    let (results, _) = run_gather(&cfg, &tree, queries, &SimOptions::default()).expect("sim");
-    check_results(&cfg, &tree, points, queries, &results);
+    // Both ascents: the default path memory and the paper's re-reads.
+    for traversal in [Traversal::Remember, Traversal::Reread] {
+        let cfg = CoreConfig {
+            traversal,
+            ..small_core(&tree, k, metric)
+        };
+        let (results, _) = run_gather(&cfg, &tree, queries, &SimOptions::default()).expect("sim");
+        check_results(&cfg, &tree, points, queries, &results);
+    }
 }
 
 /// Queries that stress the boundary rules on `points`: on photons (split planes),
@@ -366,5 +373,60 @@ fn reset_in_the_middle_of_a_search() {
             &queries,
             &sim.run_queries(&queries).unwrap(),
         );
+    }
+}
+
+/// A query whose every far subtree is pruned reads exactly its descent path in the
+/// core too: photons on even grid points, queries on odd ones, R0 = 0, so no axis
+/// distance is within R. The path length is walked here from the packed words
+/// (near child while one exists); the paper's re-read ascent reads every parent
+/// once more.
+#[test]
+fn pruned_ascent_reads_only_the_descent_path() {
+    let layout = PhotonLayout::new([7, 7, 7]);
+    let mut r = rng(77);
+    let points: Vec<[u32; 3]> = random_points(&mut r, 200, PhotonLayout::new([6, 6, 6]))
+        .into_iter()
+        .map(|p| p.map(|c| 2 * c))
+        .collect();
+    let tree = pack(&points, layout);
+    let queries: Vec<HwQuery> = (0..12)
+        .map(|i| HwQuery {
+            id: i,
+            coords: [0; 3].map(|_: u32| 2 * r.gen_range(0..64u32) + 1),
+            radius: 0,
+            k: 3,
+        })
+        .collect();
+    let depth = |q: [u32; 3]| {
+        let (mut addr, mut depth) = (1usize, 0u32);
+        loop {
+            depth += 1;
+            let (p, ax) = tree.node(addr);
+            let near = 2 * addr + (q[ax as usize] >= p[ax as usize]) as usize;
+            if near > tree.len() {
+                return depth;
+            }
+            addr = near;
+        }
+    };
+    for metric in [Metric::L1, Metric::L2] {
+        for traversal in [Traversal::Remember, Traversal::Reread] {
+            let cfg = CoreConfig {
+                traversal,
+                ..small_core(&tree, 3, metric)
+            };
+            let (results, _) =
+                run_gather(&cfg, &tree, &queries, &SimOptions::default()).expect("sim");
+            for (q, res) in queries.iter().zip(&results) {
+                assert!(res.found.is_empty());
+                let d = depth(q.coords);
+                let want = match traversal {
+                    Traversal::Remember => d,
+                    Traversal::Reread => 2 * d - 1,
+                };
+                assert_eq!(res.visited, want, "{traversal} {metric} {q:?}");
+            }
+        }
     }
 }

@@ -4,7 +4,7 @@
 //! brute force (sorted distances), for both metrics and a bounded radius.
 
 use photon_fpga::host::gather::{GatherParams, QuantizedMap};
-use photon_fpga::host::knn::{brute_force, search};
+use photon_fpga::host::knn::{brute_force, search_with};
 use photon_fpga::host::photons::trace_photons;
 use photon_fpga::host::render::{self, eye_queries, RenderSettings};
 use photon_fpga::host::scene::Scene;
@@ -52,7 +52,7 @@ fn cornell_box_maps_match_the_software_search() {
         assert_eq!(results.len(), hw.len());
         for (q, r) in hw.iter().zip(&results) {
             assert_eq!(r.id, q.id);
-            let sw = search(&map.tree, q.coords, k, q.radius, metric);
+            let sw = search_with(&map.tree, q.coords, k, q.radius, metric, cfg.traversal);
             let mut got = r.found.clone();
             let mut want = sw.slots.clone();
             got.sort();

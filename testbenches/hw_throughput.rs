@@ -9,13 +9,21 @@ use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::sim::{run_gather, HwQuery, SimOptions};
+use photon_fpga::hw::traversal::Traversal;
 use rand::Rng;
 use std::time::Instant;
 
 /// Run `queries` random unbounded 10-NN queries on a random map of `photons` on the
 /// paper's 10-bit grid; `paper_core` uses `CoreConfig::paper()` (Q = 21 per port),
 /// else `CoreConfig::for_map` (Q = the issue interval).
-fn throughput(metric: Metric, photons: usize, queries: usize, seed: u64, paper_core: bool) {
+fn throughput(
+    metric: Metric,
+    photons: usize,
+    queries: usize,
+    seed: u64,
+    paper_core: bool,
+    traversal: Traversal,
+) {
     let layout = PhotonLayout::paper();
     let mut r = rng(seed);
     let points = random_points(&mut r, photons, layout);
@@ -30,6 +38,7 @@ fn throughput(metric: Metric, photons: usize, queries: usize, seed: u64, paper_c
     } else {
         CoreConfig::for_map(&tree, 10, metric).expect("config")
     };
+    let cfg = CoreConfig { traversal, ..cfg };
     let qs: Vec<HwQuery> = (0..queries)
         .map(|i| HwQuery {
             id: i as u32,
@@ -44,7 +53,7 @@ fn throughput(metric: Metric, photons: usize, queries: usize, seed: u64, paper_c
     check_results(&cfg, &tree, &points, &qs, &results);
     let sw_visited: u64 = qs
         .iter()
-        .map(|q| knn::search(&tree, q.coords, 10, q.radius, metric).visited as u64)
+        .map(|q| knn::search_with(&tree, q.coords, 10, q.radius, metric, traversal).visited as u64)
         .sum();
     let hw_visited: u64 = results.iter().map(|r| r.visited as u64).sum();
     println!(
@@ -85,15 +94,20 @@ fn throughput(metric: Metric, photons: usize, queries: usize, seed: u64, paper_c
 
 #[test]
 fn every_port_reads_every_cycle_l1() {
-    throughput(Metric::L1, 3000, 300, 41, false);
+    throughput(Metric::L1, 3000, 300, 41, false, Traversal::Remember);
 }
 
 #[test]
 fn every_port_reads_every_cycle_l2() {
-    throughput(Metric::L2, 2000, 200, 42, false);
+    throughput(Metric::L2, 2000, 200, 42, false, Traversal::Remember);
 }
 
 #[test]
 fn paper_core_reads_every_cycle() {
-    throughput(Metric::L1, 1023, 200, 43, true);
+    throughput(Metric::L1, 1023, 200, 43, true, Traversal::Remember);
+}
+
+#[test]
+fn paper_core_reads_every_cycle_with_rereads() {
+    throughput(Metric::L1, 1023, 200, 43, true, Traversal::Reread);
 }

@@ -102,6 +102,7 @@ fn small_core_verilog_is_clean() {
         metric: Metric::L2,
         pipelined: true,
         trees: 1,
+        traversal: Default::default(),
     });
 }
 

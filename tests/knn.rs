@@ -2,7 +2,7 @@
 //! brute force, on random maps and every hard case of issue 2.
 
 use photon_fpga::host::kdtree::{left_subtree_size, KdTree, PackedTree};
-use photon_fpga::host::knn::{brute_force, search, Coord};
+use photon_fpga::host::knn::{brute_force, search, search_with, Coord, Traversal};
 use photon_fpga::host::quantize::Quantizer;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
@@ -54,6 +54,18 @@ fn check(points: &[[u32; 3]], q: [u32; 3], k: usize, r0: u64, metric: Metric) {
     }
     // The decoded tree and the packed words give the very same search.
     assert_eq!(search(&tree, q, k, r0, metric), found);
+
+    // The default ascent reads each photon once (reads = distance tests); the paper's
+    // re-read ascent makes the same decisions with the same R, so it finds the same
+    // slots after the same distance tests, with more reads.
+    assert_eq!(found.visited, found.tested);
+    let paper = search_with(&packed, q, k, r0, metric, Traversal::Reread);
+    assert_eq!(
+        paper.slots, found.slots,
+        "reread and remember differ: q={q:?} k={k}"
+    );
+    assert_eq!(paper.tested, found.tested);
+    assert!(paper.visited >= found.visited);
 
     // The float search over the same (integer-valued) positions: exact in f64.
     let fpoints: Vec<[f64; 3]> = points.iter().map(|p| p.map(|c| c as f64)).collect();
@@ -387,6 +399,51 @@ fn float_search_on_float_points_matches_brute_force() {
                     search(&tree, q, k, f64::MAX_DIST, metric).sorted_dists(),
                     td
                 );
+            }
+        }
+    }
+}
+
+/// A query whose every far subtree is pruned reads exactly its descent path: the
+/// photons lie on even grid points and the query on odd ones, so with R0 = 0 no axis
+/// distance is within R and nothing is in range. The path is walked here
+/// independently of the search (near child while one exists).
+#[test]
+fn pruned_ascent_reads_only_the_descent_path() {
+    for (n, seed) in [
+        (1usize, 1u64),
+        (2, 2),
+        (3, 3),
+        (1000, 4),
+        (4095, 5),
+        (4096, 6),
+    ] {
+        let points: Vec<[u32; 3]> = random_points(n, 511, seed)
+            .into_iter()
+            .map(|p| p.map(|c| 2 * c))
+            .collect();
+        let tree = KdTree::build(&points);
+        let packed = PackedTree::from_tree(&tree, layout_for(&points));
+        let mut r = rng(seed + 100);
+        for metric in METRICS {
+            for _ in 0..50 {
+                let q = [0; 3].map(|_: u32| 2 * r.gen_range(0..=512u32) + 1);
+                let mut depth = 0u32;
+                let mut addr = 1usize;
+                loop {
+                    depth += 1;
+                    let (p, ax) = packed.node(addr);
+                    let near = 2 * addr + (q[ax as usize] >= p[ax as usize]) as usize;
+                    if near > n {
+                        break;
+                    }
+                    addr = near;
+                }
+                let f = search(&packed, q, 1, 0, metric);
+                assert!(f.slots.is_empty());
+                assert_eq!(f.visited, depth, "n={n} q={q:?}");
+                let paper = search_with(&packed, q, 1, 0, metric, Traversal::Reread);
+                assert_eq!(paper.visited, 2 * depth - 1, "n={n} q={q:?}");
             }
         }
     }

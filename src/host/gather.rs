@@ -9,6 +9,7 @@ use super::quantize::{Point, Quantizer};
 use crate::hw::config::CoreConfig;
 use crate::hw::metric::Metric;
 use crate::hw::sim::{run_gather, HwQuery, SimOptions, SimStats};
+use crate::hw::traversal::Traversal;
 use rayon::prelude::*;
 use std::fmt;
 use std::str::FromStr;
@@ -61,6 +62,8 @@ pub struct GatherParams {
     /// Coordinate bits on the longest axis (quantized backends).
     pub bits: u32,
     pub metric: Metric,
+    /// How the search climbs back up (read counts only; the neighbours are the same).
+    pub traversal: Traversal,
     /// Largest photon map accepted.
     pub capacity: usize,
 }
@@ -72,6 +75,7 @@ impl Default for GatherParams {
             radius: None,
             bits: 10,
             metric: Metric::L2,
+            traversal: Traversal::default(),
             capacity: DEFAULT_CAPACITY,
         }
     }
@@ -195,7 +199,14 @@ impl GatherBackend for FloatBackend {
         Ok(queries
             .par_iter()
             .map(|&q| {
-                let f = knn::search(&self.tree, q, self.params.k, r0, metric);
+                let f = knn::search_with(
+                    &self.tree,
+                    q,
+                    self.params.k,
+                    r0,
+                    metric,
+                    self.params.traversal,
+                );
                 let mut neighbours: Vec<Neighbour> = f
                     .slots
                     .iter()
@@ -321,12 +332,13 @@ impl GatherBackend for SwBackend {
         Ok(queries
             .par_iter()
             .map(|&q| {
-                let f = knn::search(
+                let f = knn::search_with(
                     &m.tree,
                     m.quant.quantize(q),
                     m.params.k,
                     m.radius_bound,
                     m.params.metric,
+                    m.params.traversal,
                 );
                 Gathered {
                     neighbours: m.neighbours(&f.slots),
@@ -355,7 +367,8 @@ impl RtlBackend {
         options: SimOptions,
     ) -> Result<Self> {
         let map = QuantizedMap::covering(photons, queries, params)?;
-        let config = CoreConfig::for_map(&map.tree, params.k, params.metric)?;
+        let mut config = CoreConfig::for_map(&map.tree, params.k, params.metric)?;
+        config.traversal = params.traversal;
         Ok(RtlBackend {
             map,
             config,
@@ -373,14 +386,15 @@ impl GatherBackend for RtlBackend {
     fn describe(&self) -> Option<String> {
         let c = &self.config;
         Some(format!(
-            "{}\ncore: H = {}, K = {}, {} x {} QueryModules, {} metric, {}-bit distances",
+            "{}\ncore: H = {}, K = {}, {} x {} QueryModules, {} metric, {}-bit distances, {} traversal",
             self.map.describe(),
             c.address_bits,
             c.k,
             crate::hw::config::PORTS,
             c.queries_per_port,
             c.metric,
-            c.dist_bits()
+            c.dist_bits(),
+            c.traversal
         ))
     }
 

@@ -7,18 +7,25 @@
 //!   hardware's too.
 //! * The same [`search`] over `f64` coordinates is the float accuracy baseline.
 //!
-//! # Traversal (shared with the hardware NextIndexModule)
-//! State: (address, direction, came-from bit). Every step reads the photon at
-//! `address` (one TreeModule read; "photons visited" counts these reads).
-//! With `a` = the photon's split axis, `near` = right if q[a] >= p[a] else left:
-//! * **down** (first visit): test the photon against the found list; go to the near
-//!   child if it exists; else to the far child if it exists and the axis distance is
-//!   within R; else up.
-//! * **up** (re-read of a parent on the way back): if we came from the near child,
-//!   the far child exists and the axis distance is within R, go down into the far
-//!   child; else up.
-//! * "up" from the root ends the search; otherwise it moves to `address / 2` with
-//!   came-from = `address & 1`.
+//! # Traversal (shared with the hardware NextIndexModule and QueryModule)
+//! Every read is a *down* visit of the photon at `address` (one TreeModule read;
+//! "photons visited" counts these reads). With `a` = the photon's split axis,
+//! `near` = right if q[a] >= p[a] else left, a down visit tests the photon against
+//! the found list, then goes to the near child if it exists; else to the far child
+//! if it exists and the axis distance is within R; else up. How the search goes up
+//! is the [`Traversal`]:
+//! * [`Traversal::Remember`] (default): a down visit that goes to the near child
+//!   records, for its level, the axis distance and whether the far child exists
+//!   ("pending"). Going up from a node to its parent reads nothing: if the parent's
+//!   level is pending and its recorded axis distance is within R *as R is now*
+//!   (after every insertion so far), the pending mark is cleared and the search
+//!   reads the far child (the sibling of the node it came from); otherwise it climbs
+//!   on. Reads per query = distance tests.
+//! * [`Traversal::Reread`] (the paper's): going up reads the parent again. If we
+//!   came from the near child, the far child exists and the axis distance is within
+//!   R (R as at that re-read), go down into the far child; else up. State: (address,
+//!   direction, came-from bit).
+//! * Up from the root ends the search.
 //!
 //! # Boundary rules (shared with the hardware)
 //! * While the list holds fewer than k photons, a photon is in range iff
@@ -34,6 +41,7 @@
 
 use super::kdtree::{KdTree, PackedTree};
 use crate::hw::metric::Metric;
+pub use crate::hw::traversal::Traversal;
 use std::cmp::{Ordering, Reverse};
 use std::collections::BinaryHeap;
 
@@ -148,7 +156,8 @@ impl NodeSource<u32> for PackedTree {
 pub struct Found<D> {
     /// (heap address, distance) in found-list slot order (the hardware's order).
     pub slots: Vec<(u32, D)>,
-    /// Photon reads issued (down visits + up re-reads): the hardware's read count.
+    /// Photon reads issued (down visits, plus up re-reads with [`Traversal::Reread`]):
+    /// the hardware's read count.
     pub visited: u32,
     /// Distance tests (down visits only): what the paper's C code counts as
     /// "photons processed", every photon at most once.
@@ -208,8 +217,8 @@ impl<D: Ord + Copy> FoundList<D> {
     }
 }
 
-/// The paper's kd-tree search for the k nearest photons to `q` within `r0`
-/// (inclusive), on any node source. `k` must be >= 1.
+/// The kd-tree search for the k nearest photons to `q` within `r0` (inclusive), on
+/// any node source, with the default [`Traversal`]. `k` must be >= 1.
 pub fn search<C: Coord, S: NodeSource<C> + ?Sized>(
     tree: &S,
     q: [C; 3],
@@ -217,7 +226,119 @@ pub fn search<C: Coord, S: NodeSource<C> + ?Sized>(
     r0: C::Dist,
     metric: Metric,
 ) -> Found<C::Dist> {
+    search_with(tree, q, k, r0, metric, Traversal::default())
+}
+
+/// [`search`] with the ascent chosen: the found slots are the same set of distances
+/// either way (both are exact); the read counts differ.
+pub fn search_with<C: Coord, S: NodeSource<C> + ?Sized>(
+    tree: &S,
+    q: [C; 3],
+    k: usize,
+    r0: C::Dist,
+    metric: Metric,
+    traversal: Traversal,
+) -> Found<C::Dist> {
     assert!(k >= 1, "k must be at least 1");
+    match traversal {
+        Traversal::Remember => search_remember(tree, q, k, r0, metric),
+        Traversal::Reread => search_reread(tree, q, k, r0, metric),
+    }
+}
+
+/// One level of the current path ([`Traversal::Remember`]): the axis distance of the
+/// node read there, and whether its far child is still to be visited.
+#[derive(Clone, Copy)]
+struct Level<D> {
+    axis_dist: D,
+    pending: bool,
+}
+
+/// [`Traversal::Remember`]: the ascent reads nothing; see the module docs.
+fn search_remember<C: Coord, S: NodeSource<C> + ?Sized>(
+    tree: &S,
+    q: [C; 3],
+    k: usize,
+    r0: C::Dist,
+    metric: Metric,
+) -> Found<C::Dist> {
+    let n = tree.len();
+    let mut list = FoundList::new(k);
+    let mut r = r0;
+    let mut visited = 0u32;
+    // One entry per tree level (the root is level 0): at most 64 levels of `usize`.
+    let mut path = [Level {
+        axis_dist: r0,
+        pending: false,
+    }; 64];
+    let (mut addr, mut level) = (1usize, 0usize);
+    'descend: loop {
+        let (p, ax) = tree.node(addr);
+        visited += 1;
+        let ax = ax as usize;
+        let near_bit = C::total_cmp(q[ax], p[ax]).is_ge() as usize;
+        let ad = C::axis_dist(metric, q[ax], p[ax]);
+        // The down step's far test uses R as read with the photon (before its own
+        // insertion), as the SearchModule computes it in parallel with the distance.
+        let within = if list.full() { ad < r } else { ad <= r };
+        let d = C::dist(metric, q, p);
+        let in_range = if list.full() { d < r } else { d <= r };
+        if in_range {
+            if let Some(max) = list.insert(addr as u32, d) {
+                r = max;
+            }
+        }
+        let near = 2 * addr + near_bit;
+        let far = 2 * addr + 1 - near_bit;
+        path[level] = Level {
+            axis_dist: ad,
+            pending: near <= n && far <= n,
+        };
+        if near <= n {
+            addr = near;
+            level += 1;
+            continue;
+        }
+        if far <= n && within {
+            addr = far;
+            level += 1;
+            continue;
+        }
+        // Up without reads: R is now as it stands after this photon's insertion.
+        while addr != 1 {
+            let from = addr;
+            addr >>= 1;
+            level -= 1;
+            let l = &mut path[level];
+            let within = if list.full() {
+                l.axis_dist < r
+            } else {
+                l.axis_dist <= r
+            };
+            if l.pending && within {
+                l.pending = false;
+                addr = from ^ 1;
+                level += 1;
+                continue 'descend;
+            }
+        }
+        break;
+    }
+    Found {
+        slots: list.slots,
+        visited,
+        tested: visited,
+    }
+}
+
+/// [`Traversal::Reread`]: the paper's search, every parent read again on the way up.
+fn search_reread<C: Coord, S: NodeSource<C> + ?Sized>(
+    tree: &S,
+    q: [C; 3],
+    k: usize,
+    r0: C::Dist,
+    metric: Metric,
+) -> Found<C::Dist> {
     let n = tree.len();
     let mut list = FoundList::new(k);
     let mut r = r0;

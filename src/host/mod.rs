@@ -1,6 +1,7 @@
 //! The host side (paper §4): scene, photon tracing, kd-tree build and packing,
 //! software kNN reference, renderer and the gather backends.
 
+pub mod cpu_ref;
 pub mod csvio;
 pub mod error;
 pub mod gather;

@@ -16,6 +16,7 @@ use crate::host::error::Error;
 use crate::host::kdtree::PackedTree;
 use crate::hw::metric::Metric;
 use crate::hw::photon_word::PhotonLayout;
+use crate::hw::traversal::Traversal;
 use rust_hdl::prelude::Bits;
 
 /// Widest photon word the TreeModule port carries (paper: 30 coordinate bits + 2-bit
@@ -70,6 +71,9 @@ pub type Count = Bits<8>;
 pub type ModuleIndex = Bits<8>;
 /// Photons read by one query.
 pub type ReadCount = Bits<32>;
+/// One bit per tree level (the root is bit 0; H <= 20 levels): a QueryModule's
+/// one-hot current level and its pending far children (`Traversal::Remember`).
+pub type LevelMask = Bits<32>;
 
 /// Elaboration-time parameters of one core.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -92,6 +96,9 @@ pub struct CoreConfig {
     /// Replicated trees T (the paper's future work): 1 builds the core itself, T > 1 a
     /// `PhotonSearchArray` of T cores, each with its own copy of the map.
     pub trees: usize,
+    /// How a QueryModule climbs back up the tree: remembering each level's axis
+    /// distance (no reads), or the paper's re-read of every parent.
+    pub traversal: Traversal,
 }
 
 impl CoreConfig {
@@ -109,6 +116,7 @@ impl CoreConfig {
             metric: Metric::L1,
             pipelined: true,
             trees: 1,
+            traversal: Traversal::default(),
         }
     }
 
@@ -125,6 +133,7 @@ impl CoreConfig {
             metric,
             pipelined: true,
             trees: 1,
+            traversal: Traversal::default(),
         };
         cfg.queries_per_port = cfg.issue_interval().min(MAX_QUERIES_PER_PORT);
         cfg.validate()?;
@@ -148,6 +157,15 @@ impl CoreConfig {
     /// per distance bit, the update of R.
     pub fn issue_interval(&self) -> usize {
         5 + self.pipelined as usize + self.dist_bits() as usize
+    }
+
+    /// Entries of a QueryModule's path memory: one per level that can have children
+    /// (H - 1 levels below the leaves) with `Traversal::Remember`, none otherwise.
+    pub fn path_levels(&self) -> usize {
+        match self.traversal {
+            Traversal::Remember => self.address_bits as usize - 1,
+            Traversal::Reread => 0,
+        }
     }
 
     /// Width of the slot masks this K needs: [`NARROW_SLOTS`] or [`WIDE_SLOTS`].

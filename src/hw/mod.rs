@@ -23,7 +23,11 @@
 //! SearchModule stages, insertion, one MaxFinder cycle per distance bit, the R
 //! update; 5 + distance bits unpipelined); with Q >= that interval a
 //! port reads a photon every cycle while all its QueryModules are busy. Results are
-//! bit-identical to `host::knn::search` (same slots, same number of reads).
+//! bit-identical to `host::knn::search_with` (same slots, same number of reads) for
+//! the configured [`traversal::Traversal`]: by default a QueryModule remembers each
+//! level's axis distance on the way down and climbs back up without reads (one
+//! level per cycle, no port slot); `Reread` is the paper's ascent, which reads every
+//! parent again.
 //!
 //! Host-facing API: [`config::CoreConfig`], [`sim::run_gather`] (fast native
 //! simulation, optional VCD), [`verilog::export_verilog`]; both tops implement
@@ -47,6 +51,7 @@ pub mod search_port;
 pub mod shell;
 pub mod sim;
 pub mod top;
+pub mod traversal;
 pub mod tree_module;
 pub mod verilog;
 pub mod xsim;

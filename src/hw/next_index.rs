@@ -9,6 +9,11 @@
 //!
 //! `within_radius` is `ad < R` once the found list is full and `ad <= R` before (the initial
 //! radius is inclusive), with R as it was when the photon was read.
+//!
+//! With [`Traversal::Remember`](crate::hw::traversal::Traversal) every read is a down
+//! visit (`up` is never set) and an "up" result hands the ascent to the QueryModule;
+//! `far_pending` tells it to remember that this level's far child is still to be
+//! visited (the search goes to the near child and the far child exists).
 
 use crate::hw::config::{Addr, Dist};
 use rust_hdl::prelude::*;
@@ -32,6 +37,8 @@ pub struct NextIndexModule {
     pub next_came_from_right: Signal<Out, bool>,
     /// The search is over (up from the root).
     pub done: Signal<Out, bool>,
+    /// A down visit that goes to the near child while the far child exists.
+    pub far_pending: Signal<Out, bool>,
     /// H+1 address bits hold every child address 2i+1 <= 2N+1 < 2^(H+1); masking
     /// with it tells synthesis that the upper bits of the 24-bit datapath are zero.
     address_mask: Constant<Addr>,
@@ -57,6 +64,7 @@ impl NextIndexModule {
             next_up: Default::default(),
             next_came_from_right: Default::default(),
             done: Default::default(),
+            far_pending: Default::default(),
             address_mask: Constant::new(Addr::from((1u64 << (address_bits + 1)) - 1)),
             near_child: Default::default(),
             far_child: Default::default(),
@@ -92,6 +100,9 @@ impl Logic for NextIndexModule {
                 && (self.far_child.val() <= self.photon_count.val())
                 && self.within_radius.val();
         }
+        self.far_pending.next = (!self.up.val())
+            && (self.near_child.val() <= self.photon_count.val())
+            && (self.far_child.val() <= self.photon_count.val());
         self.done.next = false;
         self.next_up.next = false;
         self.next_came_from_right.next = false;

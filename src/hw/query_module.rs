@@ -7,11 +7,27 @@
 //! the MaxFinder and set R = max, remembering the max slot; once full, a photon in
 //! range (d < R) overwrites the max slot and the MaxFinder runs again (MAX_FIND).
 //! This is knn.rs's `FoundList` step for step, so slots and read counts match.
+//!
+//! The ascent (`CoreConfig::traversal`, see `hw::traversal`):
+//! * `Reread` (the paper's): an "up" result is just the next read, of the parent.
+//! * `Remember` (default): every result of a down visit records its level's axis
+//!   distance and pending bit; an "up" result (after the MaxFinder, so R is current)
+//!   starts ASCEND, one level per cycle and no port slot: at the parent's level, a
+//!   pending far child within R is read next (the sibling of the node we came
+//!   from); otherwise climb on, until the root ends the search.
+//!
+//! Where the path memory lives: H - 1 distance registers and a pending bit mask per
+//! QueryModule. They are written one level per result and read one level per
+//! ASCEND cycle, by every QueryModule at once, so a memory shared by the port would
+//! need Q ports; as registers the entry of the current level is a small mux
+//! (H - 1 <= 19 entries), and a LUT-RAM per QueryModule (RAM32M) is the cheaper
+//! mapping left to synthesis.
 
 use crate::hw::config::{
-    Addr, Coord, CoreConfig, Count, Dist, ModuleIndex, QueryId, ReadCount, SlotMask,
+    Addr, Coord, CoreConfig, Count, Dist, LevelMask, ModuleIndex, QueryId, ReadCount, SlotMask,
 };
 use crate::hw::max_finder::MaxFinder;
+use crate::hw::traversal::Traversal;
 use rust_hdl::prelude::*;
 
 #[derive(Copy, Clone, Debug, PartialEq, Eq, LogicState)]
@@ -24,6 +40,8 @@ pub enum QueryState {
     Wait,
     /// The MaxFinder is computing the new R.
     MaxFind,
+    /// Climbing the remembered path, one level per cycle, without reads.
+    Ascend,
     /// Search over; the result waits to be streamed out.
     Done,
 }
@@ -63,6 +81,8 @@ pub struct QueryModule<const S: usize> {
     pub result_next_up: Signal<In, bool>,
     pub result_next_came_from_right: Signal<In, bool>,
     pub result_done: Signal<In, bool>,
+    pub result_axis_dist: Signal<In, Dist>,
+    pub result_far_pending: Signal<In, bool>,
     // Result read-out.
     pub finished: Signal<Out, bool>,
     pub result_taken: Signal<In, bool>,
@@ -73,6 +93,8 @@ pub struct QueryModule<const S: usize> {
     pub out_address: Signal<Out, Addr>,
     pub out_dist: Signal<Out, Dist>,
     my_index: Constant<ModuleIndex>,
+    /// `Traversal::Remember`: the ascent from the path memory.
+    remember: Constant<bool>,
     state: DFF<QueryState>,
     query_id: DFF<QueryId>,
     qx: DFF<Coord>,
@@ -93,11 +115,24 @@ pub struct QueryModule<const S: usize> {
     came_from_right: DFF<bool>,
     search_done: DFF<bool>,
     visited: DFF<ReadCount>,
+    /// One-hot level of `address` (the root is bit 0).
+    level: DFF<LevelMask>,
+    /// Levels of the current path whose far child is still to be visited.
+    pending: DFF<LevelMask>,
+    /// The last result asked for the ascent (entered once the MaxFinder is done).
+    ascending: DFF<bool>,
+    /// Axis distance of the node read at each level (`CoreConfig::path_levels`).
+    path_dist: Vec<DFF<Dist>>,
     found: Vec<DFF<Addr>>,
     max_finder: MaxFinder<S>,
     result_mine: Signal<Local, bool>,
     insert: Signal<Local, bool>,
     insert_slot: Signal<Local, SlotMask<S>>,
+    /// ASCEND: the parent's level, its remembered entry and the pruning test.
+    parent_level: Signal<Local, LevelMask>,
+    parent_dist: Signal<Local, Dist>,
+    parent_pending: Signal<Local, bool>,
+    parent_within: Signal<Local, bool>,
 }
 
 impl<const S: usize> QueryModule<S> {
@@ -134,6 +169,8 @@ impl<const S: usize> QueryModule<S> {
             result_next_up: Default::default(),
             result_next_came_from_right: Default::default(),
             result_done: Default::default(),
+            result_axis_dist: Default::default(),
+            result_far_pending: Default::default(),
             finished: Default::default(),
             result_taken: Default::default(),
             out_slot: Default::default(),
@@ -143,6 +180,7 @@ impl<const S: usize> QueryModule<S> {
             out_address: Default::default(),
             out_dist: Default::default(),
             my_index: Constant::new(ModuleIndex::from(index as u64)),
+            remember: Constant::new(cfg.traversal == Traversal::Remember),
             state: Default::default(),
             query_id: Default::default(),
             qx: Default::default(),
@@ -160,11 +198,19 @@ impl<const S: usize> QueryModule<S> {
             came_from_right: Default::default(),
             search_done: Default::default(),
             visited: Default::default(),
+            level: Default::default(),
+            pending: Default::default(),
+            ascending: Default::default(),
+            path_dist: (0..cfg.path_levels()).map(|_| DFF::default()).collect(),
             found: (0..cfg.k).map(|_| DFF::default()).collect(),
             max_finder: MaxFinder::new(cfg.dist_bits(), cfg.k),
             result_mine: Default::default(),
             insert: Default::default(),
             insert_slot: Default::default(),
+            parent_level: Default::default(),
+            parent_dist: Default::default(),
+            parent_pending: Default::default(),
+            parent_within: Default::default(),
         }
     }
 }
@@ -191,11 +237,32 @@ impl<const S: usize> Logic for QueryModule<S> {
             up,
             came_from_right,
             search_done,
-            visited
+            visited,
+            level,
+            pending,
+            ascending
         );
         for i in 0..self.found.len() {
             self.found[i].clock.next = self.clock.val();
             self.found[i].d.next = self.found[i].q.val();
+        }
+        for i in 0..self.path_dist.len() {
+            self.path_dist[i].clock.next = self.clock.val();
+            self.path_dist[i].d.next = self.path_dist[i].q.val();
+        }
+        // ASCEND's view of the parent level's entry.
+        self.parent_level.next = self.level.q.val() >> 1;
+        self.parent_dist.next = 0.into();
+        for i in 0..self.path_dist.len() {
+            if self.parent_level.val().get_bit(i) {
+                self.parent_dist.next = self.path_dist[i].q.val();
+            }
+        }
+        self.parent_pending.next = (self.pending.q.val() & self.parent_level.val()).any();
+        if self.full_reg.q.val() {
+            self.parent_within.next = self.parent_dist.val() < self.radius_reg.q.val();
+        } else {
+            self.parent_within.next = self.parent_dist.val() <= self.radius_reg.q.val();
         }
         self.max_finder.clock.next = self.clock.val();
         self.max_finder.start.next = false;
@@ -243,6 +310,9 @@ impl<const S: usize> Logic for QueryModule<S> {
                     self.came_from_right.d.next = false;
                     self.search_done.d.next = false;
                     self.visited.d.next = 0.into();
+                    self.level.d.next = 1.into();
+                    self.pending.d.next = 0.into();
+                    self.ascending.d.next = false;
                     self.state.d.next = QueryState::Ready;
                 }
             }
@@ -254,12 +324,35 @@ impl<const S: usize> Logic for QueryModule<S> {
             }
             QueryState::Wait => {
                 if self.result_mine.val() {
-                    self.address.d.next = self.result_next_address.val();
-                    self.up.d.next = self.result_next_up.val();
-                    self.came_from_right.d.next = self.result_next_came_from_right.val();
                     self.search_done.d.next = self.result_done.val();
+                    self.ascending.d.next = false;
+                    if self.remember.val() {
+                        // Remember this level; go down, or climb (after the MaxFinder).
+                        for i in 0..self.path_dist.len() {
+                            if self.level.q.val().get_bit(i) {
+                                self.path_dist[i].d.next = self.result_axis_dist.val();
+                            }
+                        }
+                        if self.result_far_pending.val() {
+                            self.pending.d.next = self.pending.q.val() | self.level.q.val();
+                        } else {
+                            self.pending.d.next = self.pending.q.val() & (!self.level.q.val());
+                        }
+                        if self.result_next_up.val() {
+                            self.ascending.d.next = true;
+                        } else {
+                            self.address.d.next = self.result_next_address.val();
+                            self.level.d.next = self.level.q.val() << 1;
+                        }
+                    } else {
+                        self.address.d.next = self.result_next_address.val();
+                        self.up.d.next = self.result_next_up.val();
+                        self.came_from_right.d.next = self.result_next_came_from_right.val();
+                    }
                     if self.result_done.val() {
                         self.state.d.next = QueryState::Done;
+                    } else if self.remember.val() && self.result_next_up.val() {
+                        self.state.d.next = QueryState::Ascend;
                     } else {
                         self.state.d.next = QueryState::Ready;
                     }
@@ -288,9 +381,27 @@ impl<const S: usize> Logic for QueryModule<S> {
                     self.max_slot.d.next = self.max_finder.max_slot.val();
                     if self.search_done.q.val() {
                         self.state.d.next = QueryState::Done;
+                    } else if self.ascending.q.val() {
+                        self.state.d.next = QueryState::Ascend;
                     } else {
                         self.state.d.next = QueryState::Ready;
                     }
+                }
+            }
+            QueryState::Ascend => {
+                // One level per cycle, with R as it is now (after every insertion).
+                if self.address.q.val() == 1 {
+                    self.search_done.d.next = true;
+                    self.state.d.next = QueryState::Done;
+                } else if self.parent_pending.val() && self.parent_within.val() {
+                    // Enter the far child: the sibling of the node we came from.
+                    self.address.d.next = self.address.q.val() ^ 1;
+                    self.pending.d.next = self.pending.q.val() & (!self.parent_level.val());
+                    self.ascending.d.next = false;
+                    self.state.d.next = QueryState::Ready;
+                } else {
+                    self.address.d.next = self.address.q.val() >> 1;
+                    self.level.d.next = self.parent_level.val();
                 }
             }
             QueryState::Done => {

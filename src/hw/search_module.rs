@@ -46,6 +46,10 @@ pub struct SearchModule<const W: usize> {
     pub result_next_up: Signal<Out, bool>,
     pub result_next_came_from_right: Signal<Out, bool>,
     pub result_done: Signal<Out, bool>,
+    /// For the QueryModule's path memory (`Traversal::Remember`): the photon's axis
+    /// distance, and whether its far child is still to be visited.
+    pub result_axis_dist: Signal<Out, Dist>,
+    pub result_far_pending: Signal<Out, bool>,
     axis_dist: AxisDistModule,
     dist_module: DistModule,
     next_index: NextIndexModule,
@@ -121,6 +125,8 @@ pub struct SearchModule<const W: usize> {
     s2_next_up: DFF<bool>,
     s2_next_came_from_right: DFF<bool>,
     s2_done: DFF<bool>,
+    s2_axis_dist: DFF<Dist>,
+    s2_far_pending: DFF<bool>,
 }
 
 impl<const W: usize> SearchModule<W> {
@@ -152,6 +158,8 @@ impl<const W: usize> SearchModule<W> {
             result_next_up: Default::default(),
             result_next_came_from_right: Default::default(),
             result_done: Default::default(),
+            result_axis_dist: Default::default(),
+            result_far_pending: Default::default(),
             axis_dist: AxisDistModule::new(cfg.metric),
             dist_module: DistModule::new(cfg.metric),
             next_index: NextIndexModule::new(cfg.address_bits),
@@ -218,6 +226,8 @@ impl<const W: usize> SearchModule<W> {
             s2_next_up: Default::default(),
             s2_next_came_from_right: Default::default(),
             s2_done: Default::default(),
+            s2_axis_dist: Default::default(),
+            s2_far_pending: Default::default(),
         }
     }
 }
@@ -268,7 +278,9 @@ impl<const W: usize> Logic for SearchModule<W> {
             s2_next_address,
             s2_next_up,
             s2_next_came_from_right,
-            s2_done
+            s2_done,
+            s2_axis_dist,
+            s2_far_pending
         );
         // Stage 0: latch the request while the BlockRAM reads.
         self.s0_valid.d.next = self.request_valid.val();
@@ -370,6 +382,8 @@ impl<const W: usize> Logic for SearchModule<W> {
         // Only a first (downward) visit tests the photon against the found list.
         self.s2_in_range.d.next = self.s1_in_range.q.val() && (!self.s1_up.q.val());
         self.s2_dist.d.next = self.s1_dist.q.val();
+        self.s2_axis_dist.d.next = self.s1_axis_dist.q.val();
+        self.s2_far_pending.d.next = self.next_index.far_pending.val();
         self.s2_next_address.d.next = self.next_index.next_address.val();
         self.s2_next_up.d.next = self.next_index.next_up.val();
         self.s2_next_came_from_right.d.next = self.next_index.next_came_from_right.val();
@@ -391,5 +405,7 @@ impl<const W: usize> Logic for SearchModule<W> {
         self.result_next_up.next = self.s2_next_up.q.val();
         self.result_next_came_from_right.next = self.s2_next_came_from_right.q.val();
         self.result_done.next = self.s2_done.q.val();
+        self.result_axis_dist.next = self.s2_axis_dist.q.val();
+        self.result_far_pending.next = self.s2_far_pending.q.val();
     }
 }

@@ -208,6 +208,8 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
             self.modules[i].result_next_came_from_right.next =
                 self.search.result_next_came_from_right.val();
             self.modules[i].result_done.next = self.search.result_done.val();
+            self.modules[i].result_axis_dist.next = self.search.result_axis_dist.val();
+            self.modules[i].result_far_pending.next = self.search.result_far_pending.val();
             // Query hand-out broadcast; only the picked module loads.
             self.modules[i].load.next = self.query_valid.val() && self.load_pick.val().get_bit(i);
             self.modules[i].load_id.next = self.query_id.val();

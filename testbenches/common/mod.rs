@@ -68,7 +68,14 @@ pub fn check_results(
     assert_eq!(results.len(), queries.len());
     for (q, r) in queries.iter().zip(results) {
         assert_eq!(r.id, q.id);
-        let sw = knn::search(tree, q.coords, q.k as usize, q.radius, cfg.metric);
+        let sw = knn::search_with(
+            tree,
+            q.coords,
+            q.k as usize,
+            q.radius,
+            cfg.metric,
+            cfg.traversal,
+        );
         assert_eq!(
             r.found, sw.slots,
             "query {q:?}: found list differs from knn::search"
@@ -119,5 +126,6 @@ pub fn small_config(
         metric,
         pipelined: true,
         trees: 1,
+        traversal: Default::default(),
     }
 }
