@@ -5,6 +5,8 @@ use clap::{Args, Parser, Subcommand};
 use photon_fpga::host::csvio;
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::gather::{make_backend, BackendKind, GatherParams, DEFAULT_CAPACITY};
+use photon_fpga::host::limits::{self, MAX_EMITTED};
+use photon_fpga::host::output::{Output, Staged};
 use photon_fpga::host::photons;
 use photon_fpga::host::render::{self, RenderSettings};
 use photon_fpga::host::scene::Scene;
@@ -47,9 +49,10 @@ struct GatherOpts {
     /// Upper search radius in world units (inclusive); unbounded if absent.
     #[arg(long, allow_negative_numbers = true)]
     radius: Option<f64>,
-    /// Coordinate bits on the longest axis of the photon bounding box.
-    #[arg(long, default_value_t = 10)]
-    bits: u32,
+    /// Coordinate bits on the longest axis of the photon bounding box [default: 10]
+    /// (the quantized backends sw and rtl; an error with --backend float).
+    #[arg(long)]
+    bits: Option<u32>,
     /// Distance metric: l2 (squared Euclidean) or l1 (Manhattan).
     #[arg(long, default_value_t = Metric::L2)]
     metric: Metric,
@@ -73,18 +76,49 @@ struct GatherOpts {
 }
 
 impl GatherOpts {
-    fn sim(&self) -> SimOptions {
+    /// The waveform output (`--vcd` or env PHOTON_FPGA_VCD, rtl only), checked now
+    /// and staged: the simulator writes a temporary file that becomes the VCD only
+    /// when the whole run succeeds.
+    fn vcd(&self, inputs: &[&std::path::Path]) -> Result<Option<Staged>> {
+        let path = match &self.vcd {
+            Some(p) => p.clone(),
+            None if self.backend == BackendKind::Rtl => {
+                match std::env::var_os(photon_fpga::hw::sim::VCD_ENV) {
+                    Some(p) => PathBuf::from(p),
+                    None => return Ok(None),
+                }
+            }
+            None => return Ok(None),
+        };
+        if self.backend != BackendKind::Rtl {
+            return Err(Error::new("--vcd needs --backend rtl"));
+        }
+        Ok(Some(Output::check(&path, inputs)?.stage()?))
+    }
+
+    fn sim(&self, vcd: &Option<Staged>) -> SimOptions {
         SimOptions {
-            vcd: self.vcd.clone(),
+            vcd: vcd.as_ref().map(|v| v.path().to_path_buf()),
             ..SimOptions::default()
         }
+    }
+
+    /// Options the chosen backend would ignore are errors, not silently dropped.
+    fn check(&self) -> Result<()> {
+        if self.backend == BackendKind::Float && self.bits.is_some() {
+            return Err(Error::new(
+                "--bits sets the grid of the quantized backends (sw, rtl); \
+                 --backend float searches the unquantized positions",
+            ));
+        }
+        Ok(())
     }
 
     fn params(&self, default_k: usize) -> GatherParams {
         GatherParams {
             k: self.k.unwrap_or(default_k),
             radius: self.radius,
-            bits: self.bits,
+            bits: self.bits.unwrap_or(10),
             metric: self.metric,
             traversal: self.traversal,
             capacity: self.capacity,
@@ -138,7 +172,7 @@ struct RenderArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Exposure multiplier applied before tone mapping.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     exposure: Option<f32>,
     /// Output PNG.
     #[arg(long, default_value = "render.png")]
@@ -160,17 +194,38 @@ fn render(args: &RenderArgs) -> Result<()> {
     // A radiance estimate wants more photons than a plain gather.
     let params = args.opts.params(32);
     params.validate(1)?;
-    if args.photons == 0 {
-        return Err(Error::new("--photons must be at least 1, got 0"));
+    args.opts.check()?;
+    // Everything that can be refused is refused before any photon is traced.
+    if args.photons == 0 || args.photons > MAX_EMITTED {
+        return Err(Error::new(format!(
+            "--photons must be in 1..={MAX_EMITTED}, got {}",
+            args.photons
+        )));
     }
+    if args.spp == 0 {
+        return Err(Error::new("--spp must be at least 1, got 0"));
+    }
+    if let Some(e) = args.exposure {
+        limits::check_positive("--exposure", e as f64)?;
+    }
+    let (w, h) = args.size;
+    limits::check_gather_memory(
+        w as u64 * h as u64 * args.spp as u64,
+        params.k,
+        params.capacity as u64,
+        &format!("--size {w}x{h} × --spp {}", args.spp),
+    )?;
+    let inputs: Vec<&std::path::Path> = args.scene.iter().map(|p| p.as_path()).collect();
+    let out = Output::check(&args.out, &inputs)?;
+    let vcd = args.opts.vcd(&inputs)?;
     let scene = match &args.scene {
         Some(p) => Scene::from_file(p)?,
         None => Scene::cornell_box(),
     };
     let mut settings = RenderSettings {
-        width: args.size.0,
-        height: args.size.1,
-        spp: args.spp.max(1),
+        width: w,
+        height: h,
+        spp: args.spp,
         seed: args.seed,
         ..RenderSettings::default()
     };
@@ -178,21 +233,22 @@ fn render(args: &RenderArgs) -> Result<()> {
         settings.exposure = e;
     }
     let mut t = StageTimes::default();
-    let photons = t.time("photon emission", || {
-        photons::trace_photons(&scene, args.photons, args.seed, true)
-    });
+    let photons = t
+        .time("photon emission", || {
+            photons::trace_photons_capped(&scene, args.photons, args.seed, true, params.capacity)
+        })
+        .ok_or_else(|| {
+            Error::new(format!(
+                "{} emitted photons store more than --capacity {} photons (stopped early)",
+                args.photons, params.capacity
+            ))
+        })?;
     if photons.is_empty() {
         return Err(Error::new("no photon reached a diffuse surface"));
     }
     let positions = render::photon_points(&photons);
     let backend = t.time("kd-tree build", || {
-        make_backend(
-            args.opts.backend,
-            &positions,
-            &[],
-            &params,
-            &args.opts.sim(),
-        )
+        make_backend(args.opts.backend, &positions, &params, &args.opts.sim(&vcd))
     })?;
     let pass = render::render_image(
         &scene,
@@ -202,7 +258,10 @@ fn render(args: &RenderArgs) -> Result<()> {
         &params,
         &mut t,
     )?;
-    t.time("other", || render::save_png(&pass.image, &args.out))?;
+    t.time("other", || render::save_png(&pass.image, &out))?;
+    if let Some(v) = vcd {
+        v.commit()?;
+    }
     println!(
         "{} photons stored from {} emitted; {} queries; backend {}; k = {}",
         photons.len(),
@@ -442,12 +501,12 @@ fn export(args: &ExportArgs) -> Result<()> {
     std::fs::create_dir_all(&args.out)
         .map_err(|e| Error::new(format!("{}: cannot create: {e}", args.out.display())))?;
     let path = args.out.join("photon_search_core.v");
-    csvio::write_atomically(&path, |w| w.write_all(verilog.as_bytes()))?;
+    Output::check(&path, &[])?.write(|w| w.write_all(verilog.as_bytes()))?;
     // Event-driven simulators (Icarus, ISim, ModelSim) hang on the raw export's
     // glitch loops; this rewrite is what the CI cross-simulation runs under Icarus.
     let sim_path = args.out.join("photon_search_core_sim.v");
     let sim_verilog = photon_fpga::hw::xsim::glitch_free(&verilog)?;
-    csvio::write_atomically(&sim_path, |w| w.write_all(sim_verilog.as_bytes()))?;
+    Output::check(&sim_path, &[])?.write(|w| w.write_all(sim_verilog.as_bytes()))?;
     println!(
         "wrote {}: the same core for event-driven simulators (glitch-free rewrite)",
         sim_path.display()
@@ -455,7 +514,7 @@ fn export(args: &ExportArgs) -> Result<()> {
     if let Some(trees) = args.shell_trees {
         let shell = registered_shell(&verilog, trees)?;
         let spath = args.out.join("shell.v");
-        csvio::write_atomically(&spath, |w| w.write_all(shell.as_bytes()))?;
+        Output::check(&spath, &[])?.write(|w| w.write_all(shell.as_bytes()))?;
         println!(
             "wrote {}: {trees} core(s) behind a registered I/O shell",
             spath.display()
@@ -493,24 +552,42 @@ fn gather(args: &GatherArgs) -> Result<()> {
     set_threads(args.opts.threads)?;
     let params = args.opts.params(10);
     params.validate(1)?;
+    args.opts.check()?;
+    let inputs = [args.photons.as_path(), args.queries.as_path()];
+    let out = Output::check(&args.out, &inputs)?;
+    let vcd = args.opts.vcd(&inputs)?;
     let photons = csvio::read_points(&args.photons)?;
     let queries = csvio::read_points(&args.queries)?;
-    if photons.is_empty() {
+    if photons.points.is_empty() {
         return Err(Error::new(format!(
             "{}: the photon set is empty",
             args.photons.display()
         )));
     }
-    // The grid covers the queries too, so every query keeps its own position.
+    limits::check_gather_memory(
+        queries.points.len() as u64,
+        params.k,
+        photons.points.len() as u64,
+        &format!("the lines of {}", args.queries.display()),
+    )?;
+    // The grid covers the photons alone: a query never changes another's answer.
     let backend = make_backend(
         args.opts.backend,
-        &photons,
-        &queries,
+        &photons.points,
         &params,
-        &args.opts.sim(),
+        &args.opts.sim(&vcd),
     )?;
-    let results = backend.gather(&queries)?;
-    csvio::write_neighbours(&args.out, &results)
+    for (q, line) in queries.points.iter().zip(&queries.lines) {
+        backend
+            .check_query(*q)
+            .map_err(|e| Error::new(format!("{}:{line}: {e}", args.queries.display())))?;
+    }
+    let results = backend.gather(&queries.points)?;
+    csvio::write_neighbours(&out, &results)?;
+    if let Some(v) = vcd {
+        v.commit()?;
+    }
+    Ok(())
 }
 
 fn main() -> ExitCode {

@@ -5,7 +5,7 @@
 use super::error::{Error, Result};
 use super::kdtree::{KdTree, PackedTree};
 use super::knn::{self, Coord, FloatDist};
-use super::quantize::{Point, Quantizer};
+use super::quantize::{GridPoint, Point, Quantizer};
 use crate::hw::config::CoreConfig;
 use crate::hw::metric::Metric;
 use crate::hw::sim::{run_gather, HwQuery, SimOptions, SimStats};
@@ -134,16 +134,21 @@ pub trait GatherBackend: Sync {
     fn describe(&self) -> Option<String> {
         None
     }
+    /// Why this backend cannot answer query `q`, if it cannot (checked up front, so
+    /// the caller can name the query's file line).
+    fn check_query(&self, _q: Point) -> std::result::Result<(), String> {
+        Ok(())
+    }
 }
 
 /// Build the backend `kind` over `photons`. Quantized backends put their grid over
-/// the photons and `queries` (empty: the photons alone).
+/// the photons alone, so no query changes another's answer; a query outside the
+/// photon box is answered exactly by the host (see [`QuantizedMap::search_outside`]).
 /// `sim` configures the `rtl` simulation (waveform dump); other backends refuse a
 /// waveform request rather than ignore it.
 pub fn make_backend(
     kind: BackendKind,
     photons: &[Point],
-    queries: &[Point],
     params: &GatherParams,
     sim: &SimOptions,
 ) -> Result<Box<dyn GatherBackend>> {
@@ -152,8 +157,8 @@ pub fn make_backend(
     }
     Ok(match kind {
         BackendKind::Float => Box::new(FloatBackend::new(photons, params)?),
-        BackendKind::Sw => Box::new(SwBackend::covering(photons, queries, params)?),
-        BackendKind::Rtl => Box::new(RtlBackend::covering(photons, queries, params, sim.clone())?),
+        BackendKind::Sw => Box::new(SwBackend::new(photons, params)?),
+        BackendKind::Rtl => Box::new(RtlBackend::new(photons, params, sim.clone())?),
     })
 }
 
@@ -233,40 +238,79 @@ impl GatherBackend for FloatBackend {
 pub struct QuantizedMap {
     pub quant: Quantizer,
     pub tree: PackedTree,
-    /// Initial radius as an inclusive integer bound in the metric.
+    /// Initial radius as an inclusive integer bound in the metric (saturated at the
+    /// largest distance inside the photon box, what the core holds).
     pub radius_bound: u64,
+    /// The same bound unsaturated, for queries outside the photon box.
+    pub radius_wide: u128,
     pub params: GatherParams,
 }
 
 impl QuantizedMap {
-    /// Quantize over the photons' bounding box (queries outside it are clamped
-    /// onto the grid).
+    /// Quantize over the photons' bounding box. Queries are not part of it: a far
+    /// query must not coarsen every other query's grid.
     pub fn new(photons: &[Point], params: &GatherParams) -> Result<Self> {
-        Self::covering(photons, &[], params)
-    }
-
-    /// Quantize over the bounding box of the photons and `extra` points (the
-    /// queries, when they are known up front), so no query is clamped.
-    pub fn covering(photons: &[Point], extra: &[Point], params: &GatherParams) -> Result<Self> {
         params.validate(photons.len())?;
-        let quant = if extra.is_empty() {
-            Quantizer::from_points(photons, params.bits)?
-        } else {
-            let all: Vec<Point> = photons.iter().chain(extra).copied().collect();
-            Quantizer::from_points(&all, params.bits)?
-        };
+        let quant = Quantizer::from_points(photons, params.bits)?;
         let tree = PackedTree::build(photons, &quant);
         let max = params.metric.max_dist(quant.axis_bits());
-        let radius_bound = match params.radius {
-            None => max,
-            Some(r) => params.metric.radius_bound(r, quant.step, max),
+        let (radius_bound, radius_wide) = match params.radius {
+            None => (max, u128::MAX),
+            Some(r) => (
+                params.metric.radius_bound(r, quant.step, max),
+                wide_radius_bound(params.metric, r, quant.step),
+            ),
         };
         Ok(QuantizedMap {
             quant,
             tree,
             radius_bound,
+            radius_wide,
             params: params.clone(),
         })
+    }
+
+    /// Where `q` falls on the grid, or why no backend of this map can answer it.
+    pub fn locate(&self, q: Point) -> std::result::Result<GridPoint, String> {
+        self.quant.grid(q).map_err(|steps| {
+            format!(
+                "the query at ({:e}, {:e}, {:e}) lies {steps:.3e} grid steps from the photon box \
+                 (at most 2^62 ≈ 4.6e18)",
+                q[0], q[1], q[2]
+            )
+        })
+    }
+
+    /// The host's exact path for a query outside the photon box: the same search
+    /// (`knn::search_with`, same traversal) on the packed tree widened to `i64`
+    /// coordinates with `u128` distances. The core's query coordinates are as wide
+    /// as the photons' and cannot hold such a query.
+    pub fn search_outside(&self, g: [i64; 3]) -> Gathered {
+        let f = knn::search_with(
+            &knn::WideNodes(&self.tree),
+            g,
+            self.params.k,
+            self.radius_wide,
+            self.params.metric,
+            self.params.traversal,
+        );
+        let step = self.quant.step;
+        let mut n: Vec<Neighbour> = f
+            .slots
+            .iter()
+            .map(|&(addr, d)| Neighbour {
+                photon: self.tree.perm[addr as usize],
+                distance: match self.params.metric {
+                    Metric::L2 => (d as f64).sqrt() * step,
+                    Metric::L1 => d as f64 * step,
+                },
+            })
+            .collect();
+        canonical_order(&mut n);
+        Gathered {
+            neighbours: n,
+            visited: f.visited,
+        }
     }
 
     /// Grid step, per-axis widths, word width and tree height.
@@ -311,13 +355,6 @@ impl SwBackend {
             map: QuantizedMap::new(photons, params)?,
         })
     }
-
-    /// A backend whose grid also covers `queries` (see [`QuantizedMap::covering`]).
-    pub fn covering(photons: &[Point], queries: &[Point], params: &GatherParams) -> Result<Self> {
-        Ok(SwBackend {
-            map: QuantizedMap::covering(photons, queries, params)?,
-        })
-    }
 }
 
 impl GatherBackend for SwBackend {
@@ -327,25 +364,31 @@ impl GatherBackend for SwBackend {
     fn describe(&self) -> Option<String> {
         Some(self.map.describe())
     }
+    fn check_query(&self, q: Point) -> std::result::Result<(), String> {
+        self.map.locate(q).map(|_| ())
+    }
     fn gather(&self, queries: &[Point]) -> Result<Vec<Gathered>> {
         let m = &self.map;
-        Ok(queries
+        queries
             .par_iter()
-            .map(|&q| {
-                let f = knn::search_with(
-                    &m.tree,
-                    m.quant.quantize(q),
-                    m.params.k,
-                    m.radius_bound,
-                    m.params.metric,
-                    m.params.traversal,
-                );
-                Gathered {
-                    neighbours: m.neighbours(&f.slots),
-                    visited: f.visited,
+            .map(|&q| match m.locate(q).map_err(Error::new)? {
+                GridPoint::Inside(c) => {
+                    let f = knn::search_with(
+                        &m.tree,
+                        c,
+                        m.params.k,
+                        m.radius_bound,
+                        m.params.metric,
+                        m.params.traversal,
+                    );
+                    Ok(Gathered {
+                        neighbours: m.neighbours(&f.slots),
+                        visited: f.visited,
+                    })
                 }
+                GridPoint::Outside(g) => Ok(m.search_outside(g)),
             })
-            .collect())
+            .collect()
     }
 }
 
@@ -360,13 +403,8 @@ pub struct RtlBackend {
 }
 
 impl RtlBackend {
-    pub fn covering(
-        photons: &[Point],
-        queries: &[Point],
-        params: &GatherParams,
-        options: SimOptions,
-    ) -> Result<Self> {
-        let map = QuantizedMap::covering(photons, queries, params)?;
+    pub fn new(photons: &[Point], params: &GatherParams, options: SimOptions) -> Result<Self> {
+        let map = QuantizedMap::new(photons, params)?;
         let mut config = CoreConfig::for_map(&map.tree, params.k, params.metric)?;
         config.traversal = params.traversal;
         Ok(RtlBackend {
@@ -398,18 +436,27 @@ impl GatherBackend for RtlBackend {
         ))
     }
 
+    fn check_query(&self, q: Point) -> std::result::Result<(), String> {
+        self.map.locate(q).map(|_| ())
+    }
+
     fn gather(&self, queries: &[Point]) -> Result<Vec<Gathered>> {
         let m = &self.map;
-        let hw: Vec<HwQuery> = queries
-            .iter()
-            .enumerate()
-            .map(|(i, &q)| HwQuery {
-                id: i as u32,
-                coords: m.quant.quantize(q),
-                radius: m.radius_bound,
-                k: m.params.k as u32,
-            })
-            .collect();
+        // Queries inside the photon box go to the core; the others take the host's
+        // exact path (the core's query coordinates are as wide as the photons').
+        let mut hw: Vec<HwQuery> = Vec::with_capacity(queries.len());
+        let mut outside: Vec<(usize, [i64; 3])> = Vec::new();
+        for (i, &q) in queries.iter().enumerate() {
+            match m.locate(q).map_err(Error::new)? {
+                GridPoint::Inside(c) => hw.push(HwQuery {
+                    id: i as u32,
+                    coords: c,
+                    radius: m.radius_bound,
+                    k: m.params.k as u32,
+                }),
+                GridPoint::Outside(g) => outside.push((i, g)),
+            }
+        }
         // Each query's answer depends only on the map and the query, not on which
         // QueryModule or simulation serves it, so independent simulations of the
         // core on chunks of the stream give the same results for any thread count.
@@ -425,15 +472,54 @@ impl GatherBackend for RtlBackend {
             .par_chunks(size)
             .map(|chunk| run_gather(&self.config, &m.tree, chunk, &self.options))
             .collect::<Result<_>>()?;
-        let mut out = Vec::with_capacity(queries.len());
+        let mut out: Vec<Gathered> = vec![Gathered::default(); queries.len()];
         let mut stats = self.stats.lock().expect("stats lock");
         for (results, s) in runs {
             stats.push(s);
-            out.extend(results.into_iter().map(|r| Gathered {
-                neighbours: m.neighbours(&r.found),
-                visited: r.visited,
-            }));
+            for r in results {
+                out[r.id as usize] = Gathered {
+                    neighbours: m.neighbours(&r.found),
+                    visited: r.visited,
+                };
+            }
+        }
+        let far: Vec<(usize, Gathered)> = outside
+            .par_iter()
+            .map(|&(i, g)| (i, m.search_outside(g)))
+            .collect();
+        for (i, g) in far {
+            out[i] = g;
         }
         Ok(out)
     }
+}
+
+/// The inclusive integer bound of a world radius `r` on a grid of step `step`,
+/// unsaturated (`u128`), for queries outside the photon box: the largest integer
+/// distance d with to_world(d) <= r, as [`Metric::radius_bound`] computes it.
+pub fn wide_radius_bound(metric: Metric, r: f64, step: f64) -> u128 {
+    let x = r / step;
+    let v = match metric {
+        Metric::L2 => x * x,
+        Metric::L1 => x,
+    };
+    if v.is_nan() || v >= u128::MAX as f64 {
+        return u128::MAX;
+    }
+    let ok = |d: u128| match metric {
+        Metric::L2 => (d as f64).sqrt() <= x,
+        Metric::L1 => d as f64 <= x,
+    };
+    let mut b = v.floor() as u128;
+    if v >= (1u64 << 53) as f64 {
+        // Past 2^53 neighbouring integers share one f64: the floor is the bound.
+        return b;
+    }
+    while b < u128::MAX && ok(b + 1) {
+        b += 1;
+    }
+    while b > 0 && !ok(b) {
+        b -= 1;
+    }
+    b
 }

@@ -78,6 +78,31 @@ impl Coord for u32 {
     }
 }
 
+/// Grid coordinates beyond the photon box (a query outside it, `gather::GridPoint`):
+/// signed, |c| < 2^62, with exact `u128` distances (3 × (2^63)² < 2^128).
+impl Coord for i64 {
+    type Dist = u128;
+    const MAX_DIST: u128 = u128::MAX;
+    fn total_cmp(a: i64, b: i64) -> Ordering {
+        a.cmp(&b)
+    }
+    fn extent(lo: i64, hi: i64) -> f64 {
+        hi as f64 - lo as f64
+    }
+    #[inline]
+    fn axis_dist(metric: Metric, a: i64, b: i64) -> u128 {
+        let d = a.abs_diff(b) as u128;
+        match metric {
+            Metric::L2 => d * d,
+            Metric::L1 => d,
+        }
+    }
+    #[inline]
+    fn dist(metric: Metric, a: [i64; 3], b: [i64; 3]) -> u128 {
+        (0..3).map(|i| Self::axis_dist(metric, a[i], b[i])).sum()
+    }
+}
+
 /// A non-negative float distance, ordered by its bit pattern (monotonic for
 /// non-negative IEEE values).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -148,6 +173,21 @@ impl NodeSource<u32> for PackedTree {
     #[inline]
     fn node(&self, addr: usize) -> ([u32; 3], u8) {
         PackedTree::node(self, addr)
+    }
+}
+
+/// The packed tree's grid coordinates widened to `i64`, for queries outside the
+/// photon box (the host's exact path for them; see `gather::GridPoint`).
+pub struct WideNodes<'a>(pub &'a PackedTree);
+
+impl NodeSource<i64> for WideNodes<'_> {
+    fn len(&self) -> usize {
+        self.0.len()
+    }
+    #[inline]
+    fn node(&self, addr: usize) -> ([i64; 3], u8) {
+        let (c, ax) = self.0.node(addr);
+        (c.map(i64::from), ax)
     }
 }
 

@@ -55,6 +55,21 @@ pub fn stream_rng(seed: u64, index: u64) -> Pcg64Mcg {
 /// direction (the light is Lambertian) and power = light power / `emitted`, so the
 /// map's total first-hit power is the light's power that reaches diffuse surfaces.
 pub fn trace_photons(scene: &Scene, emitted: usize, seed: u64, progress: bool) -> Vec<Photon> {
+    trace_photons_capped(scene, emitted, seed, progress, usize::MAX).expect("no cap")
+}
+
+/// [`trace_photons`] that gives up (`None`) as soon as more than `cap` photons are
+/// stored, so an absurd `--photons` costs neither the memory nor the time of the
+/// whole trace. Below the cap the map is exactly [`trace_photons`]'s.
+pub fn trace_photons_capped(
+    scene: &Scene,
+    emitted: usize,
+    seed: u64,
+    progress: bool,
+    cap: usize,
+) -> Option<Vec<Photon>> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let stored_so_far = AtomicUsize::new(0);
     let chunks = emitted.div_ceil(CHUNK);
     let bar = if progress {
         // ProgressBar::new draws on stderr and hides itself when that is not a
@@ -73,17 +88,24 @@ pub fn trace_photons(scene: &Scene, emitted: usize, seed: u64, progress: bool) -
         .into_par_iter()
         .map(|c| {
             let range = c * CHUNK..((c + 1) * CHUNK).min(emitted);
+            if stored_so_far.load(Ordering::Relaxed) > cap {
+                return Vec::new();
+            }
             let mut stored = Vec::with_capacity(range.len() * 2);
             for i in range.clone() {
                 let mut rng = stream_rng(seed, i as u64);
                 trace_one(scene, power, &mut rng, &mut stored);
             }
+            stored_so_far.fetch_add(stored.len(), Ordering::Relaxed);
             bar.inc(range.len() as u64);
             stored
         })
         .collect();
     bar.finish_and_clear();
-    per_chunk.concat()
+    if stored_so_far.into_inner() > cap {
+        return None;
+    }
+    Some(per_chunk.concat())
 }
 
 /// Follow one photon, appending a photon to `stored` at every diffuse hit.
@@ -91,7 +113,7 @@ fn trace_one(scene: &Scene, mut power: Vec3, rng: &mut Pcg64Mcg, stored: &mut Ve
     let light = &scene.light;
     let origin = light.quad.point(rng.gen(), rng.gen());
     let dir = cosine_direction(light.quad.normal, rng.gen(), rng.gen());
-    let mut ray = Ray::spawn(origin, light.quad.normal, dir);
+    let mut ray = Ray::spawn(origin, light.quad.normal, dir, scene.epsilon);
     for _ in 0..MAX_PHOTON_DEPTH {
         let Some(hit) = scene.intersect(&ray) else {
             // Escaped through the open side of the scene.
@@ -129,7 +151,7 @@ fn trace_one(scene: &Scene, mut power: Vec3, rng: &mut Pcg64Mcg, stored: &mut Ve
             Material::Mirror => reflect(ray.dir, hit.normal),
             Material::Glass { ior } => glass_scatter(ray.dir, hit.normal, ior, rng.gen()),
         };
-        ray = Ray::spawn(hit.pos, hit.normal, new_dir);
+        ray = Ray::spawn(hit.pos, hit.normal, new_dir, scene.epsilon);
     }
 }
 

@@ -11,6 +11,19 @@ use crate::hw::photon_word::{PhotonLayout, MAX_COORD_BITS};
 /// A world position.
 pub type Point = [f64; 3];
 
+/// Largest distance, in grid steps, of a query from the photon box on any axis:
+/// keeps its grid coordinates in `i64` and its distances exact in `u128`.
+pub const MAX_QUERY_GRID: f64 = (1u64 << 62) as f64;
+
+/// Where a world position falls on the photons' grid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GridPoint {
+    /// Inside the photon box: what the core (and the packed search) takes.
+    Inside([u32; 3]),
+    /// Outside it on some axis: signed grid coordinates, for the host's exact path.
+    Outside([i64; 3]),
+}
+
 /// Maps world positions to integer grid coordinates and back.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Quantizer {
@@ -45,6 +58,11 @@ impl Quantizer {
         let top = ((1u64 << bits) - 1) as f64;
         // All photons at one point: any positive step maps them all to 0.
         let step = if longest > 0.0 { longest / top } else { 1.0 };
+        if !step.is_normal() {
+            return Err(Error::new(format!(
+                "the photons span only {longest:e} world units: too little for a {bits}-bit grid in f64"
+            )));
+        }
         let mut axis_bits = [1u32; 3];
         for a in 0..3 {
             let qmax = (ext[a] / step).round().min(top) as u64;
@@ -71,6 +89,27 @@ impl Quantizer {
             q[a] = v.clamp(0.0, self.layout.coord_max(a) as f64) as u32;
         }
         q
+    }
+
+    /// Grid coordinates of a world position without clamping: inside the photon box
+    /// (rounded to the nearest grid point), or outside it; `Err` with the distance in
+    /// grid steps if that exceeds [`MAX_QUERY_GRID`].
+    pub fn grid(&self, p: Point) -> std::result::Result<GridPoint, f64> {
+        let mut g = [0i64; 3];
+        let mut inside = true;
+        for a in 0..3 {
+            let v = ((p[a] - self.origin[a]) / self.step).round();
+            if v.is_nan() || v.abs() >= MAX_QUERY_GRID {
+                return Err(v.abs());
+            }
+            g[a] = v as i64;
+            inside &= g[a] >= 0 && g[a] <= self.layout.coord_max(a) as i64;
+        }
+        Ok(if inside {
+            GridPoint::Inside(g.map(|c| c as u32))
+        } else {
+            GridPoint::Outside(g)
+        })
     }
 
     /// World position of a grid point.

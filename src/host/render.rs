@@ -9,6 +9,7 @@
 
 use super::error::{Error, Result};
 use super::gather::{GatherBackend, GatherParams, Gathered};
+use super::output::Output;
 use super::photons::{stream_rng, Photon};
 use super::quantize::Point;
 use super::scene::{glass_scatter, reflect, Material, Ray, Scene, Surface};
@@ -17,7 +18,6 @@ use crate::hw::metric::Metric;
 use glam::Vec3;
 use rand::Rng;
 use rayon::prelude::*;
-use std::path::Path;
 
 /// Exposure of the default render: scales radiance before gamma. Chosen by eye for
 /// the default Cornell box (light power 12 per channel): walls mid-to-light grey,
@@ -125,7 +125,7 @@ pub fn eye_queries(scene: &Scene, settings: &RenderSettings) -> (Vec<QueryPoint>
                             glass_scatter(ray.dir, hit.normal, ior, rng.gen())
                         }
                     };
-                    ray = Ray::spawn(hit.pos, hit.normal, new_dir);
+                    ray = Ray::spawn(hit.pos, hit.normal, new_dir, scene.epsilon);
                 }
             }
             (queries, emitted)
@@ -289,21 +289,12 @@ pub fn render_image(
     })
 }
 
-/// Write a PNG atomically: encode to `<path>.tmp` in the same directory, then rename
-/// over `path`, so a reader never sees a half-written image.
-pub fn save_png(img: &image::RgbImage, path: impl AsRef<Path>) -> Result<()> {
-    let path = path.as_ref();
-    let mut tmp_name = path.as_os_str().to_owned();
-    tmp_name.push(".tmp");
-    let tmp = Path::new(&tmp_name);
-    let written = img
-        .save_with_format(tmp, image::ImageFormat::Png)
-        .map_err(|e| e.to_string())
-        .and_then(|()| std::fs::rename(tmp, path).map_err(|e| e.to_string()));
-    written.map_err(|e| {
-        let _ = std::fs::remove_file(tmp);
-        Error::new(format!("cannot write image {}: {e}", path.display()))
-    })
+/// Encode a PNG and write it to `out` (atomically for a file; see [`Output`]).
+pub fn save_png(img: &image::RgbImage, out: &Output) -> Result<()> {
+    let mut png = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut png, image::ImageFormat::Png)
+        .map_err(|e| Error::new(format!("{}: cannot encode PNG: {e}", out.path().display())))?;
+    out.write(|w| w.write_all(png.get_ref()))
 }
 
 #[cfg(test)]
@@ -522,13 +513,19 @@ mod tests {
     fn save_png_is_atomic_and_reports_path() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("out.png");
+        // A user's own `out.png.tmp` is never touched.
+        std::fs::write(dir.path().join("out.png.tmp"), "mine").unwrap();
         let img = image::RgbImage::from_pixel(3, 2, image::Rgb([10, 20, 30]));
-        save_png(&img, &path).unwrap();
+        save_png(&img, &Output::check(&path, &[]).unwrap()).unwrap();
         let back = image::open(&path).unwrap().to_rgb8();
         assert_eq!(back, img);
-        assert!(!dir.path().join("out.png.tmp").exists());
+        assert_eq!(
+            std::fs::read_to_string(dir.path().join("out.png.tmp")).unwrap(),
+            "mine"
+        );
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
         let bad = dir.path().join("missing-dir").join("x.png");
-        let err = save_png(&img, &bad).unwrap_err().to_string();
+        let err = Output::check(&bad, &[]).unwrap_err().to_string();
         assert!(err.contains(&bad.display().to_string()), "{err}");
     }
 }

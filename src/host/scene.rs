@@ -3,9 +3,10 @@
 //!
 //! Scenes here are a handful of primitives (the Cornell box has eight), so ray
 //! intersection is a plain loop over them: an acceleration structure would cost more
-//! code than it saves. Geometry is f32 (glam `Vec3`); the scenes are unit-sized, so a
-//! fixed ray epsilon of 1e-4 is far above the f32 rounding of hit points (~1e-7)
-//! and far below any feature size.
+//! code than it saves. Geometry is f32 (glam `Vec3`); the ray epsilon is 1e-4 of the
+//! scene's size (`scene_scale`), far above the f32 rounding of hit points (~1e-7 of
+//! it) and far below any feature size, so a scene renders the same at any scale f32
+//! can hold; one it cannot hold is refused with that reason.
 //!
 //! # File format
 //! ```toml
@@ -43,6 +44,7 @@
 //! ```
 
 use super::error::{Error, Result};
+use super::scene_scale;
 use glam::Vec3;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -50,15 +52,18 @@ use std::ops::Range;
 use std::path::Path;
 use toml::Spanned;
 
-/// Smallest ray parameter accepted as a hit, and the distance a spawned ray's origin
-/// is pushed off its surface, so a ray never re-hits the surface it leaves.
-pub const RAY_EPSILON: f32 = 1e-4;
+/// The ray epsilon of a unit-sized scene (see [`Scene::epsilon`]).
+pub const RAY_EPSILON: f32 = super::scene_scale::RAY_EPSILON_REL;
 
 /// A ray; `dir` is unit length.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ray {
     pub origin: Vec3,
     pub dir: Vec3,
+    /// Smallest ray parameter accepted as a hit, and the distance a spawned ray's
+    /// origin is pushed off its surface, so a ray never re-hits the surface it
+    /// leaves: the scene's [`Scene::epsilon`].
+    pub eps: f32,
 }
 
 impl Ray {
@@ -66,15 +71,16 @@ impl Ray {
     /// orientation) in direction `dir`: the origin is pushed off the surface to the
     /// side `dir` goes to, which is what keeps refracted rays from re-hitting the
     /// interface they just crossed.
-    pub fn spawn(pos: Vec3, normal: Vec3, dir: Vec3) -> Ray {
+    pub fn spawn(pos: Vec3, normal: Vec3, dir: Vec3, eps: f32) -> Ray {
         let side = if dir.dot(normal) >= 0.0 {
             normal
         } else {
             -normal
         };
         Ray {
-            origin: pos + side * RAY_EPSILON,
+            origin: pos + side * eps,
             dir,
+            eps,
         }
     }
 
@@ -111,24 +117,27 @@ pub struct Quad {
 impl Quad {
     /// `None` for a degenerate (zero-area or non-finite) parallelogram.
     pub fn new(corner: Vec3, edge_u: Vec3, edge_v: Vec3) -> Option<Quad> {
-        let n = edge_u.cross(edge_v);
+        // In f64: |u × v|² is the fourth power of the scene's size, which overflows
+        // f32 beyond about 4e9 and underflows below about 1e-10 (scene_scale).
+        let (u, v) = (edge_u.as_dvec3(), edge_v.as_dvec3());
+        let n = u.cross(v);
         let area = n.length();
         // Relative test: an area tiny compared with the edge lengths is a sliver
         // whose normal is numerical noise.
-        if !area.is_finite() || area <= 1e-6 * edge_u.length() * edge_v.length() {
+        if !area.is_finite() || area <= 1e-6 * u.length() * v.length() {
             return None;
         }
         Some(Quad {
             corner,
             edge_u,
             edge_v,
-            normal: n / area,
-            w: n / n.length_squared(),
-            area,
+            normal: (n / area).as_vec3(),
+            w: (n / n.length_squared()).as_vec3(),
+            area: area as f32,
         })
     }
 
-    /// Ray parameter of the hit in `(RAY_EPSILON, t_max)`, if any.
+    /// Ray parameter of the hit in `(ray.eps, t_max)`, if any.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         let denom = self.normal.dot(ray.dir);
         // Parallel rays never hit (a grazing hit on a zero-thickness quad has no
@@ -137,7 +146,7 @@ impl Quad {
             return None;
         }
         let t = self.normal.dot(self.corner - ray.origin) / denom;
-        if !(t > RAY_EPSILON && t < t_max) {
+        if !(t > ray.eps && t < t_max) {
             return None;
         }
         let offset = ray.at(t) - self.corner;
@@ -163,7 +172,7 @@ pub struct Sphere {
 }
 
 impl Sphere {
-    /// Nearest ray parameter of a hit in `(RAY_EPSILON, t_max)`, if any (the far
+    /// Nearest ray parameter of a hit in `(ray.eps, t_max)`, if any (the far
     /// root when the ray starts inside, as a refracted ray does).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         let oc = ray.origin - self.center;
@@ -178,7 +187,7 @@ impl Sphere {
         let root = disc.sqrt();
         [-b - root, -b + root]
             .into_iter()
-            .find(|&t| t > RAY_EPSILON && t < t_max)
+            .find(|&t| t > ray.eps && t < t_max)
     }
 
     /// Outward unit normal at a surface point.
@@ -214,6 +223,8 @@ pub struct Camera {
     pub up: Vec3,
     /// tan(vertical fov / 2).
     pub tan_half_fov: f32,
+    /// The scene's ray epsilon, for the eye rays.
+    pub eps: f32,
 }
 
 impl Camera {
@@ -225,6 +236,7 @@ impl Camera {
         Ray {
             origin: self.position,
             dir: (self.forward + self.right * sx + self.up * sy).normalize(),
+            eps: self.eps,
         }
     }
 }
@@ -259,6 +271,8 @@ pub struct Scene {
     /// Spheres with their material index.
     pub spheres: Vec<(Sphere, usize)>,
     pub light: AreaLight,
+    /// Ray epsilon: 1e-4 of the scene's size (`scene_scale::ray_epsilon`).
+    pub epsilon: f32,
 }
 
 impl Scene {
@@ -288,6 +302,7 @@ impl Scene {
         let file: SceneFile =
             toml::from_str(text).map_err(|e| at(e.span(), e.message().trim_end().to_string()))?;
         let check = Checker { at: &at };
+        let epsilon = file.ray_epsilon().map_err(|(span, msg)| at(span, msg))?;
 
         let cam = &file.camera;
         let position = check.point("camera position", &cam.position)?;
@@ -329,6 +344,7 @@ impl Scene {
             right,
             up: right.cross(forward),
             tan_half_fov: (fov.to_radians() * 0.5).tan(),
+            eps: epsilon,
         };
 
         let mut materials = Vec::new();
@@ -422,6 +438,7 @@ impl Scene {
             quads,
             spheres,
             light: AreaLight { quad, power },
+            epsilon,
         })
     }
 
@@ -581,6 +598,45 @@ impl<F: Fn(Option<Range<usize>>, String) -> Error> Checker<'_, F> {
                 ),
             )
         })
+    }
+}
+
+impl SceneFile {
+    /// Every position of the file and the geometry's bounding points, for
+    /// [`scene_scale::ray_epsilon`].
+    fn ray_epsilon(&self) -> std::result::Result<f32, (Option<Range<usize>>, String)> {
+        let loc = |what: &'static str, v: &Spanned<[f64; 3]>| scene_scale::Located {
+            what,
+            span: v.span(),
+            value: *v.get_ref(),
+        };
+        let c = &self.camera;
+        let mut points = vec![
+            loc("camera position", &c.position),
+            loc("camera look_at", &c.look_at),
+        ];
+        let mut geometry = Vec::new();
+        let mut quad =
+            |corner: &Spanned<[f64; 3]>, u: &Spanned<[f64; 3]>, v: &Spanned<[f64; 3]>| {
+                let (c, u, v) = (*corner.get_ref(), *u.get_ref(), *v.get_ref());
+                for (su, sv) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
+                    geometry.push([0, 1, 2].map(|a| c[a] + su * u[a] + sv * v[a]));
+                }
+            };
+        for q in &self.quad {
+            points.push(loc("quad corner", &q.corner));
+            quad(&q.corner, &q.edge_u, &q.edge_v);
+        }
+        let l = &self.light;
+        points.push(loc("light corner", &l.corner));
+        quad(&l.corner, &l.edge_u, &l.edge_v);
+        for s in &self.sphere {
+            points.push(loc("sphere center", &s.center));
+            let (c, r) = (*s.center.get_ref(), s.radius.get_ref().abs());
+            geometry.push(c.map(|x| x - r));
+            geometry.push(c.map(|x| x + r));
+        }
+        scene_scale::ray_epsilon(&points, &geometry)
     }
 }
 
@@ -828,6 +884,7 @@ power = [1.0, 1.0, 1.0]
         let ray = Ray {
             origin: Vec3::new(-10.0, 3.0, 3.0),
             dir: Vec3::X,
+            eps: RAY_EPSILON,
         };
         let t = s.intersect(&ray, f32::INFINITY).unwrap();
         let expected = 11.0 - 3f32.sqrt();
@@ -836,18 +893,21 @@ power = [1.0, 1.0, 1.0]
         let inside = Ray {
             origin: Vec3::new(1.0, 2.0, 3.0),
             dir: Vec3::new(0.0, 0.0, -1.0),
+            eps: RAY_EPSILON,
         };
         assert!((s.intersect(&inside, f32::INFINITY).unwrap() - 2.0).abs() < 1e-6);
         // Miss: offset 2.01 > radius.
         let miss = Ray {
             origin: Vec3::new(-10.0, 4.01, 3.0),
             dir: Vec3::X,
+            eps: RAY_EPSILON,
         };
         assert_eq!(s.intersect(&miss, f32::INFINITY), None);
         // Behind the origin.
         let behind = Ray {
             origin: Vec3::new(10.0, 2.0, 3.0),
             dir: Vec3::X,
+            eps: RAY_EPSILON,
         };
         assert_eq!(s.intersect(&behind, f32::INFINITY), None);
         // t_max clips.
@@ -871,6 +931,7 @@ power = [1.0, 1.0, 1.0]
         let down = |x: f32, y: f32| Ray {
             origin: Vec3::new(x, y, 5.0),
             dir: -Vec3::Z,
+            eps: RAY_EPSILON,
         };
         // (2.5, 0.5): t = 0.5, s = 1.0 → inside; distance 3.
         assert!((q.intersect(&down(2.5, 0.5), f32::INFINITY).unwrap() - 3.0).abs() < 1e-6);
@@ -883,6 +944,7 @@ power = [1.0, 1.0, 1.0]
         let oblique = Ray {
             origin: Vec3::new(0.5, 0.5, 0.0),
             dir,
+            eps: RAY_EPSILON,
         };
         let t = q.intersect(&oblique, f32::INFINITY).unwrap();
         assert!((t - 2.0 * 2f32.sqrt()).abs() < 1e-5);
@@ -890,6 +952,7 @@ power = [1.0, 1.0, 1.0]
         let parallel = Ray {
             origin: Vec3::new(0.0, 0.5, 2.0),
             dir: Vec3::X,
+            eps: RAY_EPSILON,
         };
         assert_eq!(q.intersect(&parallel, f32::INFINITY), None);
         assert!(Quad::new(Vec3::ZERO, Vec3::X, Vec3::X * 2.0).is_none());
@@ -903,6 +966,7 @@ power = [1.0, 1.0, 1.0]
             .intersect(&Ray {
                 origin: Vec3::new(0.0, 0.0, 5.0),
                 dir: -Vec3::Z,
+                eps: RAY_EPSILON,
             })
             .unwrap();
         assert!((hit.t - 3.5).abs() < 1e-5);
@@ -912,6 +976,7 @@ power = [1.0, 1.0, 1.0]
             .intersect(&Ray {
                 origin: Vec3::new(0.0, 0.7, 0.0),
                 dir: Vec3::Y,
+                eps: RAY_EPSILON,
             })
             .unwrap();
         assert_eq!(hit.surface, Surface::Light);
