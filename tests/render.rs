@@ -151,7 +151,7 @@ fn render_cli_rejects_bad_input() {
         (vec!["--k".into(), "0".into()], "--k must be at least 1"),
         (
             vec!["--photons".into(), "0".into()],
-            "--photons must be at least 1",
+            "--photons must be in 1..=",
         ),
         (
             vec!["--radius".into(), "-2".into()],
