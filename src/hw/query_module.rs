@@ -95,6 +95,11 @@ pub struct QueryModule<const S: usize> {
     my_index: Constant<ModuleIndex>,
     /// `Traversal::Remember`: the ascent from the path memory.
     remember: Constant<bool>,
+    /// The configured widths, so that synthesis drops the path memory's constant
+    /// bits: distance bits of the metric, H levels, H - 1 levels that can be pending.
+    dist_mask: Constant<Dist>,
+    level_mask: Constant<LevelMask>,
+    pending_mask: Constant<LevelMask>,
     state: DFF<QueryState>,
     query_id: DFF<QueryId>,
     qx: DFF<Coord>,
@@ -181,6 +186,9 @@ impl<const S: usize> QueryModule<S> {
             out_dist: Default::default(),
             my_index: Constant::new(ModuleIndex::from(index as u64)),
             remember: Constant::new(cfg.traversal == Traversal::Remember),
+            dist_mask: Constant::new(Dist::from((1u64 << cfg.dist_bits()) - 1)),
+            level_mask: Constant::new(LevelMask::from((1u64 << cfg.address_bits) - 1)),
+            pending_mask: Constant::new(LevelMask::from((1u64 << cfg.path_levels()) - 1)),
             state: Default::default(),
             query_id: Default::default(),
             qx: Default::default(),
@@ -310,7 +318,9 @@ impl<const S: usize> Logic for QueryModule<S> {
                     self.came_from_right.d.next = false;
                     self.search_done.d.next = false;
                     self.visited.d.next = 0.into();
-                    self.level.d.next = 1.into();
+                    if self.remember.val() {
+                        self.level.d.next = 1.into();
+                    }
                     self.pending.d.next = 0.into();
                     self.ascending.d.next = false;
                     self.state.d.next = QueryState::Ready;
@@ -330,11 +340,13 @@ impl<const S: usize> Logic for QueryModule<S> {
                         // Remember this level; go down, or climb (after the MaxFinder).
                         for i in 0..self.path_dist.len() {
                             if self.level.q.val().get_bit(i) {
-                                self.path_dist[i].d.next = self.result_axis_dist.val();
+                                self.path_dist[i].d.next =
+                                    self.result_axis_dist.val() & self.dist_mask.val();
                             }
                         }
                         if self.result_far_pending.val() {
-                            self.pending.d.next = self.pending.q.val() | self.level.q.val();
+                            self.pending.d.next =
+                                (self.pending.q.val() | self.level.q.val()) & self.pending_mask.val();
                         } else {
                             self.pending.d.next = self.pending.q.val() & (!self.level.q.val());
                         }
@@ -342,7 +354,7 @@ impl<const S: usize> Logic for QueryModule<S> {
                             self.ascending.d.next = true;
                         } else {
                             self.address.d.next = self.result_next_address.val();
-                            self.level.d.next = self.level.q.val() << 1;
+                            self.level.d.next = (self.level.q.val() << 1) & self.level_mask.val();
                         }
                     } else {
                         self.address.d.next = self.result_next_address.val();
