@@ -345,8 +345,8 @@ impl<const S: usize> Logic for QueryModule<S> {
                             }
                         }
                         if self.result_far_pending.val() {
-                            self.pending.d.next =
-                                (self.pending.q.val() | self.level.q.val()) & self.pending_mask.val();
+                            self.pending.d.next = (self.pending.q.val() | self.level.q.val())
+                                & self.pending_mask.val();
                         } else {
                             self.pending.d.next = self.pending.q.val() & (!self.level.q.val());
                         }
