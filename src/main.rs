@@ -480,7 +480,7 @@ fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     }
     if args.cpu {
         let coords: Vec<[u32; 3]> = queries.iter().map(|q| q.coords).collect();
-        let min = std::time::Duration::from_millis(500);
+        let min = std::time::Duration::from_millis(200);
         let cpu =
             photon_fpga::host::cpu_ref::measure(&points, &tree, &coords, cfg.k, cfg.metric, min)
                 .map_err(Error::new)?;
