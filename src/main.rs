@@ -497,22 +497,29 @@ fn bench_core(args: &BenchCoreArgs) -> Result<()> {
 
 fn export(args: &ExportArgs) -> Result<()> {
     let cfg = args.core.config()?;
+    if args.shell_trees == Some(0) {
+        return Err(Error::new("--shell-trees must be at least 1, got 0"));
+    }
+    // Everything is generated before the directory is made: a failure leaves nothing.
     let verilog = export_verilog(&cfg)?;
+    // Event-driven simulators (Icarus, ISim, ModelSim) hang on the raw export's
+    // glitch loops; this rewrite is what the CI cross-simulation runs under Icarus.
+    let sim_verilog = photon_fpga::hw::xsim::glitch_free(&verilog)?;
+    let shell = match args.shell_trees {
+        Some(trees) => Some((trees, registered_shell(&verilog, trees)?)),
+        None => None,
+    };
     std::fs::create_dir_all(&args.out)
         .map_err(|e| Error::new(format!("{}: cannot create: {e}", args.out.display())))?;
     let path = args.out.join("photon_search_core.v");
     Output::check(&path, &[])?.write(|w| w.write_all(verilog.as_bytes()))?;
-    // Event-driven simulators (Icarus, ISim, ModelSim) hang on the raw export's
-    // glitch loops; this rewrite is what the CI cross-simulation runs under Icarus.
     let sim_path = args.out.join("photon_search_core_sim.v");
-    let sim_verilog = photon_fpga::hw::xsim::glitch_free(&verilog)?;
     Output::check(&sim_path, &[])?.write(|w| w.write_all(sim_verilog.as_bytes()))?;
     println!(
         "wrote {}: the same core for event-driven simulators (glitch-free rewrite)",
         sim_path.display()
     );
-    if let Some(trees) = args.shell_trees {
-        let shell = registered_shell(&verilog, trees)?;
+    if let Some((trees, shell)) = shell {
         let spath = args.out.join("shell.v");
         Output::check(&spath, &[])?.write(|w| w.write_all(shell.as_bytes()))?;
         println!(

@@ -308,6 +308,14 @@ fn export_verilog_files_and_errors() {
         "{stderr}"
     );
     assert!(!bad.exists(), "a refused export created {}", bad.display());
+    let assert = bin()
+        .args(["export-verilog", "--shell-trees", "0", "--out"])
+        .arg(&bad)
+        .assert()
+        .code(2);
+    let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
+    assert!(stderr.contains("--shell-trees must be at least 1"), "{stderr}");
+    assert!(!bad.exists(), "a refused export created {}", bad.display());
 }
 
 // ---- Issue 13: every CLI promise kept. One test per class of failure. ----

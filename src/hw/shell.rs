@@ -62,7 +62,7 @@ pub fn top_ports(verilog: &str) -> Result<Vec<Port>> {
 /// `module shell`: the core(s) of `verilog` behind registered, byte-wide I/O.
 pub fn registered_shell(verilog: &str, trees: usize) -> Result<String> {
     if trees == 0 {
-        return Err(Error::new("--trees must be at least 1"));
+        return Err(Error::new("registered shell: at least one core, got 0"));
     }
     let ports = top_ports(verilog)?;
     let data_in: Vec<&Port> = ports
