@@ -60,6 +60,23 @@ fn fails(dir: &Path, args: &[&str], message: &str) {
     refused(dir, &all, message);
 }
 
+/// World distance in `metric` ("l2" Euclidean, "l1" Manhattan).
+fn world_dist(metric: &str, p: &[f64; 3], q: &[f64; 3]) -> f64 {
+    let d = [0, 1, 2].map(|a| (p[a] - q[a]).abs());
+    if metric == "l2" {
+        (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+    } else {
+        d[0] + d[1] + d[2]
+    }
+}
+
+/// Every photon's distance from `q`, nearest first (brute force).
+fn true_dists(metric: &str, photons: &[[f64; 3]], q: &[f64; 3]) -> Vec<f64> {
+    let mut truth: Vec<f64> = photons.iter().map(|p| world_dist(metric, p, q)).collect();
+    truth.sort_by(f64::total_cmp);
+    truth
+}
+
 fn setup() -> (tempfile::TempDir, String, String) {
     let dir = tempfile::tempdir().unwrap();
     let p = write(
@@ -127,16 +144,8 @@ fn gather_returns_the_exact_k_nearest() {
             .collect();
         assert_eq!(rows.len(), queries.len() * k);
         for (qi, qp) in queries.iter().enumerate() {
-            let dist = |p: &[f64; 3]| {
-                let d = [0, 1, 2].map(|a| (p[a] - qp[a]).abs());
-                if metric == "l2" {
-                    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
-                } else {
-                    d[0] + d[1] + d[2]
-                }
-            };
-            let mut truth: Vec<f64> = photons.iter().map(dist).collect();
-            truth.sort_by(|a, b| a.total_cmp(b));
+            let dist = |p: &[f64; 3]| world_dist(metric, p, qp);
+            let truth = true_dists(metric, &photons, qp);
             let got: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] as usize == qi).collect();
             for (rank, row) in got.iter().enumerate() {
                 assert_eq!(row[1] as usize, rank);
@@ -314,7 +323,10 @@ fn export_verilog_files_and_errors() {
         .assert()
         .code(2);
     let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
-    assert!(stderr.contains("--shell-trees must be at least 1"), "{stderr}");
+    assert!(
+        stderr.contains("--shell-trees must be at least 1"),
+        "{stderr}"
+    );
     assert!(!bad.exists(), "a refused export created {}", bad.display());
 }
 
@@ -440,17 +452,7 @@ fn a_far_query_changes_no_other_answer() {
             let a_all: Vec<(usize, String)> = a[1..].iter().map(renumber).collect();
             assert_eq!(a_all, b_near, "{backend} {metric}");
             // The far query's own answer: exact distances (step 1 on this map).
-            let far = with_far[4];
-            let dist = |p: &[f64; 3]| {
-                let d = [0, 1, 2].map(|i| (p[i] - far[i]).abs());
-                if metric == "l2" {
-                    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
-                } else {
-                    d[0] + d[1] + d[2]
-                }
-            };
-            let mut truth: Vec<f64> = photons.iter().map(dist).collect();
-            truth.sort_by(f64::total_cmp);
+            let truth = true_dists(metric, &photons, &with_far[4]);
             let got: Vec<f64> = b[1..]
                 .iter()
                 .map(renumber)

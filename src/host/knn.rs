@@ -286,6 +286,67 @@ pub fn search_with<C: Coord, S: NodeSource<C> + ?Sized>(
     }
 }
 
+/// The found list and the radius R of one search: the boundary rules in one place.
+struct Radius<D> {
+    list: FoundList<D>,
+    r: D,
+}
+
+impl<D: Ord + Copy> Radius<D> {
+    fn new(k: usize, r0: D) -> Self {
+        Radius {
+            list: FoundList::new(k),
+            r: r0,
+        }
+    }
+
+    /// A distance within R: `<= R0` while the list fills, `< max` once it is full.
+    fn within(&self, d: D) -> bool {
+        if self.list.full() {
+            d < self.r
+        } else {
+            d <= self.r
+        }
+    }
+
+    /// The distance test of a down visit: a photon in range enters the list.
+    fn test(&mut self, addr: usize, d: D) {
+        if self.within(d) {
+            if let Some(max) = self.list.insert(addr as u32, d) {
+                self.r = max;
+            }
+        }
+    }
+}
+
+/// One photon read: its coordinates, its children toward and away from the query,
+/// and its axis distance.
+struct Read<C: Coord> {
+    p: [C; 3],
+    near_bit: usize,
+    near: usize,
+    far: usize,
+    axis_dist: C::Dist,
+}
+
+fn read<C: Coord, S: NodeSource<C> + ?Sized>(
+    tree: &S,
+    q: [C; 3],
+    addr: usize,
+    metric: Metric,
+) -> Read<C> {
+    let (p, ax) = tree.node(addr);
+    let ax = ax as usize;
+    let near_bit = C::total_cmp(q[ax], p[ax]).is_ge() as usize;
+    Read {
+        p,
+        near_bit,
+        near: 2 * addr + near_bit,
+        far: 2 * addr + 1 - near_bit,
+        axis_dist: C::axis_dist(metric, q[ax], p[ax]),
+    }
+}
+
 /// One level of the current path ([`Traversal::Remember`]): the axis distance of the
 /// node read there, and whether its far child is still to be visited.
 #[derive(Clone, Copy)]
@@ -303,8 +364,7 @@ fn search_remember<C: Coord, S: NodeSource<C> + ?Sized>(
     metric: Metric,
 ) -> Found<C::Dist> {
     let n = tree.len();
-    let mut list = FoundList::new(k);
-    let mut r = r0;
+    let mut st = Radius::new(k, r0);
     let mut visited = 0u32;
     // One entry per tree level (the root is level 0): at most 64 levels of `usize`.
     let mut path = [Level {
@@ -313,34 +373,18 @@ fn search_remember<C: Coord, S: NodeSource<C> + ?Sized>(
     }; 64];
     let (mut addr, mut level) = (1usize, 0usize);
     'descend: loop {
-        let (p, ax) = tree.node(addr);
+        let rd = read(tree, q, addr, metric);
         visited += 1;
-        let ax = ax as usize;
-        let near_bit = C::total_cmp(q[ax], p[ax]).is_ge() as usize;
-        let ad = C::axis_dist(metric, q[ax], p[ax]);
         // The down step's far test uses R as read with the photon (before its own
         // insertion), as the SearchModule computes it in parallel with the distance.
-        let within = if list.full() { ad < r } else { ad <= r };
-        let d = C::dist(metric, q, p);
-        let in_range = if list.full() { d < r } else { d <= r };
-        if in_range {
-            if let Some(max) = list.insert(addr as u32, d) {
-                r = max;
-            }
-        }
-        let near = 2 * addr + near_bit;
-        let far = 2 * addr + 1 - near_bit;
+        let within = st.within(rd.axis_dist);
+        st.test(addr, C::dist(metric, q, rd.p));
         path[level] = Level {
-            axis_dist: ad,
-            pending: near <= n && far <= n,
+            axis_dist: rd.axis_dist,
+            pending: rd.near <= n && rd.far <= n,
         };
-        if near <= n {
-            addr = near;
-            level += 1;
-            continue;
-        }
-        if far <= n && within {
-            addr = far;
+        if rd.near <= n || (rd.far <= n && within) {
+            addr = if rd.near <= n { rd.near } else { rd.far };
             level += 1;
             continue;
         }
@@ -349,14 +393,9 @@ fn search_remember<C: Coord, S: NodeSource<C> + ?Sized>(
             let from = addr;
             addr >>= 1;
             level -= 1;
-            let l = &mut path[level];
-            let within = if list.full() {
-                l.axis_dist < r
-            } else {
-                l.axis_dist <= r
-            };
-            if l.pending && within {
-                l.pending = false;
+            let l = path[level];
+            if l.pending && st.within(l.axis_dist) {
+                path[level].pending = false;
                 addr = from ^ 1;
                 level += 1;
                 continue 'descend;
@@ -365,7 +404,7 @@ fn search_remember<C: Coord, S: NodeSource<C> + ?Sized>(
         break;
     }
     Found {
-        slots: list.slots,
+        slots: st.list.slots,
         visited,
         tested: visited,
     }
@@ -380,38 +419,26 @@ fn search_reread<C: Coord, S: NodeSource<C> + ?Sized>(
     metric: Metric,
 ) -> Found<C::Dist> {
     let n = tree.len();
-    let mut list = FoundList::new(k);
-    let mut r = r0;
+    let mut st = Radius::new(k, r0);
     let mut visited = 0u32;
     let mut tested = 0u32;
     let (mut addr, mut up, mut from) = (1usize, false, 0usize);
     loop {
-        let (p, ax) = tree.node(addr);
+        let rd = read(tree, q, addr, metric);
         visited += 1;
-        let ax = ax as usize;
-        let near_bit = C::total_cmp(q[ax], p[ax]).is_ge() as usize;
-        let ad = C::axis_dist(metric, q[ax], p[ax]);
         // R as read with the photon (before this photon's own insertion).
-        let within = if list.full() { ad < r } else { ad <= r };
-        let near = 2 * addr + near_bit;
-        let far = 2 * addr + 1 - near_bit;
+        let within = st.within(rd.axis_dist);
         let mut next_down = None;
         if !up {
             tested += 1;
-            let d = C::dist(metric, q, p);
-            let in_range = if list.full() { d < r } else { d <= r };
-            if in_range {
-                if let Some(max) = list.insert(addr as u32, d) {
-                    r = max;
-                }
+            st.test(addr, C::dist(metric, q, rd.p));
+            if rd.near <= n {
+                next_down = Some(rd.near);
+            } else if rd.far <= n && within {
+                next_down = Some(rd.far);
             }
-            if near <= n {
-                next_down = Some(near);
-            } else if far <= n && within {
-                next_down = Some(far);
-            }
-        } else if from == near_bit && far <= n && within {
-            next_down = Some(far);
+        } else if from == rd.near_bit && rd.far <= n && within {
+            next_down = Some(rd.far);
         }
         match next_down {
             Some(child) => {
@@ -427,7 +454,7 @@ fn search_reread<C: Coord, S: NodeSource<C> + ?Sized>(
         }
     }
     Found {
-        slots: list.slots,
+        slots: st.list.slots,
         visited,
         tested,
     }
