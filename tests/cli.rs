@@ -683,6 +683,13 @@ fn nothing_is_left_behind() {
         std::fs::read_to_string(&out).unwrap()
     );
     assert_eq!(std::fs::read_to_string(&user_tmp).unwrap(), "mine");
+    // A new output gets the permissions of any new file (not a temporary file's 0600).
+    use std::os::unix::fs::PermissionsExt;
+    let mode = std::fs::metadata(&out).unwrap().permissions().mode() & 0o777;
+    let plain = dir.path().join("plain");
+    std::fs::write(&plain, "").unwrap();
+    let plain_mode = std::fs::metadata(&plain).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode, plain_mode, "output mode {mode:o}");
 }
 
 /// Class 6: every numeric option is validated alike, and an option the backend

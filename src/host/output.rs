@@ -38,6 +38,19 @@ pub struct Staged {
     shown: PathBuf,
 }
 
+/// A temporary file in `dir` with the permissions a new file gets (0o666 less the
+/// umask), not the owner-only ones of a plain temporary file: it becomes the output.
+fn temp_in(dir: &Path) -> std::io::Result<tempfile::NamedTempFile> {
+    let mut b = tempfile::Builder::new();
+    b.prefix(".photon-fpga-");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        b.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    b.tempfile_in(dir)
+}
+
 fn err(path: &Path, what: impl std::fmt::Display) -> Error {
     Error::new(format!("{}: {what}", path.display()))
 }
@@ -73,7 +86,7 @@ impl Output {
         };
         if !out.in_place {
             // The directory must take a new file: try it now, before any work.
-            tempfile::NamedTempFile::new_in(out.dir())
+            temp_in(out.dir())
                 .map_err(|e| err(path, format!("cannot write in its directory: {e}")))?;
         }
         Ok(out)
@@ -105,7 +118,7 @@ impl Output {
             body(&mut w).map_err(e)?;
             return w.flush().map_err(e);
         }
-        let tmp = tempfile::NamedTempFile::new_in(self.dir()).map_err(e)?;
+        let tmp = temp_in(self.dir()).map_err(e)?;
         let mut w = std::io::BufWriter::new(tmp);
         body(&mut w).map_err(e)?;
         let tmp = w.into_inner().map_err(|x| e(x.into_error()))?;
@@ -123,8 +136,8 @@ impl Output {
                 shown: self.shown.clone(),
             });
         }
-        let tmp = tempfile::NamedTempFile::new_in(self.dir())
-            .map_err(|e| err(&self.shown, format!("cannot write: {e}")))?;
+        let tmp =
+            temp_in(self.dir()).map_err(|e| err(&self.shown, format!("cannot write: {e}")))?;
         Ok(Staged {
             temp: Some(tmp.into_temp_path()),
             target: self.target.clone(),
