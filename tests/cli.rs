@@ -739,7 +739,7 @@ fn numeric_options_are_validated_alike() {
     );
 }
 
-/// Class 7: the same scene scaled by 1e-4 or 1e12 renders (the same image up to
+/// Class 7: the same scene scaled by 1e-6, 1e-4, 1e6 or 1e12 renders (the same image up to
 /// f32 rounding); scaled by 1e30 or 1e-30 it is refused with the real cause.
 #[test]
 fn scenes_at_any_scale() {
@@ -784,7 +784,7 @@ fn scenes_at_any_scale() {
     let (mut c, unit) = render(1.0);
     c.assert().success();
     let unit = image::open(unit).unwrap().to_rgb8();
-    for f in [1e-4, 1e12] {
+    for f in [1e-6, 1e-4, 1e6, 1e12] {
         let (mut c, out) = render(f);
         c.assert().success();
         let img = image::open(out).unwrap().to_rgb8();
