@@ -9,16 +9,11 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
-use photon_fpga::host::kdtree::{KdTree, PackedTree};
+use photon_fpga::host::kdtree::PackedTree;
 use photon_fpga::host::knn::{search, search_with, Traversal};
-use photon_fpga::host::photons::trace_photons;
-use photon_fpga::host::quantize::Quantizer;
-use photon_fpga::host::render::{self, eye_queries, RenderSettings};
-use photon_fpga::host::scene::Scene;
+use photon_fpga::host::workload as workloads;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
-use rand::{Rng, SeedableRng};
-use rand_pcg::Pcg64Mcg;
 use std::hint::black_box;
 
 const QUERIES: usize = 20_000;
@@ -30,56 +25,29 @@ struct Workload {
     queries: Vec<[u32; 3]>,
 }
 
-fn workload(
-    name: &str,
-    points: &[[u32; 3]],
-    layout: PhotonLayout,
-    queries: Vec<[u32; 3]>,
-) -> Workload {
-    let packed = PackedTree::from_tree(&KdTree::build(points), layout);
+fn workload(name: &str, w: photon_fpga::host::workload::Workload) -> Workload {
     // f32 holds the 10-bit grid coordinates and their squared distances exactly.
-    let fpoints: Vec<[f32; 3]> = points.iter().map(|p| p.map(|c| c as f32)).collect();
+    let fpoints: Vec<[f32; 3]> = w.points.iter().map(|p| p.map(|c| c as f32)).collect();
     Workload {
         name: name.to_string(),
-        packed,
+        packed: w.tree,
         kiddo: ImmutableKdTree::new_from_slice(&fpoints).expect("kiddo tree"),
-        queries,
+        queries: w.queries,
     }
 }
 
 fn paper_workload() -> Workload {
-    let mut r = Pcg64Mcg::seed_from_u64(2013);
-    let mut uniform = |n| -> Vec<[u32; 3]> {
-        (0..n)
-            .map(|_| [0; 3].map(|_: u32| r.gen_range(0..1024)))
-            .collect()
-    };
-    let points = uniform(1023);
-    let queries = uniform(QUERIES);
-    workload("paper-1023", &points, PhotonLayout::paper(), queries)
+    workload(
+        "paper-1023",
+        workloads::uniform(PhotonLayout::paper(), 1023, QUERIES, 2013),
+    )
 }
 
 /// 200K photons of the built-in Cornell box, queried at the renderer's eye-ray hits.
 fn cornell_workload() -> Workload {
-    let scene = Scene::cornell_box();
-    let mut photons = trace_photons(&scene, 110_000, 1, false);
-    photons.truncate(200_000);
-    assert_eq!(photons.len(), 200_000, "emit more photons");
-    let points = render::photon_points(&photons);
-    let quant = Quantizer::from_points(&points, 10).unwrap();
-    let grid: Vec<[u32; 3]> = points.iter().map(|&p| quant.quantize(p)).collect();
-    let settings = RenderSettings {
-        width: 64,
-        height: 64,
-        spp: 1,
-        ..RenderSettings::default()
-    };
-    let (queries, _) = eye_queries(&scene, &settings);
-    let queries = render::query_points(&queries)
-        .into_iter()
-        .map(|q| quant.quantize(q))
-        .collect();
-    workload("cornell-200k", &grid, quant.layout, queries)
+    let w = workloads::cornell(110_000, 200_000, 10, 64, 1);
+    assert_eq!(w.points.len(), 200_000, "emit more photons");
+    workload("cornell-200k", w)
 }
 
 fn run(c: &mut Criterion, w: &Workload, ks: &[usize]) {

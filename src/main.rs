@@ -305,6 +305,15 @@ struct BenchCoreArgs {
     /// Seed of the random photon map (2^H − 1 photons) and queries.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// The workload: `uniform` (a full random map of 2^H − 1 photons on the core's
+    /// grid, uniform queries: the paper's) or `cornell` (the Cornell box's photon map
+    /// from --cornell-photons emitted photons on a --bits grid, queried at a 64×64
+    /// image's eye-ray hits; H and the per-axis widths follow the map).
+    #[arg(long, default_value = "uniform", value_parser = ["uniform", "cornell"])]
+    workload: String,
+    /// Emitted photons of the `cornell` workload.
+    #[arg(long, default_value_t = 20_000)]
+    cornell_photons: usize,
     /// Clock of the core in MHz (e.g. a placed-and-routed fmax from synth/REPORT.md):
     /// prints the core's queries/s = reads/cycle × fmax / reads per query.
     #[arg(long)]
@@ -377,29 +386,52 @@ impl CoreArgs {
 /// reads per port per cycle, photons visited per query (checked against the
 /// software search) and simulation speed.
 fn bench_core(args: &BenchCoreArgs) -> Result<()> {
-    use photon_fpga::host::kdtree::{KdTree, PackedTree};
-    use photon_fpga::host::knn::search_with;
+    use photon_fpga::host::knn::{search_with, Traversal};
+    use photon_fpga::host::workload;
     use photon_fpga::hw::sim::{CoreSim, HwQuery};
-    use rand::{Rng, SeedableRng};
-    let cfg = args.core.config()?;
-    let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(args.seed);
-    let point = |rng: &mut rand_pcg::Pcg64Mcg| {
-        [0, 1, 2].map(|a| rng.gen_range(0..=cfg.layout.coord_max(a)))
+    let mut cfg = args.core.config()?;
+    let w = if args.workload == "cornell" {
+        let w = workload::cornell(
+            args.cornell_photons,
+            usize::MAX,
+            cfg.layout.bits[0],
+            64,
+            args.seed,
+        );
+        cfg.layout = w.tree.layout;
+        cfg.address_bits = w.tree.address_bits();
+        cfg.validate()?;
+        cfg.check_map(&w.tree)?;
+        // Every query of the image would take too long to simulate: an even sample.
+        let step = (w.queries.len() / args.queries.max(1)).max(1);
+        let queries = w
+            .queries
+            .iter()
+            .step_by(step)
+            .take(args.queries)
+            .copied()
+            .collect();
+        workload::Workload { queries, ..w }
+    } else {
+        let n = (1usize << cfg.address_bits) - 1;
+        workload::uniform(cfg.layout, n, args.queries, args.seed)
     };
-    let n = (1usize << cfg.address_bits) - 1;
-    let points: Vec<[u32; 3]> = (0..n).map(|_| point(&mut rng)).collect();
-    let tree = PackedTree::from_tree(&KdTree::build(&points), cfg.layout);
+    let (points, tree) = (&w.points, &w.tree);
+    let n = tree.len();
     let max = cfg.max_dist();
-    let queries: Vec<HwQuery> = (0..args.queries)
-        .map(|i| HwQuery {
+    let queries: Vec<HwQuery> = w
+        .queries
+        .iter()
+        .enumerate()
+        .map(|(i, &coords)| HwQuery {
             id: i as u32,
-            coords: point(&mut rng),
+            coords,
             radius: max,
             k: cfg.k as u32,
         })
         .collect();
     let mut sim = CoreSim::new(&cfg, &SimOptions::default())?;
-    sim.load_map(&tree)?;
+    sim.load_map(tree)?;
     let load_cycles = sim.stats().cycles;
     let t0 = std::time::Instant::now();
     let results = sim.run_queries(&queries)?;
@@ -407,8 +439,9 @@ fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     let st = sim.stats().clone();
     let mut sw_visited = 0u64;
     let mut sw_tested = 0u64;
+    let mut other_visited = 0u64;
     for (q, r) in queries.iter().zip(&results) {
-        let f = search_with(&tree, q.coords, cfg.k, max, cfg.metric, cfg.traversal);
+        let f = search_with(tree, q.coords, cfg.k, max, cfg.metric, cfg.traversal);
         if f.visited != r.visited
             || f.sorted_dists() != {
                 let mut d: Vec<u64> = r.found.iter().map(|x| x.1).collect();
@@ -423,6 +456,11 @@ fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         }
         sw_visited += f.visited as u64;
         sw_tested += f.tested as u64;
+        let other = match cfg.traversal {
+            Traversal::Remember => Traversal::Reread,
+            Traversal::Reread => Traversal::Remember,
+        };
+        other_visited += search_with(tree, q.coords, cfg.k, max, cfg.metric, other).visited as u64;
     }
     let cycles = st.cycles - load_cycles;
     let reads: u64 = st.reads_per_port.iter().sum();
@@ -458,6 +496,10 @@ fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     println!(
         "distance tests per query: {:.1}",
         sw_tested as f64 / queries.len() as f64
+    );
+    println!(
+        "photon reads per query with the other ascent (software search, same queries): {:.1}",
+        other_visited as f64 / queries.len() as f64
     );
     println!(
         "reads per cycle (all ports of all trees, whole run): {:.3}",

@@ -15,3 +15,4 @@ pub mod render;
 pub mod scene;
 pub mod scene_scale;
 pub mod stages;
+pub mod workload;

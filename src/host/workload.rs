@@ -1,0 +1,65 @@
+//! The measured workloads, built one way for every benchmark and report: the
+//! paper's (§3: photons uniform on the 10-bit grid, uniform queries) and a
+//! Cornell-box photon map queried at the renderer's eye-ray hits.
+
+use super::kdtree::{KdTree, PackedTree};
+use super::photons::trace_photons;
+use super::quantize::{GridPoint, Quantizer};
+use super::render::{self, eye_queries, RenderSettings};
+use super::scene::Scene;
+use crate::hw::photon_word::PhotonLayout;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+
+/// Grid points, the packed tree built from them and grid queries.
+pub struct Workload {
+    pub points: Vec<[u32; 3]>,
+    pub tree: PackedTree,
+    pub queries: Vec<[u32; 3]>,
+}
+
+/// `photons` points uniform on `layout`'s grid and `queries` uniform queries.
+pub fn uniform(layout: PhotonLayout, photons: usize, queries: usize, seed: u64) -> Workload {
+    let mut r = Pcg64Mcg::seed_from_u64(seed);
+    let mut point = |_| [0, 1, 2].map(|a| r.gen_range(0..=layout.coord_max(a)));
+    let points: Vec<[u32; 3]> = (0..photons).map(&mut point).collect();
+    let queries = (0..queries).map(&mut point).collect();
+    Workload {
+        tree: PackedTree::from_tree(&KdTree::build(&points), layout),
+        points,
+        queries,
+    }
+}
+
+/// The built-in Cornell box: the photons stored from `emitted` emitted ones (at most
+/// `max_photons` of them), on a `bits`-bit grid, queried at the first diffuse hits
+/// of a `side` × `side` image's eye rays (one per pixel), in pixel order. Queries
+/// outside the photons' box (none in this scene) are left out.
+pub fn cornell(emitted: usize, max_photons: usize, bits: u32, side: u32, seed: u64) -> Workload {
+    let scene = Scene::cornell_box();
+    let mut photons = trace_photons(&scene, emitted, seed, false);
+    photons.truncate(max_photons);
+    let world = render::photon_points(&photons);
+    let quant = Quantizer::from_points(&world, bits).expect("a Cornell-box photon map");
+    let points: Vec<[u32; 3]> = world.iter().map(|&p| quant.quantize(p)).collect();
+    let settings = RenderSettings {
+        width: side,
+        height: side,
+        spp: 1,
+        seed,
+        ..RenderSettings::default()
+    };
+    let (eye, _) = eye_queries(&scene, &settings);
+    let queries = render::query_points(&eye)
+        .into_iter()
+        .filter_map(|q| match quant.grid(q) {
+            Ok(GridPoint::Inside(c)) => Some(c),
+            _ => None,
+        })
+        .collect();
+    Workload {
+        tree: PackedTree::from_tree(&KdTree::build(&points), quant.layout),
+        points,
+        queries,
+    }
+}
