@@ -524,7 +524,7 @@ fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         let coords: Vec<[u32; 3]> = queries.iter().map(|q| q.coords).collect();
         let min = std::time::Duration::from_millis(200);
         let cpu =
-            photon_fpga::host::cpu_ref::measure(&points, &tree, &coords, cfg.k, cfg.metric, min)
+            photon_fpga::host::cpu_ref::measure(points, tree, &coords, cfg.k, cfg.metric, min)
                 .map_err(Error::new)?;
         println!(
             "cpu queries/s, 1 thread, same queries: kiddo {:.0}, software search {:.0}",
