@@ -296,6 +296,10 @@ def write(rows):
         L.append(f"| {name} | {trees} | " + " | ".join(xs) + f" | {fm} | {rpc} | {busy} | {pps} | {cpu} |")
         if e:
             crit.append(f"- **{name}**: {e['best'][1]} → {e['best'][2]} ({len(e['best'][3])} nets)")
+    if any(err and not x for _, _, x, _, _, err in rows):
+        L.append("\nRows that say *not run yet* have no result for the current Verilog on this machine "
+                 "(results are cached per machine in synth/build/); their last measurement, of older "
+                 "Verilog, is in the git history of this file.")
     L.append("\n## Critical paths (best seed)\n")
     L.extend(crit)
     path = os.path.join(ROOT, "synth", "REPORT.md")
