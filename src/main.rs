@@ -205,6 +205,7 @@ fn render(args: &RenderArgs) -> Result<()> {
     if args.spp == 0 {
         return Err(Error::new("--spp must be at least 1, got 0"));
     }
+    limits::check_photon_memory(params.capacity)?;
     if let Some(e) = args.exposure {
         limits::check_positive("--exposure", e as f64)?;
     }

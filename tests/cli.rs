@@ -507,6 +507,11 @@ fn absurd_sizes_are_refused_up_front() {
     );
     refused(
         dir.path(),
+        &render(&["--photons", "4000000000", "--capacity", "1000000000000"]),
+        "--capacity 1000000000000 photons could need",
+    );
+    refused(
+        dir.path(),
         &render(&["--photons", "4000000000", "--capacity", "1000"]),
         "store more than --capacity 1000 photons (stopped early)",
     );

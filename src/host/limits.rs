@@ -40,6 +40,25 @@ pub fn check_gather_memory(queries: u64, k: usize, photons: u64, what: &str) -> 
     }
 }
 
+/// Bytes one stored photon takes through a render: the photon, its world position,
+/// its packed word, permutation entry and the kd-tree build's working copy.
+const PHOTON_BYTES: u64 = 128;
+
+/// Refuse a photon capacity whose map would not fit [`MEMORY_BUDGET`] (a render
+/// stores up to `--capacity` photons).
+pub fn check_photon_memory(capacity: usize) -> Result<()> {
+    let bytes = (capacity as u64).saturating_mul(PHOTON_BYTES);
+    if bytes <= MEMORY_BUDGET {
+        Ok(())
+    } else {
+        Err(Error::new(format!(
+            "--capacity {capacity} photons could need about {:.1} GiB; the limit is {} GiB",
+            bytes as f64 / (1u64 << 30) as f64,
+            MEMORY_BUDGET >> 30
+        )))
+    }
+}
+
 /// A float option that must be finite and positive (e.g. `--exposure`).
 pub fn check_positive(flag: &str, v: f64) -> Result<()> {
     if v.is_finite() && v > 0.0 {
@@ -66,6 +85,13 @@ mod tests {
             .to_string();
         assert!(e.contains("--spp 64") && e.contains("GiB"), "{e}");
         assert!(check_gather_memory(u64::MAX, usize::MAX, u64::MAX, "x").is_err());
+    }
+
+    #[test]
+    fn photon_capacity_within_the_budget() {
+        assert!(check_photon_memory((1 << 20) - 1).is_ok());
+        let e = check_photon_memory(1 << 40).unwrap_err().to_string();
+        assert!(e.contains("--capacity"), "{e}");
     }
 
     #[test]
