@@ -17,11 +17,13 @@
 //!   from); otherwise climb on, until the root ends the search.
 //!
 //! Where the path memory lives: H - 1 distance registers and a pending bit mask per
-//! QueryModule. They are written one level per result and read one level per
-//! ASCEND cycle, by every QueryModule at once, so a memory shared by the port would
-//! need Q ports; as registers the entry of the current level is a small mux
-//! (H - 1 <= 19 entries), and a LUT-RAM per QueryModule (RAM32M) is the cheaper
-//! mapping left to synthesis.
+//! QueryModule, masked to the configured widths. They are written one level per
+//! result and read one level per ASCEND cycle by every QueryModule at once, so a
+//! memory shared by the port would need Q ports; registers need no new primitive
+//! and simulate as plain rust-hdl DFFs. Measured (synth/REPORT.md): +126 flip-flops
+//! per QueryModule and +35% LUTs for the core. A LUT-RAM per QueryModule (one
+//! RAM32M-class primitive holds 32 × 6 bits) would be cheaper still; it needs a
+//! custom Verilog block like the TreeModule's and is left to the area work (issue 11).
 
 use crate::hw::config::{
     Addr, Coord, CoreConfig, Count, Dist, LevelMask, ModuleIndex, QueryId, ReadCount, SlotMask,
