@@ -1,0 +1,192 @@
+//! `photon-fpga bench-core`: a core simulated on a workload, checked query by query
+//! against the software search, with reads per cycle and per query, and (on request)
+//! kiddo and the software search timed on the same queries.
+
+use super::core_args::CoreArgs;
+use clap::Args;
+use photon_fpga::host::error::{Error, Result};
+use photon_fpga::hw::sim::SimOptions;
+
+#[derive(Args)]
+pub struct BenchCoreArgs {
+    #[command(flatten)]
+    core: CoreArgs,
+    /// Queries to stream through the core.
+    #[arg(long, default_value_t = 400)]
+    queries: usize,
+    /// Seed of the random photon map (2^H − 1 photons) and queries.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// The workload: `uniform` (a full random map of 2^H − 1 photons on the core's
+    /// grid, uniform queries: the paper's) or `cornell` (the Cornell box's photon map
+    /// from --cornell-photons emitted photons on a --bits grid, queried at a 64×64
+    /// image's eye-ray hits; H and the per-axis widths follow the map).
+    #[arg(long, default_value = "uniform", value_parser = ["uniform", "cornell"])]
+    workload: String,
+    /// Emitted photons of the `cornell` workload.
+    #[arg(long, default_value_t = 20_000)]
+    cornell_photons: usize,
+    /// Clock of the core in MHz (e.g. a placed-and-routed fmax from synth/REPORT.md):
+    /// prints the core's queries/s = reads/cycle × fmax / reads per query.
+    #[arg(long)]
+    fmax_mhz: Option<f64>,
+    /// Also time kiddo (ImmutableKdTree, f32) and the software search on the same
+    /// points, queries and k, one thread each, side by side.
+    #[arg(long)]
+    cpu: bool,
+}
+
+/// Stream random queries through the simulated core on a full random map and report
+/// reads per port per cycle, photons visited per query (checked against the
+/// software search) and simulation speed.
+pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
+    use photon_fpga::host::knn::{search_with, Traversal};
+    use photon_fpga::host::workload;
+    use photon_fpga::hw::sim::{CoreSim, HwQuery};
+    let mut cfg = args.core.config()?;
+    let w = if args.workload == "cornell" {
+        let w = workload::cornell(
+            args.cornell_photons,
+            usize::MAX,
+            cfg.layout.bits[0],
+            64,
+            args.seed,
+        );
+        cfg.layout = w.tree.layout;
+        cfg.address_bits = w.tree.address_bits();
+        cfg.validate()?;
+        cfg.check_map(&w.tree)?;
+        // Every query of the image would take too long to simulate: an even sample.
+        let step = (w.queries.len() / args.queries.max(1)).max(1);
+        let queries = w
+            .queries
+            .iter()
+            .step_by(step)
+            .take(args.queries)
+            .copied()
+            .collect();
+        workload::Workload { queries, ..w }
+    } else {
+        let n = (1usize << cfg.address_bits) - 1;
+        workload::uniform(cfg.layout, n, args.queries, args.seed)
+    };
+    let (points, tree) = (&w.points, &w.tree);
+    let n = tree.len();
+    let max = cfg.max_dist();
+    let queries: Vec<HwQuery> = w
+        .queries
+        .iter()
+        .enumerate()
+        .map(|(i, &coords)| HwQuery {
+            id: i as u32,
+            coords,
+            radius: max,
+            k: cfg.k as u32,
+        })
+        .collect();
+    let mut sim = CoreSim::new(&cfg, &SimOptions::default())?;
+    sim.load_map(tree)?;
+    let load_cycles = sim.stats().cycles;
+    let t0 = std::time::Instant::now();
+    let results = sim.run_queries(&queries)?;
+    let secs = t0.elapsed().as_secs_f64();
+    let st = sim.stats().clone();
+    let mut sw_visited = 0u64;
+    let mut sw_tested = 0u64;
+    let mut other_visited = 0u64;
+    for (q, r) in queries.iter().zip(&results) {
+        let f = search_with(tree, q.coords, cfg.k, max, cfg.metric, cfg.traversal);
+        if f.visited != r.visited
+            || f.sorted_dists() != {
+                let mut d: Vec<u64> = r.found.iter().map(|x| x.1).collect();
+                d.sort();
+                d
+            }
+        {
+            return Err(Error::new(format!(
+                "query {}: the core disagrees with the software search",
+                q.id
+            )));
+        }
+        sw_visited += f.visited as u64;
+        sw_tested += f.tested as u64;
+        let other = match cfg.traversal {
+            Traversal::Remember => Traversal::Reread,
+            Traversal::Reread => Traversal::Remember,
+        };
+        other_visited += search_with(tree, q.coords, cfg.k, max, cfg.metric, other).visited as u64;
+    }
+    let cycles = st.cycles - load_cycles;
+    let reads: u64 = st.reads_per_port.iter().sum();
+    let busy_per_port: Vec<String> = st
+        .busy_reads_per_port
+        .iter()
+        .map(|r| format!("{:.3}", *r as f64 / st.busy_cycles.max(1) as f64))
+        .collect();
+    println!(
+        "core: T = {} tree(s), H = {}, K = {}, {} x {} QueryModules per tree, {} metric, {}-bit distances, {} traversal, issue interval {}",
+        cfg.trees,
+        cfg.address_bits,
+        cfg.k,
+        photon_fpga::hw::config::PORTS,
+        cfg.queries_per_port,
+        cfg.metric,
+        cfg.dist_bits(),
+        cfg.traversal,
+        cfg.issue_interval()
+    );
+    println!(
+        "{} photons, {} queries, {} cycles after the load ({} load cycles)",
+        n,
+        queries.len(),
+        cycles,
+        load_cycles
+    );
+    println!(
+        "photons visited per query: {:.1} (software search: {:.1}, equal per query)",
+        reads as f64 / queries.len() as f64,
+        sw_visited as f64 / queries.len() as f64
+    );
+    println!(
+        "distance tests per query: {:.1}",
+        sw_tested as f64 / queries.len() as f64
+    );
+    println!(
+        "photon reads per query with the other ascent (software search, same queries): {:.1}",
+        other_visited as f64 / queries.len() as f64
+    );
+    println!(
+        "reads per cycle (all ports of all trees, whole run): {:.3}",
+        reads as f64 / cycles.max(1) as f64
+    );
+    println!(
+        "reads per port per cycle while every QueryModule is busy ({} cycles): {}",
+        st.busy_cycles,
+        busy_per_port.join(", ")
+    );
+    println!("simulation speed: {:.0} cycles/s", cycles as f64 / secs);
+    let reads_per_query = reads as f64 / queries.len() as f64;
+    let core_qps = args
+        .fmax_mhz
+        .map(|f| reads as f64 / cycles.max(1) as f64 * f * 1e6 / reads_per_query);
+    if let (Some(f), Some(q)) = (args.fmax_mhz, core_qps) {
+        println!(
+            "core queries/s at {f} MHz (given): {q:.0} (simulated reads/cycle x fmax / reads per query)"
+        );
+    }
+    if args.cpu {
+        let coords: Vec<[u32; 3]> = queries.iter().map(|q| q.coords).collect();
+        let min = std::time::Duration::from_millis(200);
+        let cpu =
+            photon_fpga::host::cpu_ref::measure(points, tree, &coords, cfg.k, cfg.metric, min)
+                .map_err(Error::new)?;
+        println!(
+            "cpu queries/s, 1 thread, same queries: kiddo {:.0}, software search {:.0}",
+            cpu.kiddo, cpu.sw
+        );
+        if let Some(q) = core_qps {
+            println!("core / kiddo: {:.2}", q / cpu.kiddo);
+        }
+    }
+    Ok(())
+}
