@@ -284,11 +284,7 @@ fn export_verilog_files_and_errors() {
 
     // Refused exports create nothing (`refused` compares the directory listing).
     let bad = dir.path().join("bad").display().to_string();
-    let export = |extra: &[&str]| {
-        let mut a = strings(&["export-verilog", "--out", &bad]);
-        a.extend(strings(extra));
-        a
-    };
+    let export = |extra: &[&str]| cmdline(&["export-verilog", "--out", &bad], extra);
     refused(
         dir.path(),
         &export(&["--k", "65"]),
@@ -325,6 +321,11 @@ fn export_verilog_files_and_errors() {
 
 fn strings(args: &[&str]) -> Vec<String> {
     args.iter().map(|s| s.to_string()).collect()
+}
+
+/// A command line: `head` then `tail`.
+fn cmdline(head: &[&str], tail: &[&str]) -> Vec<String> {
+    strings(&[head, tail].concat())
 }
 
 /// Run gather successfully and return the output's lines.
@@ -476,11 +477,7 @@ fn a_far_query_changes_no_other_answer() {
 fn absurd_sizes_are_refused_up_front() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("r.png").display().to_string();
-    let render = |extra: &[&str]| {
-        let mut a = strings(&["render", "--out", &out]);
-        a.extend(strings(extra));
-        a
-    };
+    let render = |extra: &[&str]| cmdline(&["render", "--out", &out], extra);
     refused(
         dir.path(),
         &render(&["--photons", "100000000000"]),

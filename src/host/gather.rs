@@ -258,7 +258,7 @@ impl QuantizedMap {
             None => (max, u128::MAX),
             Some(r) => (
                 params.metric.radius_bound(r, quant.step, max),
-                wide_radius_bound(params.metric, r, quant.step),
+                params.metric.radius_bound_wide(r, quant.step),
             ),
         };
         Ok(QuantizedMap {
@@ -492,34 +492,4 @@ impl GatherBackend for RtlBackend {
         }
         Ok(out)
     }
-}
-
-/// The inclusive integer bound of a world radius `r` on a grid of step `step`,
-/// unsaturated (`u128`), for queries outside the photon box: the largest integer
-/// distance d with to_world(d) <= r, as [`Metric::radius_bound`] computes it.
-pub fn wide_radius_bound(metric: Metric, r: f64, step: f64) -> u128 {
-    let x = r / step;
-    let v = match metric {
-        Metric::L2 => x * x,
-        Metric::L1 => x,
-    };
-    if v.is_nan() || v >= u128::MAX as f64 {
-        return u128::MAX;
-    }
-    let ok = |d: u128| match metric {
-        Metric::L2 => (d as f64).sqrt() <= x,
-        Metric::L1 => d as f64 <= x,
-    };
-    let mut b = v.floor() as u128;
-    if v >= (1u64 << 53) as f64 {
-        // Past 2^53 neighbouring integers share one f64: the floor is the bound.
-        return b;
-    }
-    while b < u128::MAX && ok(b + 1) {
-        b += 1;
-    }
-    while b > 0 && !ok(b) {
-        b -= 1;
-    }
-    b
 }

@@ -71,19 +71,37 @@ impl Metric {
         if v.is_nan() || v >= max as f64 {
             max
         } else {
-            // floor, then fix the float rounding of x*x at exact integers.
-            let mut b = v.floor() as u64;
-            while b < max && self.grid_ok(b + 1, x) {
-                b += 1;
-            }
-            while b > 0 && !self.grid_ok(b, x) {
-                b -= 1;
-            }
-            b
+            self.radius_bound_wide(r, step).min(max as u128) as u64
         }
     }
 
-    fn grid_ok(self, d: u64, x: f64) -> bool {
+    /// [`Metric::radius_bound`] unsaturated, for queries outside the photon box: the
+    /// largest integer distance d with d <= (r/step)² (L2) or r/step (L1).
+    pub fn radius_bound_wide(self, r: f64, step: f64) -> u128 {
+        let x = r / step;
+        let v = match self {
+            Metric::L2 => x * x,
+            Metric::L1 => x,
+        };
+        if v.is_nan() || v >= u128::MAX as f64 {
+            return u128::MAX;
+        }
+        let mut b = v.floor() as u128;
+        if v >= (1u64 << 53) as f64 {
+            // Past 2^53 neighbouring integers share one f64: the floor is the bound.
+            return b;
+        }
+        // floor, then fix the float rounding of x*x at exact integers.
+        while self.grid_ok(b + 1, x) {
+            b += 1;
+        }
+        while b > 0 && !self.grid_ok(b, x) {
+            b -= 1;
+        }
+        b
+    }
+
+    fn grid_ok(self, d: u128, x: f64) -> bool {
         match self {
             Metric::L2 => (d as f64).sqrt() <= x,
             Metric::L1 => d as f64 <= x,
