@@ -9,8 +9,8 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
-use photon_fpga::host::kdtree::PackedTree;
-use photon_fpga::host::knn::{search, search_with, Traversal};
+use photon_fpga::host::map::kdtree::PackedTree;
+use photon_fpga::host::map::knn::{search, search_with, Traversal};
 use photon_fpga::host::workload as workloads;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;

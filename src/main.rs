@@ -7,15 +7,15 @@ use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::gather::{make_backend, BackendKind, GatherParams, DEFAULT_CAPACITY};
 use photon_fpga::host::limits::{self, MAX_EMITTED};
 use photon_fpga::host::output::{Output, Staged};
-use photon_fpga::host::photons;
+use photon_fpga::host::render::photons;
+use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::render::{self, RenderSettings};
-use photon_fpga::host::scene::Scene;
 use photon_fpga::host::stages::StageTimes;
 use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::shell::registered_shell;
-use photon_fpga::hw::sim::SimOptions;
+use photon_fpga::hw::rtl::export::export_verilog;
+use photon_fpga::hw::rtl::native::SimOptions;
+use photon_fpga::hw::rtl::shell::registered_shell;
 use photon_fpga::hw::traversal::Traversal;
-use photon_fpga::hw::verilog::export_verilog;
 use std::path::PathBuf;
 
 mod cli;
@@ -86,7 +86,7 @@ impl GatherOpts {
         let path = match &self.vcd {
             Some(p) => p.clone(),
             None if self.backend == BackendKind::Rtl => {
-                match std::env::var_os(photon_fpga::hw::sim::VCD_ENV) {
+                match std::env::var_os(photon_fpga::hw::rtl::native::VCD_ENV) {
                     Some(p) => PathBuf::from(p),
                     None => return Ok(None),
                 }
@@ -291,7 +291,7 @@ struct ExportArgs {
     #[command(flatten)]
     core: CoreArgs,
     /// Also write DIR/shell.v: T replicated cores behind registered byte-wide I/O
-    /// (for place and route; see src/hw/shell.rs).
+    /// (for place and route; see src/hw/rtl/shell.rs).
     #[arg(long)]
     shell_trees: Option<usize>,
     /// Output directory; the core goes to DIR/photon_search_core.v.
@@ -305,12 +305,13 @@ fn export(args: &ExportArgs) -> Result<()> {
         return Err(Error::new("--shell-trees must be at least 1, got 0"));
     }
     // Everything is generated before the directory is made: a failure leaves nothing.
-    let verilog = export_verilog(&cfg)?;
+    let exported = export_verilog(&cfg)?;
+    let verilog = &exported.verilog;
     // Event-driven simulators (Icarus, ISim, ModelSim) hang on the raw export's
     // glitch loops; this rewrite is what the CI cross-simulation runs under Icarus.
-    let sim_verilog = photon_fpga::hw::xsim::glitch_free(&verilog)?;
+    let sim_verilog = photon_fpga::hw::rtl::export::glitch_free(verilog)?;
     let shell = match args.shell_trees {
-        Some(trees) => Some((trees, registered_shell(&verilog, trees)?)),
+        Some(trees) => Some((trees, registered_shell(&exported, trees)?)),
         None => None,
     };
     std::fs::create_dir_all(&args.out)

@@ -3,12 +3,12 @@
 //! every stream, across map reloads; queries spread over all trees; the reads per
 //! cycle scale with T.
 
-mod common;
-use common::*;
+use crate::common::*;
 use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::sim::{run_gather, CoreSim, HwQuery, SimOptions, SimStats};
+use photon_fpga::hw::rtl::driver::{HwQuery, SimStats};
+use photon_fpga::hw::rtl::native::{run_gather, CoreSim, SimOptions};
 
 fn array_config(
     layout: PhotonLayout,
@@ -52,7 +52,7 @@ fn array_matches_software_search() {
             k: 1 + i % cfg.k as u32,
         }));
         for opts in [SimOptions::default(), stalls(seed)] {
-            let (results, stats) = run_gather(&cfg, &tree, &queries, &opts).expect("sim");
+            let (results, stats) = run_gather(&cfg, tree.image(), &queries, &opts).expect("sim");
             check_results(&cfg, &tree, &points, &queries, &results);
             assert_eq!(stats.reads_per_port.len(), 2 * trees);
             // The round robin hands queries to every tree.
@@ -77,15 +77,15 @@ fn array_reload_and_reset() {
     let q1 = random_queries(&mut r, 30, layout, 5, metric);
     let q2 = random_queries(&mut r, 30, layout, 5, metric);
     let mut sim = CoreSim::new(&cfg, &stalls(84)).unwrap();
-    sim.load_map(&t1).unwrap();
+    sim.load_map(t1.image()).unwrap();
     check_results(&cfg, &t1, &first, &q1, &sim.run_queries(&q1).unwrap());
-    sim.load_map(&t2).unwrap();
+    sim.load_map(t2.image()).unwrap();
     check_results(&cfg, &t2, &second, &q2, &sim.run_queries(&q2).unwrap());
     // Abandon a search half way, reset, reload, and search again.
     let partial = sim.run_queries_for(&q1, 60).unwrap();
     assert!(partial.iter().any(Option::is_none), "the run was cut short");
     sim.reset().unwrap();
-    sim.load_map(&t1).unwrap();
+    sim.load_map(t1.image()).unwrap();
     check_results(&cfg, &t1, &first, &q1, &sim.run_queries(&q1).unwrap());
 }
 
@@ -110,9 +110,10 @@ fn reads_per_cycle_scale_with_trees() {
     for trees in [1usize, 2] {
         let cfg = CoreConfig {
             trees,
-            ..CoreConfig::for_map(&tree, 10, Metric::L1).unwrap()
+            ..CoreConfig::for_map(tree.image(), 10, Metric::L1).unwrap()
         };
-        let (results, stats) = run_gather(&cfg, &tree, &queries, &SimOptions::default()).unwrap();
+        let (results, stats) =
+            run_gather(&cfg, tree.image(), &queries, &SimOptions::default()).unwrap();
         check_results(&cfg, &tree, &points, &queries, &results);
         let reads: u64 = stats.reads_per_port.iter().sum();
         per_cycle.push(reads as f64 / stats.cycles as f64);

@@ -2,7 +2,6 @@
 //! the coordinate extremes in both metrics (no overflow), NextIndex against the
 //! traversal rule of knn.rs, TreeModule read-after-write on both ports.
 
-mod common;
 use photon_fpga::hw::axis_dist::AxisDistModule;
 use photon_fpga::hw::dist_module::DistModule;
 use photon_fpga::hw::metric::Metric;
@@ -11,7 +10,7 @@ use photon_fpga::hw::tree_module::TreeModule;
 use rand::Rng;
 use rust_hdl::prelude::*;
 
-use common::settle;
+use crate::common::settle;
 
 /// Independent model of one axis distance.
 fn axis_model(metric: Metric, q: u64, p: u64) -> u64 {
@@ -60,7 +59,7 @@ fn axis_dist_extremes() {
 
 #[test]
 fn dist_extremes_and_range_test() {
-    let mut r = common::rng(3);
+    let mut r = crate::common::rng(3);
     for metric in [Metric::L2, Metric::L1] {
         let mut uut = DistModule::new(metric);
         uut.connect_all();
@@ -107,7 +106,7 @@ fn dist_extremes_and_range_test() {
 
 #[test]
 fn next_index_follows_the_traversal_rule() {
-    let mut r = common::rng(5);
+    let mut r = crate::common::rng(5);
     // 7 address bits: photon counts below 128, child addresses below 256.
     let mut uut = NextIndexModule::new(7);
     uut.connect_all();
@@ -185,7 +184,7 @@ fn tree_module_against_model<const W: usize>(word_bits: u32, seed: u64) {
         (1u64 << word_bits) - 1
     };
     let mut model = vec![0u64; 1 << h];
-    let mut r = common::rng(seed);
+    let mut r = crate::common::rng(seed);
     for _ in 0..500 {
         let a: u64 = r.gen_range(0..1 << h);
         let b: u64 = r.gen_range(0..1 << h);

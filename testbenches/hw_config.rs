@@ -1,7 +1,6 @@
 //! CoreConfig: the paper's core, what `for_map` derives from a map, and the limits.
 
-mod common;
-use common::*;
+use crate::common::*;
 use photon_fpga::hw::config::{CoreConfig, MAX_K, PORTS};
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
@@ -45,7 +44,7 @@ fn for_map_models_only_what_the_scene_needs() {
     ] {
         let tree = pack(&random_points(&mut r, n, layout), layout);
         for metric in [Metric::L2, Metric::L1] {
-            let cfg = CoreConfig::for_map(&tree, 7, metric).unwrap();
+            let cfg = CoreConfig::for_map(tree.image(), 7, metric).unwrap();
             assert_eq!(cfg.address_bits, h, "{n} photons");
             assert!(n < cfg.tree_words());
             assert_eq!(cfg.layout, layout);
@@ -65,12 +64,12 @@ fn for_map_models_only_what_the_scene_needs() {
 fn limits_are_errors_not_panics() {
     let layout = PhotonLayout::new([10, 10, 10]);
     let tree = pack(&[[1, 2, 3]], layout);
-    assert!(CoreConfig::for_map(&tree, 0, Metric::L2).is_err());
-    assert!(CoreConfig::for_map(&tree, MAX_K + 1, Metric::L2).is_err());
-    assert!(CoreConfig::for_map(&tree, MAX_K, Metric::L2).is_ok());
+    assert!(CoreConfig::for_map(tree.image(), 0, Metric::L2).is_err());
+    assert!(CoreConfig::for_map(tree.image(), MAX_K + 1, Metric::L2).is_err());
+    assert!(CoreConfig::for_map(tree.image(), MAX_K, Metric::L2).is_ok());
     // 3 x 11 bits + 2 need the 64-bit word; 16 bits on an axis exceed the datapath.
     let wide = pack(&[[1, 2, 3]], PhotonLayout::new([11, 10, 10]));
-    let cfg = CoreConfig::for_map(&wide, 4, Metric::L1).unwrap();
+    let cfg = CoreConfig::for_map(wide.image(), 4, Metric::L1).unwrap();
     assert_eq!((cfg.layout.word_bits(), cfg.word_width()), (33, 64));
     let paper_word = CoreConfig::paper();
     assert_eq!(
@@ -78,7 +77,7 @@ fn limits_are_errors_not_panics() {
         (32, 32)
     );
     let too_wide = pack(&[[1, 2, 3]], PhotonLayout::new([16, 10, 10]));
-    let err = CoreConfig::for_map(&too_wide, 4, Metric::L1).unwrap_err();
+    let err = CoreConfig::for_map(too_wide.image(), 4, Metric::L1).unwrap_err();
     assert!(err.to_string().contains("coordinate widths"), "{err}");
     cfg.validate().unwrap();
     let mut no_trees = cfg;
@@ -86,7 +85,7 @@ fn limits_are_errors_not_panics() {
     assert!(no_trees.validate().is_err());
     // 15 + 8 + 7 bits fit the word, and L2 still fits 32 distance bits.
     let skewed = pack(&[[1, 2, 3]], PhotonLayout::new([15, 8, 7]));
-    assert!(CoreConfig::for_map(&skewed, 4, Metric::L2).is_ok());
+    assert!(CoreConfig::for_map(skewed.image(), 4, Metric::L2).is_ok());
     let mut cfg = CoreConfig::paper();
     cfg.address_bits = 21;
     assert!(cfg.validate().is_err());
@@ -95,5 +94,5 @@ fn limits_are_errors_not_panics() {
     assert!(cfg.validate().is_err());
     // A map larger than the core.
     let big = pack(&vec![[1, 2, 3]; 1024], layout);
-    assert!(CoreConfig::paper().check_map(&big).is_err());
+    assert!(CoreConfig::paper().check_map(big.image()).is_err());
 }

@@ -2,22 +2,22 @@
 //! slots, same reads) and brute force (same sorted distances): random maps, the hard
 //! cases, random stalls on every stream, two maps loaded one after the other.
 
-mod common;
-use common::*;
+use crate::common::*;
 use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::sim::{run_gather, CoreSim, HwQuery, SimOptions};
+use photon_fpga::hw::rtl::driver::HwQuery;
+use photon_fpga::hw::rtl::native::{run_gather, CoreSim, SimOptions};
 use photon_fpga::hw::traversal::Traversal;
 use rand::Rng;
 
 /// A small core for the map: Q capped to keep the simulation quick.
 fn small_core(
-    tree: &photon_fpga::host::kdtree::PackedTree,
+    tree: &photon_fpga::host::map::kdtree::PackedTree,
     k: usize,
     metric: Metric,
 ) -> CoreConfig {
-    let mut cfg = CoreConfig::for_map(tree, k, metric).expect("config");
+    let mut cfg = CoreConfig::for_map(tree.image(), k, metric).expect("config");
     cfg.queries_per_port = cfg.queries_per_port.min(6);
     cfg
 }
@@ -36,7 +36,8 @@ fn run_case(
             traversal,
             ..small_core(&tree, k, metric)
         };
-        let (results, _) = run_gather(&cfg, &tree, queries, &SimOptions::default()).expect("sim");
+        let (results, _) =
+            run_gather(&cfg, tree.image(), queries, &SimOptions::default()).expect("sim");
         check_results(&cfg, &tree, points, queries, &results);
     }
 }
@@ -179,7 +180,8 @@ fn paper_config_matches_software() {
         q.k = cfg.k as u32;
         q.radius = u64::MAX;
     }
-    let (results, stats) = run_gather(&cfg, &tree, &queries, &SimOptions::default()).expect("sim");
+    let (results, stats) =
+        run_gather(&cfg, tree.image(), &queries, &SimOptions::default()).expect("sim");
     check_results(&cfg, &tree, &points, &queries, &results);
     assert!(
         stats.reads_per_port.iter().all(|&r| r > 0),
@@ -204,7 +206,8 @@ fn wide_found_lists() {
         let tree = pack(&points, layout);
         let cfg = small_core(&tree, k, metric);
         assert_eq!(cfg.slot_bits(), 64);
-        let (results, _) = run_gather(&cfg, &tree, &queries, &SimOptions::default()).expect("sim");
+        let (results, _) =
+            run_gather(&cfg, tree.image(), &queries, &SimOptions::default()).expect("sim");
         check_results(&cfg, &tree, &points, &queries, &results);
         assert!(results.iter().any(|r| r.found.len() == k));
     }
@@ -234,7 +237,8 @@ fn wide_photon_words() {
         let tree = pack(&points, layout);
         let cfg = small_core(&tree, k, metric);
         assert_eq!((cfg.slot_bits(), cfg.word_width()), (32, 64));
-        let (results, _) = run_gather(&cfg, &tree, &queries, &SimOptions::default()).expect("sim");
+        let (results, _) =
+            run_gather(&cfg, tree.image(), &queries, &SimOptions::default()).expect("sim");
         check_results(&cfg, &tree, &points, &queries, &results);
         assert!(results.iter().any(|r| r.found.len() == k));
     }
@@ -253,7 +257,7 @@ fn random_stalls_on_every_stream() {
             vcd: None,
             stall_seed: Some(seed),
         };
-        let (results, _) = run_gather(&cfg, &tree, &queries, &opts).expect("sim");
+        let (results, _) = run_gather(&cfg, tree.image(), &queries, &opts).expect("sim");
         check_results(&cfg, &tree, &points, &queries, &results);
     }
 }
@@ -278,14 +282,14 @@ fn two_maps_one_after_the_other() {
             },
         )
         .unwrap();
-        sim.load_map(&t1).unwrap();
+        sim.load_map(t1.image()).unwrap();
         check_results(&cfg, &t1, &first, &q1, &sim.run_queries(&q1).unwrap());
         // Second map without reset: a smaller map over the larger one.
-        sim.load_map(&t2).unwrap();
+        sim.load_map(t2.image()).unwrap();
         check_results(&cfg, &t2, &second, &q2, &sim.run_queries(&q2).unwrap());
         // Back to the first map, with a reset in between.
         sim.reset().unwrap();
-        sim.load_map(&t1).unwrap();
+        sim.load_map(t1.image()).unwrap();
         check_results(&cfg, &t1, &first, &q1, &sim.run_queries(&q1).unwrap());
     }
 }
@@ -302,20 +306,20 @@ fn rejects_what_it_cannot_do() {
         radius: 5,
         k: 5,
     }];
-    assert!(run_gather(&cfg, &tree, &bad_k, &SimOptions::default()).is_err());
+    assert!(run_gather(&cfg, tree.image(), &bad_k, &SimOptions::default()).is_err());
     let bad_coord = [HwQuery {
         id: 0,
         coords: [64, 1, 1],
         radius: 5,
         k: 1,
     }];
-    assert!(run_gather(&cfg, &tree, &bad_coord, &SimOptions::default()).is_err());
+    assert!(run_gather(&cfg, tree.image(), &bad_coord, &SimOptions::default()).is_err());
     // Too wide for the 32-bit word / distance datapath, too many slots.
     let wide = pack(&points, PhotonLayout::new([16, 16, 16]));
-    assert!(CoreConfig::for_map(&wide, 4, Metric::L2).is_err());
-    assert!(CoreConfig::for_map(&tree, 65, Metric::L2).is_err());
+    assert!(CoreConfig::for_map(wide.image(), 4, Metric::L2).is_err());
+    assert!(CoreConfig::for_map(tree.image(), 65, Metric::L2).is_err());
     let other_layout = pack(&points, PhotonLayout::new([6, 6, 7]));
-    assert!(run_gather(&cfg, &other_layout, &[], &SimOptions::default()).is_err());
+    assert!(run_gather(&cfg, other_layout.image(), &[], &SimOptions::default()).is_err());
 }
 
 #[test]
@@ -332,7 +336,7 @@ fn vcd_trace_is_streamed() {
         vcd: Some(path.clone()),
         stall_seed: None,
     };
-    let (results, stats) = run_gather(&cfg, &tree, &queries, &opts).expect("sim");
+    let (results, stats) = run_gather(&cfg, tree.image(), &queries, &opts).expect("sim");
     check_results(&cfg, &tree, &points, &queries, &results);
     let vcd = std::fs::read_to_string(&path).unwrap();
     assert!(vcd.contains("$enddefinitions"));
@@ -356,7 +360,7 @@ fn reset_in_the_middle_of_a_search() {
     let cfg = small_core(&tree, 6, metric);
     let queries = random_queries(&mut r, 30, layout, 6, metric);
     let mut sim = CoreSim::new(&cfg, &SimOptions::default()).unwrap();
-    sim.load_map(&tree).unwrap();
+    sim.load_map(tree.image()).unwrap();
     for cycles in [3u64, 57, 200] {
         let partial = sim.run_queries_for(&queries, cycles).unwrap();
         assert!(
@@ -365,7 +369,7 @@ fn reset_in_the_middle_of_a_search() {
         );
         sim.reset().unwrap();
         // The map survives a reset but must be reloaded to be searched again.
-        sim.load_map(&tree).unwrap();
+        sim.load_map(tree.image()).unwrap();
         check_results(
             &cfg,
             &tree,
@@ -417,7 +421,7 @@ fn pruned_ascent_reads_only_the_descent_path() {
                 ..small_core(&tree, 3, metric)
             };
             let (results, _) =
-                run_gather(&cfg, &tree, &queries, &SimOptions::default()).expect("sim");
+                run_gather(&cfg, tree.image(), &queries, &SimOptions::default()).expect("sim");
             for (q, res) in queries.iter().zip(&results) {
                 assert!(res.found.is_empty());
                 let d = depth(q.coords);

@@ -4,13 +4,14 @@
 //! brute force (sorted distances), for both metrics and a bounded radius.
 
 use photon_fpga::host::gather::{GatherParams, QuantizedMap};
-use photon_fpga::host::knn::{brute_force, search_with};
-use photon_fpga::host::photons::trace_photons;
+use photon_fpga::host::map::knn::{brute_force, search_with};
+use photon_fpga::host::render::photons::trace_photons;
+use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::render::{self, eye_queries, RenderSettings};
-use photon_fpga::host::scene::Scene;
 use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::sim::{run_gather, HwQuery, SimOptions};
+use photon_fpga::hw::rtl::driver::HwQuery;
+use photon_fpga::hw::rtl::native::{run_gather, SimOptions};
 
 #[test]
 fn cornell_box_maps_match_the_software_search() {
@@ -32,7 +33,7 @@ fn cornell_box_maps_match_the_software_search() {
             ..GatherParams::default()
         };
         let map = QuantizedMap::new(&photons, &params).unwrap();
-        let cfg = CoreConfig::for_map(&map.tree, k, metric).unwrap();
+        let cfg = CoreConfig::for_map(map.tree.image(), k, metric).unwrap();
         let hw: Vec<HwQuery> = queries
             .iter()
             .enumerate()
@@ -47,7 +48,7 @@ fn cornell_box_maps_match_the_software_search() {
             stall_seed: Some(17),
             ..SimOptions::default()
         };
-        let (results, _) = run_gather(&cfg, &map.tree, &hw, &opts).unwrap();
+        let (results, _) = run_gather(&cfg, map.tree.image(), &hw, &opts).unwrap();
         let grid: Vec<[u32; 3]> = photons.iter().map(|&p| map.quant.quantize(p)).collect();
         assert_eq!(results.len(), hw.len());
         for (q, r) in hw.iter().zip(&results) {

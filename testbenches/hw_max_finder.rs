@@ -1,7 +1,6 @@
 //! MaxFinder (paper §4.4) against a plain `iter().max()` model: random lists, all
 //! equal lists, ties (the lowest slot wins), one cycle per distance bit.
 
-mod common;
 use photon_fpga::hw::max_finder::MaxFinder;
 use rand::Rng;
 use rust_hdl::prelude::*;
@@ -21,7 +20,7 @@ impl<const S: usize> Bench<S> {
         b
     }
     fn settle(&mut self) {
-        common::settle(&mut self.uut);
+        crate::common::settle(&mut self.uut);
     }
     fn tick(&mut self) {
         self.uut.clock.next = true.into();
@@ -96,7 +95,7 @@ fn check_list<const S: usize>(b: &mut Bench<S>, list: &[u64]) {
 
 #[test]
 fn random_lists() {
-    let mut r = common::rng(7);
+    let mut r = crate::common::rng(7);
     for &bits in &[1u32, 5, 12, 22, 32] {
         let mut b = Bench::<32>::new(bits);
         let top = if bits == 64 {
@@ -127,7 +126,7 @@ fn all_equal_and_extremes() {
 
 #[test]
 fn ties_pick_the_lowest_slot() {
-    let mut r = common::rng(11);
+    let mut r = crate::common::rng(11);
     let mut b = Bench::<32>::new(12);
     for _ in 0..40 {
         let k = r.gen_range(2..=32usize);
@@ -143,7 +142,7 @@ fn ties_pick_the_lowest_slot() {
 /// The 64-bit slot masks of K > 32 (K = 50 and all 64 slots), ties included.
 #[test]
 fn wide_lists() {
-    let mut r = common::rng(13);
+    let mut r = crate::common::rng(13);
     for &bits in &[12u32, 32] {
         let mut b = Bench::<64>::new(bits);
         let top = (1u64 << bits) - 1;

@@ -4,8 +4,8 @@
 //! duplicate), the AXI-stream rule (a presented beat stays put until taken), full
 //! throughput with no stalls, and that registered outputs change only at clock edges.
 
-mod common;
-use photon_fpga::hw::result_register::ResultRegister;
+use photon_fpga::hw::register_slice::ResultRegister;
+use photon_fpga::hw::stream::ResultBeat;
 use rand::Rng;
 use rust_hdl::prelude::*;
 
@@ -41,7 +41,7 @@ impl Bench {
         b
     }
     fn settle(&mut self) {
-        common::settle(&mut self.uut);
+        crate::common::settle(&mut self.uut);
     }
     fn tick(&mut self) {
         self.uut.clock.next = true.into();
@@ -51,32 +51,34 @@ impl Bench {
     }
     fn drive(&mut self, valid: bool, b: &Beat) {
         let u = &mut self.uut;
-        u.in_valid.next = valid;
-        u.in_header.next = b.0;
-        u.in_last.next = b.1;
-        u.in_id.next = b.2.into();
-        u.in_count.next = b.3.into();
-        u.in_visited.next = b.4.into();
-        u.in_address.next = b.5.into();
-        u.in_dist.next = b.6.into();
+        u.inbound.valid.next = valid;
+        u.inbound.data.next = ResultBeat {
+            header: b.0,
+            last: b.1,
+            id: b.2.into(),
+            count: b.3.into(),
+            visited: b.4.into(),
+            address: b.5.into(),
+            distance: b.6.into(),
+        };
     }
     fn out_beat(&self) -> Beat {
-        let u = &self.uut;
+        let o = self.uut.outbound.data.val();
         (
-            u.out_header.val(),
-            u.out_last.val(),
-            u.out_id.val().to_u64(),
-            u.out_count.val().to_u64(),
-            u.out_visited.val().to_u64(),
-            u.out_address.val().to_u64(),
-            u.out_dist.val().to_u64(),
+            o.header,
+            o.last,
+            o.id.to_u64(),
+            o.count.to_u64(),
+            o.visited.to_u64(),
+            o.address.to_u64(),
+            o.distance.to_u64(),
         )
     }
 }
 
 /// Stream `n` beats with the given valid / ready probabilities; returns the cycles.
 fn stream(bypass: bool, n: u64, p_valid: f64, p_ready: f64, seed: u64) -> usize {
-    let mut r = common::rng(seed);
+    let mut r = crate::common::rng(seed);
     let mut bench = Bench::new(bypass);
     let beats: Vec<Beat> = (0..n).map(|i| random_beat(&mut r, i)).collect();
     let mut sent = 0usize;
@@ -97,30 +99,30 @@ fn stream(bypass: bool, n: u64, p_valid: f64, p_ready: f64, seed: u64) -> usize 
         let beat = beats.get(sent).copied().unwrap_or_default();
         let driven = offering;
         bench.drive(driven, &beat);
-        bench.uut.out_ready.next = r.gen_bool(p_ready);
+        bench.uut.outbound.ready.next = r.gen_bool(p_ready);
         bench.settle();
-        if bench.uut.out_valid.val() {
+        if bench.uut.outbound.valid.val() {
             let b = bench.out_beat();
             if let Some(s) = stalled {
                 assert_eq!(b, s, "a stalled beat changed before it was taken");
             }
-            if bench.uut.out_ready.val() {
+            if bench.uut.outbound.ready.val() {
                 received.push(b);
                 stalled = None;
             } else {
                 stalled = Some(b);
             }
         }
-        if offering && bench.uut.in_ready.val() {
+        if offering && bench.uut.inbound.ready.val() {
             sent += 1;
             offering = false;
         }
         // Registered outputs must not follow the inputs within a cycle.
         if !bypass {
-            let before = (bench.uut.out_valid.val(), bench.out_beat());
+            let before = (bench.uut.outbound.valid.val(), bench.out_beat());
             bench.drive(!driven, &random_beat(&mut r, 999));
             bench.settle();
-            assert_eq!((bench.uut.out_valid.val(), bench.out_beat()), before);
+            assert_eq!((bench.uut.outbound.valid.val(), bench.out_beat()), before);
             bench.drive(driven, &beat);
             bench.settle();
         }
@@ -154,15 +156,15 @@ fn full_throughput() {
 fn in_ready_is_registered() {
     // in_ready must not depend on out_ready within a cycle in the registered build.
     let mut bench = Bench::new(false);
-    let mut r = common::rng(7);
+    let mut r = crate::common::rng(7);
     for _ in 0..300 {
         bench.drive(r.gen_bool(0.8), &random_beat(&mut r, 1));
-        bench.uut.out_ready.next = r.gen_bool(0.3);
+        bench.uut.outbound.ready.next = r.gen_bool(0.3);
         bench.settle();
-        let ready = bench.uut.in_ready.val();
-        bench.uut.out_ready.next = !bench.uut.out_ready.val();
+        let ready = bench.uut.inbound.ready.val();
+        bench.uut.outbound.ready.next = !bench.uut.outbound.ready.val();
         bench.settle();
-        assert_eq!(bench.uut.in_ready.val(), ready);
+        assert_eq!(bench.uut.inbound.ready.val(), ready);
         bench.tick();
     }
 }

@@ -2,13 +2,13 @@
 //! stream, each TreeModule port reads a photon (almost) every cycle. Also reports
 //! simulation speed and photons visited per query against the software search.
 
-mod common;
-use common::*;
-use photon_fpga::host::knn;
+use crate::common::*;
+use photon_fpga::host::map::knn;
 use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::sim::{run_gather, HwQuery, SimOptions};
+use photon_fpga::hw::rtl::driver::HwQuery;
+use photon_fpga::hw::rtl::native::{run_gather, SimOptions};
 use photon_fpga::hw::traversal::Traversal;
 use rand::Rng;
 use std::time::Instant;
@@ -36,7 +36,7 @@ fn throughput(
             ..CoreConfig::paper()
         }
     } else {
-        CoreConfig::for_map(&tree, 10, metric).expect("config")
+        CoreConfig::for_map(tree.image(), 10, metric).expect("config")
     };
     let cfg = CoreConfig { traversal, ..cfg };
     let qs: Vec<HwQuery> = (0..queries)
@@ -48,7 +48,8 @@ fn throughput(
         })
         .collect();
     let start = Instant::now();
-    let (results, stats) = run_gather(&cfg, &tree, &qs, &SimOptions::default()).expect("sim");
+    let (results, stats) =
+        run_gather(&cfg, tree.image(), &qs, &SimOptions::default()).expect("sim");
     let secs = start.elapsed().as_secs_f64();
     check_results(&cfg, &tree, &points, &qs, &results);
     let sw_visited: u64 = qs

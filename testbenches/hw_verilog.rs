@@ -5,7 +5,9 @@
 use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::verilog::export_verilog;
+use photon_fpga::hw::port_arbiter::PortArbiter;
+use photon_fpga::hw::rtl::export::{export_block, export_verilog, glitch_free};
+use photon_fpga::hw::rtl::ports::Port;
 use std::process::Command;
 
 /// The tests below run only where build.rs found the tools (or under CI=true).
@@ -29,7 +31,7 @@ fn run(cmd: &mut Command, what: &str) {
 }
 
 fn check_config(cfg: &CoreConfig) {
-    let verilog = export_verilog(cfg).expect("export");
+    let verilog = export_verilog(cfg).expect("export").verilog;
     assert!(verilog.contains("module top"));
     let w = cfg.layout.word_bits();
     assert!(
@@ -149,4 +151,73 @@ fn export_rejects_unsupported_configs() {
         cfg.queries_per_port = q;
         assert!(export_verilog(&cfg).is_err(), "K = {k}, Q = {q} accepted");
     }
+}
+
+/// An independent reading of `module top`'s port declarations in the Verilog text.
+fn parse_top_ports(verilog: &str) -> Vec<Port> {
+    let start = verilog.find("module top(").expect("module top");
+    let mut ports = vec![];
+    for line in verilog[start..].lines().skip(1) {
+        let t = line.trim();
+        let input = t.starts_with("input ");
+        if !input && !t.starts_with("output ") {
+            if ports.is_empty() && (t.is_empty() || t.starts_with("//")) {
+                continue;
+            }
+            break;
+        }
+        let decl = t.trim_end_matches(';');
+        let name = decl.split_whitespace().last().unwrap().to_string();
+        let width = match (decl.find('['), decl.find(':')) {
+            (Some(a), Some(b)) if a < b => decl[a + 1..b].trim().parse::<usize>().unwrap() + 1,
+            _ => 1,
+        };
+        ports.push(Port { name, input, width });
+    }
+    ports
+}
+
+/// The port list taken from the block (cross-simulation, shell) is the one the
+/// exported `module top` declares, for the core and for an array.
+#[test]
+fn block_ports_are_the_exported_ports() {
+    for trees in [1, 2] {
+        let cfg = CoreConfig {
+            trees,
+            ..CoreConfig::paper()
+        };
+        let e = export_verilog(&cfg).unwrap();
+        let parsed = parse_top_ports(&e.verilog);
+        assert!(parsed.len() >= 14, "{parsed:?}");
+        assert_eq!(e.ports, parsed, "T = {trees}");
+        assert!(e.ports.iter().any(|p| p.name == "query$data" && p.input));
+        assert!(e.ports.iter().any(|p| p.name == "result$data" && !p.input));
+    }
+}
+
+/// Golden files pin rust-hdl's output format that the post-processing reads (the
+/// export of one small block) and the glitch-free rewrite of it. After a deliberate
+/// change, regenerate with `PHOTON_FPGA_UPDATE_GOLDEN=1 cargo test --test hw golden`
+/// and review the diff.
+#[test]
+fn export_and_glitch_free_match_golden_files() {
+    let e = export_block(PortArbiter::default()).unwrap();
+    let rewritten = glitch_free(&e.verilog).unwrap();
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("testbenches/golden");
+    for (file, text) in [
+        ("port_arbiter.v", &e.verilog),
+        ("port_arbiter_glitch_free.v", &rewritten),
+    ] {
+        let path = dir.join(file);
+        if std::env::var_os("PHOTON_FPGA_UPDATE_GOLDEN").is_some() {
+            std::fs::create_dir_all(&dir).unwrap();
+            std::fs::write(&path, text).unwrap();
+        }
+        let golden =
+            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(text, &golden, "{file} differs from its golden file");
+    }
+    // The rewrite computes into shadows and copies once at the end of the block.
+    assert!(rewritten.contains("__xs"));
+    assert!(!e.verilog.contains("__xs"));
 }

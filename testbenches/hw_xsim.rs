@@ -1,5 +1,5 @@
 //! Cycle-exact cross-simulation: the rust-hdl simulation of the core records the
-//! input vector of every cycle and every handshake (src/hw/xsim.rs documents both
+//! input vector of every cycle and every handshake (src/hw/rtl/xsim.rs documents both
 //! files); the exported Verilog replays the stimulus blindly under Icarus Verilog
 //! and Verilator and must write the same response file byte for byte, so every
 //! load, query and result beat moves at the same cycle with the same bits. The
@@ -12,24 +12,25 @@
 //! trees), a K = 40 configuration with
 //! 12-bit coordinates (64-bit slot masks and photon words) and the paper configuration
 //! (random maps, a map reloaded after queries, a Cornell-box map, hard cases). Icarus simulates the
-//! `xsim::glitch_free` rewrite of the export (the raw export loops forever in
+//! `export::glitch_free` rewrite of the export (the raw export loops forever in
 //! Icarus at the first result beat; see there). Without a simulator its tests are
 //! ignored (build.rs); under CI=true a missing simulator fails.
 //! `PHOTON_FPGA_XSIM_DIR=dir` keeps every file (plus a hand-replay directory per case).
 
-mod common;
-use common::*;
+use crate::common::*;
 use photon_fpga::host::gather::{GatherParams, QuantizedMap};
-use photon_fpga::host::photons::trace_photons;
+use photon_fpga::host::map::kdtree::PackedTree;
+use photon_fpga::host::render::photons::trace_photons;
+use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::render::{self, eye_queries, RenderSettings};
-use photon_fpga::host::scene::Scene;
 use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::sim::HwQuery;
+use photon_fpga::hw::rtl::driver::HwQuery;
+use photon_fpga::hw::rtl::export::export_verilog;
+use photon_fpga::hw::rtl::xsim::{self, XsimMap, XsimRun};
+use photon_fpga::hw::rtl::xsim_tb::{self, Simulator};
 use photon_fpga::hw::traversal::Traversal;
-use photon_fpga::hw::verilog::export_verilog;
-use photon_fpga::hw::xsim::{self, Simulator, XsimMap, XsimRun};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -42,7 +43,8 @@ fn require(sim: Simulator) {
 /// A map with the grid points it was built from (for brute force).
 struct Map {
     points: Vec<[u32; 3]>,
-    xmap: XsimMap,
+    tree: PackedTree,
+    queries: Vec<HwQuery>,
 }
 
 struct Case {
@@ -55,7 +57,8 @@ fn map(points: Vec<[u32; 3]>, layout: PhotonLayout, queries: Vec<HwQuery>) -> Ma
     let tree = pack(&points, layout);
     Map {
         points,
-        xmap: XsimMap { tree, queries },
+        tree,
+        queries,
     }
 }
 
@@ -132,10 +135,8 @@ fn cornell(photons: usize, bits: u32, k: usize, metric: Metric, nq: usize) -> (M
         .collect();
     let m = Map {
         points,
-        xmap: XsimMap {
-            tree: qmap.tree.clone(),
-            queries,
-        },
+        tree: qmap.tree.clone(),
+        queries,
     };
     (m, qmap)
 }
@@ -144,10 +145,10 @@ fn cornell(photons: usize, bits: u32, k: usize, metric: Metric, nq: usize) -> (M
 /// H = 5, K = 3, Q = 2 per port, squared L2. Returns it with the Cornell map.
 fn small() -> (CoreConfig, Map) {
     let (m, qmap) = cornell(24, 6, 3, Metric::L2, 3);
-    let mut cfg = CoreConfig::for_map(&qmap.tree, 3, Metric::L2).unwrap();
+    let mut cfg = CoreConfig::for_map(qmap.tree.image(), 3, Metric::L2).unwrap();
     cfg.address_bits = 5;
     cfg.queries_per_port = 2;
-    cfg.check_map(&m.xmap.tree).unwrap();
+    cfg.check_map(m.tree.image()).unwrap();
     (cfg, m)
 }
 
@@ -193,7 +194,7 @@ fn wide_cases() -> (CoreConfig, Vec<Case>) {
     let mut a = random_points(&mut r, 90, layout);
     a.extend(vec![[2049, 9, 4000]; 30]);
     let tree = pack(&a, layout);
-    let mut cfg = CoreConfig::for_map(&tree, 40, Metric::L1).unwrap();
+    let mut cfg = CoreConfig::for_map(tree.image(), 40, Metric::L1).unwrap();
     cfg.queries_per_port = 3;
     assert_eq!((cfg.slot_bits(), cfg.word_width()), (64, 64));
     let mut qa = random_queries(&mut r, 6, layout, cfg.k, cfg.metric);
@@ -260,15 +261,22 @@ fn record(cfg: &CoreConfig, cases: &[Case]) -> Vec<XsimRun> {
         .iter()
         .map(|case| {
             let t = Instant::now();
-            let maps: Vec<XsimMap> = case.maps.iter().map(|m| m.xmap.clone()).collect();
+            let maps: Vec<XsimMap> = case
+                .maps
+                .iter()
+                .map(|m| XsimMap {
+                    tree: m.tree.image(),
+                    queries: m.queries.clone(),
+                })
+                .collect();
             let run = xsim::record(cfg, &maps, Some(case.stall_seed)).unwrap();
             for (m, results) in case.maps.iter().zip(&run.results) {
-                check_results(cfg, &m.xmap.tree, &m.points, &m.xmap.queries, results);
+                check_results(cfg, &m.tree, &m.points, &m.queries, results);
             }
             eprintln!(
                 "{}: rust-hdl recorded {} cycles, {} response lines in {:.1?}",
                 case.name,
-                run.cycles(),
+                run.cycles,
                 run.responses.lines().count(),
                 t.elapsed()
             );
@@ -301,23 +309,22 @@ fn cross_simulate(
     runs: &[XsimRun],
 ) -> Result<(), String> {
     let (_keep, dir) = work_dir(&format!("{label}_{}", sim.name()));
-    let max_cycles = runs.iter().map(XsimRun::cycles).max().unwrap();
+    let max_cycles = runs.iter().map(|r| r.cycles).max().unwrap();
     let t = Instant::now();
-    let word_bits = runs[0].word_bits;
-    xsim::build(sim, &dir, verilog, max_cycles, word_bits).unwrap();
+    xsim_tb::build(sim, &dir, verilog, &runs[0].ports, max_cycles).unwrap();
     eprintln!("{label}: {} build {:.1?}", sim.name(), t.elapsed());
     for (case, run) in cases.iter().zip(runs) {
         if std::env::var_os("PHOTON_FPGA_XSIM_DIR").is_some() {
-            xsim::write_replay_dir(&dir.join(format!("{}_replay", case.name)), verilog, run)
+            xsim_tb::write_replay_dir(&dir.join(format!("{}_replay", case.name)), verilog, run)
                 .unwrap();
         }
         let t = Instant::now();
-        let got = xsim::replay(sim, &dir, case.name, run).unwrap();
+        let got = xsim_tb::replay(sim, &dir, case.name, run).unwrap();
         eprintln!(
             "{label}/{}: {} replayed {} cycles in {:.1?}",
             case.name,
             sim.name(),
-            run.cycles(),
+            run.cycles,
             t.elapsed()
         );
         if let Err(m) = xsim::compare(&run.responses, &got) {
@@ -353,7 +360,7 @@ fn small_and_paper(sim: Simulator) {
         ("paper", paper_cases()),
     ] {
         let runs = record(&cfg, &cases);
-        let verilog = export_verilog(&cfg).unwrap();
+        let verilog = export_verilog(&cfg).unwrap().verilog;
         cross_simulate(sim, label, &verilog, &cases, &runs).unwrap();
     }
 }
@@ -389,7 +396,7 @@ fn broken_export_is_caught() {
         .filter(|c| c.name == "small_random_two_maps")
         .collect();
     let runs = record(&cfg, &cases);
-    let verilog = export_verilog(&cfg).unwrap();
+    let verilog = export_verilog(&cfg).unwrap().verilog;
     let hits = verilog.matches(GOOD).count();
     assert!(hits > 0, "mutation site `{GOOD}` not found in the export");
     let broken = verilog.replacen(GOOD, BAD, 1);

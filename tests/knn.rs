@@ -1,9 +1,9 @@
 //! The software search (the hardware's reference) and the float baseline against
 //! brute force, on random maps and every hard case of issue 2.
 
-use photon_fpga::host::kdtree::{left_subtree_size, KdTree, PackedTree};
-use photon_fpga::host::knn::{brute_force, search, search_with, Coord, Traversal};
-use photon_fpga::host::quantize::Quantizer;
+use photon_fpga::host::map::kdtree::{left_subtree_size, KdTree, PackedTree};
+use photon_fpga::host::map::knn::{brute_force, search, search_with, Scalar, Traversal};
+use photon_fpga::host::map::quantize::Quantizer;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
 use rand::{Rng, SeedableRng};
@@ -74,7 +74,7 @@ fn check(points: &[[u32; 3]], q: [u32; 3], k: usize, r0: u64, metric: Metric) {
     let fr0 = if r0 >= 1 << 52 {
         f64::MAX_DIST
     } else {
-        photon_fpga::host::knn::FloatDist::new(r0 as f64)
+        photon_fpga::host::map::knn::FloatDist::new(r0 as f64)
     };
     let ffound = search(&ftree, fq, k, fr0, metric);
     let fd: Vec<u64> = ffound

@@ -3,12 +3,12 @@
 
 use assert_cmd::Command;
 use photon_fpga::host::gather::{GatherParams, SwBackend};
-use photon_fpga::host::kdtree::PackedTree;
-use photon_fpga::host::knn::{brute_force, search};
-use photon_fpga::host::photons::trace_photons;
-use photon_fpga::host::quantize::Quantizer;
+use photon_fpga::host::map::kdtree::PackedTree;
+use photon_fpga::host::map::knn::{brute_force, search};
+use photon_fpga::host::map::quantize::Quantizer;
+use photon_fpga::host::render::photons::trace_photons;
+use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::render::{self, eye_queries, render_image, RenderSettings};
-use photon_fpga::host::scene::Scene;
 use photon_fpga::host::stages::StageTimes;
 use photon_fpga::hw::metric::Metric;
 

@@ -5,7 +5,7 @@
 use super::core_args::CoreArgs;
 use clap::Args;
 use photon_fpga::host::error::{Error, Result};
-use photon_fpga::hw::sim::SimOptions;
+use photon_fpga::hw::rtl::native::SimOptions;
 
 #[derive(Args)]
 pub struct BenchCoreArgs {
@@ -40,9 +40,10 @@ pub struct BenchCoreArgs {
 /// reads per port per cycle, photons visited per query (checked against the
 /// software search) and simulation speed.
 pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
-    use photon_fpga::host::knn::{search_with, Traversal};
+    use photon_fpga::host::map::knn::{search_with, Traversal};
     use photon_fpga::host::workload;
-    use photon_fpga::hw::sim::{CoreSim, HwQuery};
+    use photon_fpga::hw::rtl::driver::HwQuery;
+    use photon_fpga::hw::rtl::native::CoreSim;
     let mut cfg = args.core.config()?;
     let w = if args.workload == "cornell" {
         let w = workload::cornell(
@@ -55,7 +56,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         cfg.layout = w.tree.layout;
         cfg.address_bits = w.tree.address_bits();
         cfg.validate()?;
-        cfg.check_map(&w.tree)?;
+        cfg.check_map(w.tree.image())?;
         // Every query of the image would take too long to simulate: an even sample.
         let step = (w.queries.len() / args.queries.max(1)).max(1);
         let queries = w
@@ -85,7 +86,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         })
         .collect();
     let mut sim = CoreSim::new(&cfg, &SimOptions::default())?;
-    sim.load_map(tree)?;
+    sim.load_map(tree.image())?;
     let load_cycles = sim.stats().cycles;
     let t0 = std::time::Instant::now();
     let results = sim.run_queries(&queries)?;
@@ -178,7 +179,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         let coords: Vec<[u32; 3]> = queries.iter().map(|q| q.coords).collect();
         let min = std::time::Duration::from_millis(200);
         let cpu =
-            photon_fpga::host::cpu_ref::measure(points, tree, &coords, cfg.k, cfg.metric, min)
+            photon_fpga::host::map::cpu_ref::measure(points, tree, &coords, cfg.k, cfg.metric, min)
                 .map_err(Error::new)?;
         println!(
             "cpu queries/s, 1 thread, same queries: kiddo {:.0}, software search {:.0}",

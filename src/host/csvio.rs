@@ -4,10 +4,10 @@
 //! blank lines skipped; LF, CRLF or CR-only line endings. Every error names the file,
 //! the line (as an editor counts it) and the offending text.
 
-use super::error::{Error, Result};
-use super::gather::Gathered;
-use super::output::Output;
-use super::quantize::Point;
+use crate::host::error::{Error, Result};
+use crate::host::gather::Gathered;
+use crate::host::map::quantize::Point;
+use crate::host::output::Output;
 use std::path::Path;
 
 /// Largest coordinate magnitude accepted: the squared L2 distance of two points

@@ -1,9 +1,11 @@
-//! One error type for everything a user can get wrong: the CLI prints it and exits 2.
+//! The host's error: everything a user can get wrong, what and where (file, line,
+//! value). The CLI prints it and exits 2.
 
-use std::fmt;
+use crate::hw::error::HwError;
 
 /// A user-facing error: what is wrong and where (file, line, value).
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
 pub struct Error(pub String);
 
 impl Error {
@@ -12,12 +14,10 @@ impl Error {
     }
 }
 
-impl fmt::Display for Error {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
+impl From<HwError> for Error {
+    fn from(e: HwError) -> Self {
+        Error(e.to_string())
     }
 }
-
-impl std::error::Error for Error {}
 
 pub type Result<T> = std::result::Result<T, Error>;

@@ -2,13 +2,14 @@
 //! goes through one of these, so the simulated hardware can replace the software
 //! search without the caller changing.
 
-use super::error::{Error, Result};
-use super::kdtree::{KdTree, PackedTree};
-use super::knn::{self, Coord, FloatDist};
-use super::quantize::{GridPoint, Point, Quantizer};
+use crate::host::error::{Error, Result};
+use crate::host::map::kdtree::{KdTree, PackedTree};
+use crate::host::map::knn::{self, FloatDist, Scalar};
+use crate::host::map::quantize::{GridPoint, Point, Quantizer};
 use crate::hw::config::CoreConfig;
 use crate::hw::metric::Metric;
-use crate::hw::sim::{run_gather, HwQuery, SimOptions, SimStats};
+use crate::hw::rtl::driver::{HwQuery, SimStats};
+use crate::hw::rtl::native::{run_gather, SimOptions};
 use crate::hw::traversal::Traversal;
 use rayon::prelude::*;
 use std::fmt;
@@ -405,7 +406,7 @@ pub struct RtlBackend {
 impl RtlBackend {
     pub fn new(photons: &[Point], params: &GatherParams, options: SimOptions) -> Result<Self> {
         let map = QuantizedMap::new(photons, params)?;
-        let mut config = CoreConfig::for_map(&map.tree, params.k, params.metric)?;
+        let mut config = CoreConfig::for_map(map.tree.image(), params.k, params.metric)?;
         config.traversal = params.traversal;
         Ok(RtlBackend {
             map,
@@ -461,16 +462,24 @@ impl GatherBackend for RtlBackend {
         // QueryModule or simulation serves it, so independent simulations of the
         // core on chunks of the stream give the same results for any thread count.
         // A waveform dump wants one simulation.
-        let chunks =
-            if self.options.vcd.is_some() || std::env::var_os(crate::hw::sim::VCD_ENV).is_some() {
-                1
-            } else {
-                rayon::current_num_threads().max(1)
-            };
+        let chunks = if self.options.vcd.is_some()
+            || std::env::var_os(crate::hw::rtl::native::VCD_ENV).is_some()
+        {
+            1
+        } else {
+            rayon::current_num_threads().max(1)
+        };
         let size = hw.len().div_ceil(chunks).max(1);
         let runs: Vec<_> = hw
             .par_chunks(size)
-            .map(|chunk| run_gather(&self.config, &m.tree, chunk, &self.options))
+            .map(|chunk| {
+                Ok(run_gather(
+                    &self.config,
+                    m.tree.image(),
+                    chunk,
+                    &self.options,
+                )?)
+            })
             .collect::<Result<_>>()?;
         let mut out: Vec<Gathered> = vec![Gathered::default(); queries.len()];
         let mut stats = self.stats.lock().expect("stats lock");

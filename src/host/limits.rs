@@ -2,7 +2,7 @@
 //! that cannot be served is refused with a clear error (exit 2), never met with an
 //! allocator abort or a run that eats memory until it is killed.
 
-use super::error::{Error, Result};
+use crate::host::error::{Error, Result};
 
 /// Photons emitted by one render at most (`--photons`); the trace also stops as
 /// soon as more photons are stored than the map's capacity.

@@ -1,20 +1,16 @@
-//! The host side (paper §4): scene, photon tracing, kd-tree build and packing,
-//! software kNN reference, renderer and the gather backends.
+//! The host side (paper §4): the photon map (`map`), the gather backends that run
+//! it in software or on the simulated core (`gather`, `csvio`), the renderer
+//! (`render`) and the shared plumbing (errors, limits, atomic output, timing).
+//!
+//! Layers, lowest first (tests/layers.rs checks them): `error`, `limits`,
+//! `output`, `stages` → `map` → `gather`, `csvio` → `render` → `workload`.
 
-pub mod cpu_ref;
 pub mod csvio;
 pub mod error;
 pub mod gather;
-pub mod geometry;
-pub mod kdtree;
-pub mod knn;
 pub mod limits;
+pub mod map;
 pub mod output;
-pub mod photons;
-pub mod quantize;
 pub mod render;
-pub mod scene;
-pub mod scene_file;
-pub mod scene_scale;
 pub mod stages;
 pub mod workload;

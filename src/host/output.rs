@@ -13,7 +13,7 @@
 //!   temporary file to write, renamed by [`Staged::commit`] once the whole run has
 //!   succeeded and deleted if it is dropped.
 
-use super::error::{Error, Result};
+use crate::host::error::{Error, Result};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 

@@ -2,11 +2,11 @@
 //! paper's (§3: photons uniform on the 10-bit grid, uniform queries) and a
 //! Cornell-box photon map queried at the renderer's eye-ray hits.
 
-use super::kdtree::{KdTree, PackedTree};
-use super::photons::trace_photons;
-use super::quantize::{GridPoint, Quantizer};
-use super::render::{self, eye_queries, RenderSettings};
-use super::scene::Scene;
+use crate::host::map::kdtree::{KdTree, PackedTree};
+use crate::host::map::quantize::{GridPoint, Quantizer};
+use crate::host::render::photons::trace_photons;
+use crate::host::render::scene::Scene;
+use crate::host::render::{self, eye_queries, RenderSettings};
 use crate::hw::photon_word::PhotonLayout;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;

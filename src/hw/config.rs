@@ -12,10 +12,9 @@
 //! [`dispatch_widths`]). The limits are checked by [`CoreConfig::validate`], which
 //! returns an error instead of panicking.
 
-use crate::host::error::Error;
-use crate::host::kdtree::PackedTree;
+use crate::hw::error::HwError;
 use crate::hw::metric::Metric;
-use crate::hw::photon_word::PhotonLayout;
+use crate::hw::photon_word::{PhotonLayout, TreeImage};
 use crate::hw::traversal::Traversal;
 use rust_hdl::prelude::Bits;
 
@@ -124,7 +123,7 @@ impl CoreConfig {
     /// (H = the tree height, the tree's own coordinate widths, K = k) with Q set to
     /// the issue interval of a QueryModule, so a port reads every cycle when all its
     /// QueryModules are busy.
-    pub fn for_map(tree: &PackedTree, k: usize, metric: Metric) -> Result<Self, Error> {
+    pub fn for_map(tree: TreeImage<'_>, k: usize, metric: Metric) -> Result<Self, HwError> {
         let mut cfg = CoreConfig {
             layout: tree.layout,
             address_bits: tree.address_bits().max(1),
@@ -197,48 +196,47 @@ impl CoreConfig {
     }
 
     /// Check every limit of the fixed-width datapath.
-    pub fn validate(&self) -> Result<(), Error> {
+    pub fn validate(&self) -> Result<(), HwError> {
         let b = self.layout.bits;
         if b.iter().any(|&w| w == 0 || w > MAX_HW_COORD_BITS) {
-            return Err(Error::new(format!(
-                "hardware core: coordinate widths {b:?} unsupported (1..={MAX_HW_COORD_BITS} bits per axis)"
+            return Err(HwError::Config(format!(
+                "coordinate widths {b:?} unsupported (1..={MAX_HW_COORD_BITS} bits per axis)"
             )));
         }
         if self.layout.word_bits() > MAX_WORD_BITS {
-            return Err(Error::new(format!(
-                "hardware core: photon word of {} bits exceeds the {MAX_WORD_BITS}-bit TreeModule word (coordinate widths {b:?})",
+            return Err(HwError::Config(format!("photon word of {} bits exceeds the {MAX_WORD_BITS}-bit TreeModule word (coordinate widths {b:?})",
                 self.layout.word_bits()
             )));
         }
         if self.dist_bits() > MAX_DIST_BITS {
-            return Err(Error::new(format!(
-                "hardware core: {} distance needs {} bits, the datapath has {MAX_DIST_BITS}",
+            return Err(HwError::Config(format!(
+                "{} distance needs {} bits, the datapath has {MAX_DIST_BITS}",
                 self.metric,
                 self.dist_bits()
             )));
         }
         if self.address_bits == 0 || self.address_bits > MAX_ADDRESS_BITS {
-            return Err(Error::new(format!(
-                "hardware core: {} address bits unsupported (1..={MAX_ADDRESS_BITS}, at most {} photons)",
+            return Err(HwError::Config(format!(
+                "{} address bits unsupported (1..={MAX_ADDRESS_BITS}, at most {} photons)",
                 self.address_bits,
                 (1u64 << MAX_ADDRESS_BITS) - 1
             )));
         }
         if self.k == 0 || self.k > MAX_K {
-            return Err(Error::new(format!(
-                "hardware core: K = {} unsupported (1..={MAX_K})",
+            return Err(HwError::Config(format!(
+                "K = {} unsupported (1..={MAX_K})",
                 self.k
             )));
         }
         if self.trees == 0 || self.trees > MAX_TREES {
-            return Err(Error::new(format!(
-                "hardware core: {} replicated trees unsupported (1..={MAX_TREES})",
+            return Err(HwError::Config(format!(
+                "{} replicated trees unsupported (1..={MAX_TREES})",
                 self.trees
             )));
         }
         if self.queries_per_port == 0 || self.queries_per_port > MAX_QUERIES_PER_PORT {
-            return Err(Error::new(format!(
-                "hardware core: {} QueryModules per port unsupported (1..={MAX_QUERIES_PER_PORT})",
+            return Err(HwError::Config(format!(
+                "{} QueryModules per port unsupported (1..={MAX_QUERIES_PER_PORT})",
                 self.queries_per_port
             )));
         }
@@ -246,19 +244,19 @@ impl CoreConfig {
     }
 
     /// Check that `tree` fits this core (layout and photon count).
-    pub fn check_map(&self, tree: &PackedTree) -> Result<(), Error> {
+    pub fn check_map(&self, tree: TreeImage<'_>) -> Result<(), HwError> {
         if tree.layout != self.layout {
-            return Err(Error::new(format!(
-                "hardware core: map layout {:?} differs from the core's {:?}",
+            return Err(HwError::Config(format!(
+                "map layout {:?} differs from the core's {:?}",
                 tree.layout.bits, self.layout.bits
             )));
         }
         if tree.is_empty() {
-            return Err(Error::new("hardware core: empty photon map"));
+            return Err(HwError::Config("empty photon map".into()));
         }
         if tree.len() >= self.tree_words() {
-            return Err(Error::new(format!(
-                "hardware core: {} photons do not fit {} address bits (at most {})",
+            return Err(HwError::Config(format!(
+                "{} photons do not fit {} address bits (at most {})",
                 tree.len(),
                 self.address_bits,
                 self.tree_words() - 1

@@ -23,7 +23,7 @@
 //! SearchModule stages, insertion, one MaxFinder cycle per distance bit, the R
 //! update; 5 + distance bits unpipelined); with Q >= that interval a
 //! port reads a photon every cycle while all its QueryModules are busy. Results are
-//! bit-identical to `host::knn::search_with` (same slots, same number of reads) for
+//! bit-identical to `host::map::knn::search_with` (same slots, same number of reads) for
 //! the configured [`traversal::Traversal`]: by default a QueryModule remembers each
 //! level's axis distance on the way down and climbs back up without reads (one
 //! level per cycle, no port slot); `Reread` is the paper's ascent, which reads every
@@ -38,20 +38,20 @@ pub mod array;
 pub mod axis_dist;
 pub mod config;
 pub mod core;
+pub mod dispatcher;
 pub mod dist_module;
+pub mod error;
 pub mod max_finder;
 pub mod metric;
 pub mod next_index;
+pub mod packet_merge;
 pub mod photon_word;
 pub mod port_arbiter;
 pub mod query_module;
-pub mod result_register;
+pub mod register_slice;
+pub mod rtl;
 pub mod search_module;
 pub mod search_port;
-pub mod shell;
-pub mod sim;
-pub mod top;
+pub mod stream;
 pub mod traversal;
 pub mod tree_module;
-pub mod verilog;
-pub mod xsim;

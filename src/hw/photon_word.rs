@@ -3,7 +3,7 @@
 //!
 //! Layout, LSB first: `x` (`bits[0]`), `y` (`bits[1]`), `z` (`bits[2]`), then the
 //! 2-bit split axis (0 = x, 1 = y, 2 = z). Each axis carries only the bits its own
-//! extent needs (see `host::quantize`), so a flat scene packs into a narrower word.
+//! extent needs (see `host::map::quantize`), so a flat scene packs into a narrower word.
 
 /// Widest coordinate an axis may carry. 16 bits keeps a word within 50 bits and the
 /// squared-L2 distance within 35 bits, and bounds what a user can ask of the hardware.
@@ -84,5 +84,30 @@ impl PhotonLayout {
             ],
             self.axis(word),
         )
+    }
+}
+
+/// What the core loads: the packed words of a left-balanced kd-tree in heap order
+/// (`words[0]` unused, photons at addresses 1..=N) and their layout. The host's
+/// packed tree lends one out; the hardware needs nothing else from the map.
+#[derive(Clone, Copy, Debug)]
+pub struct TreeImage<'a> {
+    pub layout: PhotonLayout,
+    pub words: &'a [u64],
+}
+
+impl TreeImage<'_> {
+    /// Photon count N.
+    pub fn len(&self) -> usize {
+        self.words.len().saturating_sub(1)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Address bits H that hold addresses 1..=N.
+    pub fn address_bits(&self) -> u32 {
+        usize::BITS - self.len().leading_zeros()
     }
 }

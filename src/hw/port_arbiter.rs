@@ -4,7 +4,12 @@
 //! them are busy.
 //!
 //! Round robin on one-hot masks: requests above the last grant win first, else the
-//! lowest request wraps around; "lowest set bit" is `x & (!x + 1)`.
+//! lowest request wraps around; "lowest set bit" is `x & (!x + 1)`. The turn moves
+//! only when the user says the grant was used (`advance`, e.g. a stream beat moved),
+//! as in verilog-axis' `arbiter` with ARB_BLOCK_ACK; `hold` keeps granting the last
+//! grant (a packet in progress, [`crate::hw::packet_merge`]). The same block picks
+//! the reading QueryModule of a port, the core or tree a query goes to
+//! ([`crate::hw::dispatcher`]) and the source of the next result packet.
 
 use crate::hw::config::ModuleMask;
 use rust_hdl::prelude::*;
@@ -14,6 +19,10 @@ pub struct PortArbiter {
     pub clock: Signal<In, Clock>,
     /// Bit i: QueryModule i requests a read.
     pub requests: Signal<In, ModuleMask>,
+    /// The grant was used this cycle: the next turn starts after it.
+    pub advance: Signal<In, bool>,
+    /// Grant the last grant again, whatever the requests.
+    pub hold: Signal<In, bool>,
     /// One-hot grant (zero when nobody requests).
     pub grant: Signal<Out, ModuleMask>,
     pub granted: Signal<Out, bool>,
@@ -28,13 +37,15 @@ impl Logic for PortArbiter {
         dff_setup!(self, clock, last_grant);
         self.at_or_below_last.next = (self.last_grant.q.val() << 1) - 1;
         self.above_last.next = self.requests.val() & (!self.at_or_below_last.val());
-        if self.above_last.val().any() {
+        if self.hold.val() {
+            self.grant.next = self.last_grant.q.val();
+        } else if self.above_last.val().any() {
             self.grant.next = self.above_last.val() & ((!self.above_last.val()) + 1);
         } else {
             self.grant.next = self.requests.val() & ((!self.requests.val()) + 1);
         }
         self.granted.next = self.requests.val().any();
-        if self.granted.val() {
+        if self.advance.val() {
             self.last_grant.d.next = self.grant.val();
         }
     }

@@ -2,19 +2,17 @@
 //! round-robin PortArbiter and its own SearchModule, plus the hand-out of queries to
 //! free QueryModules and the read-out of finished ones as a result stream.
 //!
-//! Result stream, one beat per cycle when valid & ready: a header beat (`header`,
-//! id, count, visited; `last` iff count = 0), then `count` entry beats (heap address
-//! and distance in found-list slot order; `last` on the final one). The beats pass
+//! Result stream, one beat per cycle when valid & ready: a header beat, then `count`
+//! entry beats in found-list slot order ([`ResultBeat`]). The beats pass
 //! through a [`ResultRegister`], so with `CoreConfig::pipelined` every result
-//! output is a flip-flop and a result leaves one cycle after it is read out.
+//! outbound is a flip-flop and a result leaves one cycle after it is read out.
 
-use crate::hw::config::{
-    Addr, Coord, CoreConfig, Count, Dist, ModuleMask, QueryId, ReadCount, SlotMask, Word,
-};
+use crate::hw::config::{Addr, CoreConfig, Count, ModuleMask, SlotMask, Word};
 use crate::hw::port_arbiter::PortArbiter;
 use crate::hw::query_module::QueryModule;
-use crate::hw::result_register::ResultRegister;
+use crate::hw::register_slice::ResultRegister;
 use crate::hw::search_module::SearchModule;
+use crate::hw::stream::{QueryBeat, ResultBeat, StreamIn, StreamOut};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
@@ -25,25 +23,10 @@ pub struct SearchPort<const S: usize, const W: usize> {
     /// TreeModule port: read address now, word next cycle.
     pub ram_address: Signal<Out, Addr>,
     pub ram_data: Signal<In, Word<W>>,
-    // Query hand-out (valid/ready).
-    pub query_valid: Signal<In, bool>,
-    pub query_ready: Signal<Out, bool>,
-    pub query_id: Signal<In, QueryId>,
-    pub query_x: Signal<In, Coord>,
-    pub query_y: Signal<In, Coord>,
-    pub query_z: Signal<In, Coord>,
-    pub query_radius: Signal<In, Dist>,
-    pub query_k: Signal<In, Count>,
-    // Result stream (valid/ready).
-    pub result_valid: Signal<Out, bool>,
-    pub result_ready: Signal<In, bool>,
-    pub result_header: Signal<Out, bool>,
-    pub result_last: Signal<Out, bool>,
-    pub result_id: Signal<Out, QueryId>,
-    pub result_count: Signal<Out, Count>,
-    pub result_visited: Signal<Out, ReadCount>,
-    pub result_address: Signal<Out, Addr>,
-    pub result_dist: Signal<Out, Dist>,
+    /// Queries, ready while a QueryModule is free.
+    pub query: StreamIn<QueryBeat>,
+    /// Result packets.
+    pub result: StreamOut<ResultBeat>,
     /// Status: a read was granted this cycle; every QueryModule is occupied; none is.
     pub reading: Signal<Out, bool>,
     pub all_busy: Signal<Out, bool>,
@@ -60,12 +43,7 @@ pub struct SearchPort<const S: usize, const W: usize> {
     finished_mask: Signal<Local, ModuleMask>,
     result_fire: Signal<Local, bool>,
     /// The beat being read out, before the ResultRegister.
-    beat_last: Signal<Local, bool>,
-    beat_id: Signal<Local, QueryId>,
-    beat_count: Signal<Local, Count>,
-    beat_visited: Signal<Local, ReadCount>,
-    beat_address: Signal<Local, Addr>,
-    beat_dist: Signal<Local, Dist>,
+    beat: Signal<Local, ResultBeat>,
     out_active: DFF<bool>,
     out_select: DFF<ModuleMask>,
     out_header: DFF<bool>,
@@ -82,23 +60,8 @@ impl<const S: usize, const W: usize> SearchPort<S, W> {
             photon_count: Default::default(),
             ram_address: Default::default(),
             ram_data: Default::default(),
-            query_valid: Default::default(),
-            query_ready: Default::default(),
-            query_id: Default::default(),
-            query_x: Default::default(),
-            query_y: Default::default(),
-            query_z: Default::default(),
-            query_radius: Default::default(),
-            query_k: Default::default(),
-            result_valid: Default::default(),
-            result_ready: Default::default(),
-            result_header: Default::default(),
-            result_last: Default::default(),
-            result_id: Default::default(),
-            result_count: Default::default(),
-            result_visited: Default::default(),
-            result_address: Default::default(),
-            result_dist: Default::default(),
+            query: Default::default(),
+            result: Default::default(),
             reading: Default::default(),
             all_busy: Default::default(),
             idle: Default::default(),
@@ -112,12 +75,7 @@ impl<const S: usize, const W: usize> SearchPort<S, W> {
             load_pick: Default::default(),
             finished_mask: Default::default(),
             result_fire: Default::default(),
-            beat_last: Default::default(),
-            beat_id: Default::default(),
-            beat_count: Default::default(),
-            beat_visited: Default::default(),
-            beat_address: Default::default(),
-            beat_dist: Default::default(),
+            beat: Default::default(),
             out_active: Default::default(),
             out_select: Default::default(),
             out_header: Default::default(),
@@ -156,17 +114,21 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
                 .replace_bit(i, self.modules[i].finished.val());
         }
         self.arbiter.requests.next = self.requests.val();
+        // One read per cycle: every grant is used.
+        self.arbiter.hold.next = false;
+        self.arbiter.advance.next = self.arbiter.granted.val();
         // Hand a query to the lowest free module.
         self.load_pick.next = self.free_mask.val() & ((!self.free_mask.val()) + 1);
-        self.query_ready.next = self.free_mask.val().any();
+        self.query.ready.next = self.free_mask.val().any();
 
         // Read-out sequencer signals (registered state, see below).
-        self.result_fire.next = self.out_active.q.val() && self.result_register.in_ready.val();
-        self.beat_id.next = 0.into();
-        self.beat_count.next = 0.into();
-        self.beat_visited.next = 0.into();
-        self.beat_address.next = 0.into();
-        self.beat_dist.next = 0.into();
+        self.result_fire.next = self.out_active.q.val() && self.result_register.inbound.ready.val();
+        self.beat.next.header = self.out_header.q.val();
+        self.beat.next.id = 0.into();
+        self.beat.next.count = 0.into();
+        self.beat.next.visited = 0.into();
+        self.beat.next.address = 0.into();
+        self.beat.next.distance = 0.into();
 
         // The granted read goes to the TreeModule and, with its context, the SearchModule.
         self.ram_address.next = 0.into();
@@ -211,55 +173,43 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
             self.modules[i].result_axis_dist.next = self.search.result_axis_dist.val();
             self.modules[i].result_far_pending.next = self.search.result_far_pending.val();
             // Query hand-out broadcast; only the picked module loads.
-            self.modules[i].load.next = self.query_valid.val() && self.load_pick.val().get_bit(i);
-            self.modules[i].load_id.next = self.query_id.val();
-            self.modules[i].load_x.next = self.query_x.val();
-            self.modules[i].load_y.next = self.query_y.val();
-            self.modules[i].load_z.next = self.query_z.val();
-            self.modules[i].load_radius.next = self.query_radius.val();
-            self.modules[i].load_k.next = self.query_k.val();
+            self.modules[i].load.next = self.query.valid.val() && self.load_pick.val().get_bit(i);
+            self.modules[i].load_id.next = self.query.data.val().id;
+            self.modules[i].load_x.next = self.query.data.val().x;
+            self.modules[i].load_y.next = self.query.data.val().y;
+            self.modules[i].load_z.next = self.query.data.val().z;
+            self.modules[i].load_radius.next = self.query.data.val().radius;
+            self.modules[i].load_k.next = self.query.data.val().k;
             // Result read-out from the selected module; only it sees a slot.
             self.modules[i].out_slot.next = 0.into();
             if self.out_select.q.val().get_bit(i) {
                 self.modules[i].out_slot.next = self.out_slot.q.val();
-                self.beat_id.next = self.modules[i].out_id.val();
-                self.beat_count.next = self.modules[i].out_count.val();
-                self.beat_visited.next = self.modules[i].out_visited.val();
-                self.beat_address.next = self.modules[i].out_address.val();
-                self.beat_dist.next = self.modules[i].out_dist.val();
+                self.beat.next.id = self.modules[i].out_id.val();
+                self.beat.next.count = self.modules[i].out_count.val();
+                self.beat.next.visited = self.modules[i].out_visited.val();
+                self.beat.next.address = self.modules[i].out_address.val();
+                self.beat.next.distance = self.modules[i].out_dist.val();
             }
         }
         if self.out_header.q.val() {
-            self.beat_last.next = self.beat_count.val() == 0;
+            self.beat.next.last = self.beat.val().count == 0;
         } else {
-            self.beat_last.next = self.out_left.q.val() == 1;
+            self.beat.next.last = self.out_left.q.val() == 1;
         }
         // The last beat frees the selected module.
         for i in 0..self.modules.len() {
             self.modules[i].result_taken.next = self.result_fire.val()
-                && self.beat_last.val()
+                && self.beat.val().last
                 && self.out_select.q.val().get_bit(i);
         }
         // The beat leaves through the ResultRegister.
         self.result_register.clock.next = self.clock.val();
         self.result_register.reset.next = self.reset.val();
-        self.result_register.in_valid.next = self.out_active.q.val();
-        self.result_register.in_header.next = self.out_header.q.val();
-        self.result_register.in_last.next = self.beat_last.val();
-        self.result_register.in_id.next = self.beat_id.val();
-        self.result_register.in_count.next = self.beat_count.val();
-        self.result_register.in_visited.next = self.beat_visited.val();
-        self.result_register.in_address.next = self.beat_address.val();
-        self.result_register.in_dist.next = self.beat_dist.val();
-        self.result_register.out_ready.next = self.result_ready.val();
-        self.result_valid.next = self.result_register.out_valid.val();
-        self.result_header.next = self.result_register.out_header.val();
-        self.result_last.next = self.result_register.out_last.val();
-        self.result_id.next = self.result_register.out_id.val();
-        self.result_count.next = self.result_register.out_count.val();
-        self.result_visited.next = self.result_register.out_visited.val();
-        self.result_address.next = self.result_register.out_address.val();
-        self.result_dist.next = self.result_register.out_dist.val();
+        self.result_register.inbound.valid.next = self.out_active.q.val();
+        self.result_register.inbound.data.next = self.beat.val();
+        self.result_register.outbound.ready.next = self.result.ready.val();
+        self.result.valid.next = self.result_register.outbound.valid.val();
+        self.result.data.next = self.result_register.outbound.data.val();
 
         // Read-out sequencer: pick a finished module, stream header then entries.
         if !self.out_active.q.val() {
@@ -273,12 +223,12 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
             if self.out_header.q.val() {
                 self.out_header.d.next = false;
                 self.out_slot.d.next = 1.into();
-                self.out_left.d.next = self.beat_count.val();
+                self.out_left.d.next = self.beat.val().count;
             } else {
                 self.out_slot.d.next = self.out_slot.q.val() << 1;
                 self.out_left.d.next = self.out_left.q.val() - 1;
             }
-            if self.beat_last.val() {
+            if self.beat.val().last {
                 self.out_active.d.next = false;
                 self.out_select.d.next = 0.into();
                 self.out_slot.d.next = 0.into();

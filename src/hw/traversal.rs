@@ -1,5 +1,5 @@
 //! How the kd-tree search climbs back up: the one switch the software search
-//! (`host::knn`) and the hardware (QueryModule, NextIndexModule) share.
+//! (`host::map::knn`) and the hardware (QueryModule, NextIndexModule) share.
 //!
 //! The paper's search (§2.2, §4.3) keeps no stack: on the way back up it reads every
 //! parent again, only to recompute the axis distance it already had on the way down

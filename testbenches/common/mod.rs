@@ -2,12 +2,12 @@
 //! hardware result against the software search and brute force.
 #![allow(dead_code)]
 
-use photon_fpga::host::kdtree::{KdTree, PackedTree};
-use photon_fpga::host::knn;
+use photon_fpga::host::map::kdtree::{KdTree, PackedTree};
+use photon_fpga::host::map::knn;
 use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::sim::{HwQuery, HwResult};
+use photon_fpga::hw::rtl::driver::{HwQuery, HwResult};
 use rand::Rng;
 use rand_pcg::Pcg64;
 use rust_hdl::prelude::{simulate, Block};

@@ -43,7 +43,7 @@
 //! power = [10, 10, 10]      # total emitted flux per channel
 //! ```
 
-pub use super::geometry::{
+pub use crate::host::render::geometry::{
     cosine_direction, glass_scatter, reflect, AreaLight, Camera, Hit, Material, Quad, Ray, Sphere,
     Surface, RAY_EPSILON,
 };
@@ -66,7 +66,7 @@ pub struct Scene {
 impl Scene {
     /// The default Cornell box (`scenes/cornell.toml`, compiled in).
     pub fn cornell_box() -> Scene {
-        Scene::from_toml_str(include_str!("../../scenes/cornell.toml"), "cornell.toml")
+        Scene::from_toml_str(include_str!("../../../scenes/cornell.toml"), "cornell.toml")
             .expect("the built-in Cornell box scene is valid")
     }
 

@@ -5,7 +5,7 @@
 //! stay isotropic; each axis then gets only the bits its own extent needs, which is
 //! how a flat or long scene packs into a narrower photon word.
 
-use super::error::{Error, Result};
+use crate::host::error::{Error, Result};
 use crate::hw::photon_word::{PhotonLayout, MAX_COORD_BITS};
 
 /// A world position.

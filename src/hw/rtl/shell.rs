@@ -11,60 +11,19 @@
 //! With `trees > 1` this is also the paper's future work (§5): T complete copies of
 //! the core (tree, SearchModules, QueryModules), each serving its own queries.
 
-use crate::host::error::{Error, Result};
+use crate::hw::error::HwError;
+use crate::hw::rtl::export::Exported;
+use crate::hw::rtl::ports::Port;
 
-/// One port of the exported `top` module.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Port {
-    pub name: String,
-    pub input: bool,
-    pub width: usize,
-}
-
-/// The ports of `module top` in rust-hdl's exported Verilog.
-pub fn top_ports(verilog: &str) -> Result<Vec<Port>> {
-    let start = verilog
-        .find("module top(")
-        .ok_or_else(|| Error::new("exported Verilog has no `module top`"))?;
-    let mut ports = Vec::new();
-    for line in verilog[start..].lines().skip(1) {
-        let t = line.trim();
-        let input = t.starts_with("input ");
-        if !input && !t.starts_with("output ") {
-            if ports.is_empty() && (t.is_empty() || t.starts_with("//")) {
-                continue;
-            }
-            break;
-        }
-        let decl = t.trim_end_matches(';');
-        let name = decl
-            .split_whitespace()
-            .last()
-            .unwrap_or_default()
-            .to_string();
-        let width =
-            match (decl.find('['), decl.find(':')) {
-                (Some(a), Some(b)) if a < b => {
-                    decl[a + 1..b].trim().parse::<usize>().map_err(|_| {
-                        Error::new(format!("cannot read the width of port `{decl}`"))
-                    })? + 1
-                }
-                _ => 1,
-            };
-        ports.push(Port { name, input, width });
-    }
-    if ports.is_empty() {
-        return Err(Error::new("`module top` declares no ports"));
-    }
-    Ok(ports)
-}
-
-/// `module shell`: the core(s) of `verilog` behind registered, byte-wide I/O.
-pub fn registered_shell(verilog: &str, trees: usize) -> Result<String> {
+/// `module shell`: `trees` copies of the exported core behind registered, byte-wide
+/// I/O (the Verilog of the shell alone; the core's module comes with the export).
+pub fn registered_shell(core: &Exported, trees: usize) -> Result<String, HwError> {
     if trees == 0 {
-        return Err(Error::new("registered shell: at least one core, got 0"));
+        return Err(HwError::Export(
+            "registered shell: at least one core, got 0".into(),
+        ));
     }
-    let ports = top_ports(verilog)?;
+    let ports = &core.ports;
     let data_in: Vec<&Port> = ports
         .iter()
         .filter(|p| p.input && p.name != "clock" && p.name != "reset")
@@ -99,7 +58,7 @@ pub fn registered_shell(verilog: &str, trees: usize) -> Result<String> {
         );
         let mut conns = vec![".clock(clock)".to_string(), ".reset(reset_q)".to_string()];
         let (mut ib, mut ob) = (0, 0);
-        for p in &ports {
+        for p in ports {
             if p.name == "clock" || p.name == "reset" {
                 continue;
             }

@@ -7,13 +7,13 @@
 //! the gather's canonical order. Two backends that return the same neighbours
 //! therefore produce bit-identical images, which is how the hardware is checked.
 
-use super::error::{Error, Result};
-use super::gather::{GatherBackend, GatherParams, Gathered};
-use super::output::Output;
-use super::photons::{stream_rng, Photon};
-use super::quantize::Point;
-use super::scene::{glass_scatter, reflect, Material, Ray, Scene, Surface};
-use super::stages::StageTimes;
+use crate::host::error::{Error, Result};
+use crate::host::gather::{GatherBackend, GatherParams, Gathered};
+use crate::host::map::quantize::Point;
+use crate::host::output::Output;
+use crate::host::render::photons::{stream_rng, Photon};
+use crate::host::render::scene::{glass_scatter, reflect, Material, Ray, Scene, Surface};
+use crate::host::stages::StageTimes;
 use crate::hw::metric::Metric;
 use glam::Vec3;
 use rand::Rng;
@@ -301,7 +301,7 @@ pub fn save_png(img: &image::RgbImage, out: &Output) -> Result<()> {
 mod tests {
     use super::*;
     use crate::host::gather::{FloatBackend, GatherParams, Neighbour, SwBackend};
-    use crate::host::scene::Scene;
+    use crate::host::render::scene::Scene;
 
     /// Photons on a square grid of spacing `h` over [-1, 1]² in the plane z = 0,
     /// each of power `phi`, arriving from +z.

@@ -39,111 +39,12 @@
 //!   before that photon's own insertion (the hardware's SearchModule computes the
 //!   next address in parallel with the distance), which only ever explores more.
 
-use super::kdtree::{KdTree, PackedTree};
+use crate::host::map::kdtree::{KdTree, PackedTree};
+pub use crate::host::map::scalar::{FloatDist, Scalar};
 use crate::hw::metric::Metric;
 pub use crate::hw::traversal::Traversal;
-use std::cmp::{Ordering, Reverse};
+use std::cmp::Reverse;
 use std::collections::BinaryHeap;
-
-/// A coordinate type the kd-tree and the search work on: `u32` grid coordinates or
-/// `f64` world coordinates.
-pub trait Coord: Copy + Send + Sync + std::fmt::Debug + 'static {
-    /// Distance values; totally ordered.
-    type Dist: Copy + Ord + Send + Sync + std::fmt::Debug;
-    /// The largest distance (an unbounded radius).
-    const MAX_DIST: Self::Dist;
-    fn total_cmp(a: Self, b: Self) -> Ordering;
-    /// hi − lo as f64, to pick the split axis.
-    fn extent(lo: Self, hi: Self) -> f64;
-    fn axis_dist(metric: Metric, a: Self, b: Self) -> Self::Dist;
-    fn dist(metric: Metric, a: [Self; 3], b: [Self; 3]) -> Self::Dist;
-}
-
-impl Coord for u32 {
-    type Dist = u64;
-    const MAX_DIST: u64 = u64::MAX;
-    fn total_cmp(a: u32, b: u32) -> Ordering {
-        a.cmp(&b)
-    }
-    fn extent(lo: u32, hi: u32) -> f64 {
-        (hi - lo) as f64
-    }
-    #[inline]
-    fn axis_dist(metric: Metric, a: u32, b: u32) -> u64 {
-        metric.axis_dist(a, b)
-    }
-    #[inline]
-    fn dist(metric: Metric, a: [u32; 3], b: [u32; 3]) -> u64 {
-        metric.dist(a, b)
-    }
-}
-
-/// Grid coordinates beyond the photon box (a query outside it, `gather::GridPoint`):
-/// signed, |c| < 2^62, with exact `u128` distances (3 × (2^63)² < 2^128).
-impl Coord for i64 {
-    type Dist = u128;
-    const MAX_DIST: u128 = u128::MAX;
-    fn total_cmp(a: i64, b: i64) -> Ordering {
-        a.cmp(&b)
-    }
-    fn extent(lo: i64, hi: i64) -> f64 {
-        hi as f64 - lo as f64
-    }
-    #[inline]
-    fn axis_dist(metric: Metric, a: i64, b: i64) -> u128 {
-        let d = a.abs_diff(b) as u128;
-        match metric {
-            Metric::L2 => d * d,
-            Metric::L1 => d,
-        }
-    }
-    #[inline]
-    fn dist(metric: Metric, a: [i64; 3], b: [i64; 3]) -> u128 {
-        (0..3).map(|i| Self::axis_dist(metric, a[i], b[i])).sum()
-    }
-}
-
-/// A non-negative float distance, ordered by its bit pattern (monotonic for
-/// non-negative IEEE values).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct FloatDist(u64);
-
-impl FloatDist {
-    pub fn new(d: f64) -> Self {
-        debug_assert!(d >= 0.0);
-        FloatDist((d + 0.0).to_bits())
-    }
-    pub fn get(self) -> f64 {
-        f64::from_bits(self.0)
-    }
-}
-
-impl Coord for f64 {
-    type Dist = FloatDist;
-    const MAX_DIST: FloatDist = FloatDist(0x7ff0_0000_0000_0000); // +inf
-    fn total_cmp(a: f64, b: f64) -> Ordering {
-        a.total_cmp(&b)
-    }
-    fn extent(lo: f64, hi: f64) -> f64 {
-        hi - lo
-    }
-    #[inline]
-    fn axis_dist(metric: Metric, a: f64, b: f64) -> FloatDist {
-        let d = (a - b).abs();
-        FloatDist::new(match metric {
-            Metric::L2 => d * d,
-            Metric::L1 => d,
-        })
-    }
-    #[inline]
-    fn dist(metric: Metric, a: [f64; 3], b: [f64; 3]) -> FloatDist {
-        let d = [0, 1, 2].map(|i| (a[i] - b[i]).abs());
-        FloatDist::new(match metric {
-            Metric::L2 => d[0] * d[0] + d[1] * d[1] + d[2] * d[2],
-            Metric::L1 => d[0] + d[1] + d[2],
-        })
-    }
-}
 
 /// Where the search reads its photons: a decoded tree or the packed words.
 pub trait NodeSource<C> {
@@ -156,7 +57,7 @@ pub trait NodeSource<C> {
     fn node(&self, addr: usize) -> ([C; 3], u8);
 }
 
-impl<C: Coord> NodeSource<C> for KdTree<C> {
+impl<C: Scalar> NodeSource<C> for KdTree<C> {
     fn len(&self) -> usize {
         KdTree::len(self)
     }
@@ -259,7 +160,7 @@ impl<D: Ord + Copy> FoundList<D> {
 
 /// The kd-tree search for the k nearest photons to `q` within `r0` (inclusive), on
 /// any node source, with the default [`Traversal`]. `k` must be >= 1.
-pub fn search<C: Coord, S: NodeSource<C> + ?Sized>(
+pub fn search<C: Scalar, S: NodeSource<C> + ?Sized>(
     tree: &S,
     q: [C; 3],
     k: usize,
@@ -271,7 +172,7 @@ pub fn search<C: Coord, S: NodeSource<C> + ?Sized>(
 
 /// [`search`] with the ascent chosen: the found slots are the same set of distances
 /// either way (both are exact); the read counts differ.
-pub fn search_with<C: Coord, S: NodeSource<C> + ?Sized>(
+pub fn search_with<C: Scalar, S: NodeSource<C> + ?Sized>(
     tree: &S,
     q: [C; 3],
     k: usize,
@@ -321,7 +222,7 @@ impl<D: Ord + Copy> Radius<D> {
 
 /// One photon read: its coordinates, its children toward and away from the query,
 /// and its axis distance.
-struct Read<C: Coord> {
+struct Read<C: Scalar> {
     p: [C; 3],
     near_bit: usize,
     near: usize,
@@ -329,7 +230,7 @@ struct Read<C: Coord> {
     axis_dist: C::Dist,
 }
 
-fn read<C: Coord, S: NodeSource<C> + ?Sized>(
+fn read<C: Scalar, S: NodeSource<C> + ?Sized>(
     tree: &S,
     q: [C; 3],
     addr: usize,
@@ -356,7 +257,7 @@ struct Level<D> {
 }
 
 /// [`Traversal::Remember`]: the ascent reads nothing; see the module docs.
-fn search_remember<C: Coord, S: NodeSource<C> + ?Sized>(
+fn search_remember<C: Scalar, S: NodeSource<C> + ?Sized>(
     tree: &S,
     q: [C; 3],
     k: usize,
@@ -411,7 +312,7 @@ fn search_remember<C: Coord, S: NodeSource<C> + ?Sized>(
 }
 
 /// [`Traversal::Reread`]: the paper's search, every parent read again on the way up.
-fn search_reread<C: Coord, S: NodeSource<C> + ?Sized>(
+fn search_reread<C: Scalar, S: NodeSource<C> + ?Sized>(
     tree: &S,
     q: [C; 3],
     k: usize,
@@ -462,7 +363,7 @@ fn search_reread<C: Coord, S: NodeSource<C> + ?Sized>(
 
 /// Ground truth: every point's distance, those `<= r0` sorted by (distance, index),
 /// the first k. Returns (point index, distance).
-pub fn brute_force<C: Coord>(
+pub fn brute_force<C: Scalar>(
     points: &[[C; 3]],
     q: [C; 3],
     k: usize,

@@ -5,8 +5,8 @@
 
 use glam::Vec3;
 
-/// The ray epsilon of a unit-sized scene (see [`Scene::epsilon`](crate::host::scene::Scene::epsilon)).
-pub const RAY_EPSILON: f32 = super::scene_scale::RAY_EPSILON_REL;
+/// The ray epsilon of a unit-sized scene (see [`Scene::epsilon`](crate::host::render::scene::Scene::epsilon)).
+pub const RAY_EPSILON: f32 = crate::host::render::scene_scale::RAY_EPSILON_REL;
 
 /// A ray; `dir` is unit length.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -15,7 +15,7 @@ pub struct Ray {
     pub dir: Vec3,
     /// Smallest ray parameter accepted as a hit, and the distance a spawned ray's
     /// origin is pushed off its surface, so a ray never re-hits the surface it
-    /// leaves: the scene's [`Scene::epsilon`](crate::host::scene::Scene::epsilon).
+    /// leaves: the scene's [`Scene::epsilon`](crate::host::render::scene::Scene::epsilon).
     pub eps: f32,
 }
 

@@ -5,8 +5,8 @@
 //! Timing belongs in benchmarks and subcommands (`photon-fpga bench-core`, `cargo
 //! bench`), never in tests; this module only measures when asked to.
 
-use super::kdtree::PackedTree;
-use super::knn::{self, Traversal};
+use crate::host::map::kdtree::PackedTree;
+use crate::host::map::knn::{self, Traversal};
 use crate::hw::metric::Metric;
 use kiddo::{ImmutableKdTree, Manhattan, SquaredEuclidean};
 use std::hint::black_box;

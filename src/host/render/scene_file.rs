@@ -1,10 +1,10 @@
 //! The scene file: the TOML schema as serde reads it, the value checks (each error
 //! names the value's line) and the parse into a [`Scene`].
 
-use super::error::{Error, Result};
-use super::geometry::{AreaLight, Camera, Material, Quad, Sphere};
-use super::scene::Scene;
-use super::scene_scale;
+use crate::host::error::{Error, Result};
+use crate::host::render::geometry::{AreaLight, Camera, Material, Quad, Sphere};
+use crate::host::render::scene::Scene;
+use crate::host::render::scene_scale;
 use glam::Vec3;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -343,7 +343,7 @@ struct LightFile {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::host::geometry::{Ray, Surface, RAY_EPSILON};
+    use crate::host::render::geometry::{Ray, Surface, RAY_EPSILON};
 
     const MINIMAL: &str = r#"
 [camera]

@@ -8,7 +8,9 @@
 //! are concatenated in chunk order: scheduling can change only *when* a chunk is
 //! traced, never what it produces or where it lands.
 
-use super::scene::{cosine_direction, glass_scatter, reflect, Material, Ray, Scene, Surface};
+use crate::host::render::scene::{
+    cosine_direction, glass_scatter, reflect, Material, Ray, Scene, Surface,
+};
 use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use rand::{Rng, SeedableRng};

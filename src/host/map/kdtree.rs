@@ -8,9 +8,9 @@
 //! broken by photon index, so left <= node <= right holds on the split axis and the
 //! build is deterministic.
 
-use super::knn::Coord;
-use super::quantize::Quantizer;
-use crate::hw::photon_word::PhotonLayout;
+use crate::host::map::quantize::Quantizer;
+use crate::host::map::scalar::Scalar;
+use crate::hw::photon_word::{PhotonLayout, TreeImage};
 
 /// A kd-tree over points with coordinates of type `C`.
 #[derive(Clone, Debug)]
@@ -23,7 +23,7 @@ pub struct KdTree<C> {
     pub perm: Vec<u32>,
 }
 
-impl<C: Coord> KdTree<C> {
+impl<C: Scalar> KdTree<C> {
     /// Build the left-balanced tree over `points` (must be non-empty).
     pub fn build(points: &[[C; 3]]) -> Self {
         assert!(!points.is_empty(), "kd-tree over an empty point set");
@@ -67,7 +67,7 @@ impl<C: Coord> KdTree<C> {
 }
 
 /// The axis over which `idx`'s points spread furthest (ties: the lowest axis).
-fn largest_extent_axis<C: Coord>(pts: &[[C; 3]], idx: &[u32]) -> usize {
+fn largest_extent_axis<C: Scalar>(pts: &[[C; 3]], idx: &[u32]) -> usize {
     let p0 = pts[idx[0] as usize];
     let (mut lo, mut hi) = (p0, p0);
     for &i in idx {
@@ -120,7 +120,7 @@ pub struct PackedTree {
 
 impl PackedTree {
     /// Quantize `points` with `quant`, build the tree and pack it.
-    pub fn build(points: &[super::quantize::Point], quant: &Quantizer) -> Self {
+    pub fn build(points: &[crate::host::map::quantize::Point], quant: &Quantizer) -> Self {
         let q: Vec<[u32; 3]> = points.iter().map(|&p| quant.quantize(p)).collect();
         Self::from_tree(&KdTree::build(&q), quant.layout)
     }
@@ -166,6 +166,14 @@ impl PackedTree {
 
     /// Tree height = address width H: addresses 1..=N fit in H bits, and the
     /// TreeModule holds 2^H words.
+    /// The packed words as the hardware loads them.
+    pub fn image(&self) -> TreeImage<'_> {
+        TreeImage {
+            layout: self.layout,
+            words: &self.words,
+        }
+    }
+
     pub fn address_bits(&self) -> u32 {
         usize::BITS - self.len().leading_zeros()
     }

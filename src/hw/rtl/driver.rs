@@ -1,0 +1,496 @@
+//! The one simulation driver: it plays the host's side of the core's load / query /
+//! result streams cycle by cycle against any simulated core (a [`Dut`]: rust-hdl's
+//! native simulation today), checks the result protocol, and reports every cycle to
+//! its [`Observer`]s (cycle and read statistics, a VCD trace, the cross-simulation's
+//! recorder). The `rtl` gather backend, `bench-core`, the testbenches and the
+//! cross-simulation all run through it.
+//!
+//! A run is a list of [`Job`]s, each an optional map load followed by queries. The
+//! host presents the next job's load as soon as the previous job's queries are all
+//! accepted, so the core must hold a load back until its searches are done. With a
+//! stall seed every valid and every ready of the host is randomly withheld (35 % of
+//! the cycles), so every handshake is exercised.
+
+use crate::hw::config::CoreConfig;
+use crate::hw::error::HwError;
+use crate::hw::photon_word::TreeImage;
+use crate::hw::stream::{QueryBeat, ResultBeat};
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64;
+
+/// One query for the core: grid coordinates, inclusive integer radius bound in the
+/// metric, and k (1..=K).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HwQuery {
+    pub id: u32,
+    pub coords: [u32; 3],
+    pub radius: u64,
+    pub k: u32,
+}
+
+/// One query's answer: (heap address, distance) in found-list slot order.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct HwResult {
+    pub id: u32,
+    pub found: Vec<(u32 /*heap addr*/, u64 /*distance*/)>,
+    /// Photon reads this query issued.
+    pub visited: u32,
+}
+
+/// What a run cost, in clock cycles. Ports are listed tree by tree (A, B of tree 0,
+/// then of tree 1, ...).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SimStats {
+    pub cycles: u64,
+    pub reads_per_port: Vec<u64>,
+    /// Cycles with every QueryModule (of every tree) occupied.
+    pub busy_cycles: u64,
+    pub busy_reads_per_port: Vec<u64>,
+}
+
+/// The load beat the host presents.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LoadBeat {
+    pub address: u64,
+    pub word: u64,
+    pub last: bool,
+}
+
+/// The core's inputs in one cycle, as the host drives them (data fields keep their
+/// last value while not valid).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Inputs {
+    pub reset: bool,
+    pub load_valid: bool,
+    pub load: LoadBeat,
+    pub query_valid: bool,
+    pub query: QueryBeat,
+    pub result_ready: bool,
+}
+
+/// The core's stream outputs in one cycle.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Outputs {
+    pub load_ready: bool,
+    pub query_ready: bool,
+    pub result_valid: bool,
+    pub result: ResultBeat,
+}
+
+/// A simulated core, cycle by cycle.
+pub trait Dut {
+    fn config(&self) -> &CoreConfig;
+    /// Apply `inputs` with the clock low and settle (this is also the falling edge
+    /// of the previous cycle).
+    fn drive(&mut self, inputs: &Inputs) -> Result<(), HwError>;
+    /// The stream outputs, settled.
+    fn outputs(&mut self) -> Outputs;
+    /// Tree `t`'s status: port A reads, port B reads, all its QueryModules busy.
+    fn tree_status(&self, t: usize) -> [bool; 3];
+    /// The rising clock edge.
+    fn rising_edge(&mut self) -> Result<(), HwError>;
+    /// The rust-hdl block, for observers that read every port (native simulation).
+    fn block(&self) -> Option<&dyn rust_hdl::prelude::Block> {
+        None
+    }
+}
+
+/// One cycle as observers see it.
+pub struct Cycle<'a> {
+    /// Cycle number since the core was built (the reset cycles are 0 and 1).
+    pub index: u64,
+    pub dut: &'a dyn Dut,
+    pub inputs: &'a Inputs,
+    pub outputs: &'a Outputs,
+}
+
+/// Sees every cycle of a run.
+pub trait Observer {
+    /// The cycle's inputs are applied and settled; its rising edge comes next.
+    fn sampled(&mut self, _cycle: &Cycle<'_>) -> Result<(), HwError> {
+        Ok(())
+    }
+    /// The cycle's rising edge has happened.
+    fn edge(&mut self, _cycle: &Cycle<'_>) -> Result<(), HwError> {
+        Ok(())
+    }
+}
+
+/// Counts cycles and photon reads ([`SimStats`]).
+#[derive(Default)]
+struct StatsObserver {
+    stats: SimStats,
+}
+
+impl Observer for StatsObserver {
+    fn sampled(&mut self, c: &Cycle<'_>) -> Result<(), HwError> {
+        let trees = c.dut.config().trees;
+        let s = &mut self.stats;
+        if s.reads_per_port.is_empty() {
+            s.reads_per_port = vec![0; 2 * trees];
+            s.busy_reads_per_port = vec![0; 2 * trees];
+        }
+        let status: Vec<[bool; 3]> = (0..trees).map(|t| c.dut.tree_status(t)).collect();
+        let all_busy = status.iter().all(|s| s[2]);
+        s.busy_cycles += all_busy as u64;
+        for (t, [a, b, _]) in status.into_iter().enumerate() {
+            for (port, reading) in [(2 * t, a), (2 * t + 1, b)] {
+                s.reads_per_port[port] += reading as u64;
+                if all_busy {
+                    s.busy_reads_per_port[port] += reading as u64;
+                }
+            }
+        }
+        s.cycles += 1;
+        Ok(())
+    }
+}
+
+/// One step of a run: load a map (if any), then run queries on the loaded map.
+#[derive(Clone, Copy, Debug)]
+pub struct Job<'a> {
+    pub load: Option<TreeImage<'a>>,
+    pub queries: &'a [HwQuery],
+}
+
+/// Synchronous reset cycles when the driver starts.
+pub const RESET_CYCLES: u64 = 2;
+
+/// How long a run may go on.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RunLimits {
+    /// Stop after this many cycles even if results are outstanding.
+    pub max_cycles: Option<u64>,
+    /// Idle cycles (result ready high) after the last result.
+    pub tail_cycles: u64,
+}
+
+/// The host side of the streams, driving one [`Dut`].
+pub struct Driver<D: Dut> {
+    dut: D,
+    stalls: Option<Pcg64>,
+    inputs: Inputs,
+    cycle: u64,
+    stats: StatsObserver,
+    observers: Vec<Box<dyn Observer>>,
+}
+
+/// Where the host is within a run.
+struct Host {
+    job: usize,
+    loading: bool,
+    load_next: usize,
+    load_presenting: bool,
+    query_next: usize,
+    query_presenting: bool,
+    /// Global query tag -> (job, query index).
+    tags: Vec<(usize, usize)>,
+    tag_base: Vec<usize>,
+    /// Result in progress: (tag, count).
+    current: Option<(usize, usize)>,
+    received: usize,
+}
+
+fn protocol(msg: impl Into<String>) -> HwError {
+    HwError::Simulation(msg.into())
+}
+
+impl<D: Dut> Driver<D> {
+    /// Start driving `dut`: [`RESET_CYCLES`] reset cycles, seen by `observers`.
+    pub fn new(
+        dut: D,
+        stall_seed: Option<u64>,
+        observers: Vec<Box<dyn Observer>>,
+    ) -> Result<Self, HwError> {
+        let mut d = Driver {
+            dut,
+            stalls: stall_seed.map(Pcg64::seed_from_u64),
+            inputs: Inputs::default(),
+            cycle: 0,
+            stats: StatsObserver::default(),
+            observers,
+        };
+        d.reset()?;
+        Ok(d)
+    }
+
+    pub fn config(&self) -> &CoreConfig {
+        self.dut.config()
+    }
+
+    /// Counters since the core was built.
+    pub fn stats(&self) -> &SimStats {
+        &self.stats.stats
+    }
+
+    /// The observers, e.g. to take a recording out.
+    pub fn into_observers(self) -> Vec<Box<dyn Observer>> {
+        self.observers
+    }
+
+    /// Synchronous reset for [`RESET_CYCLES`] cycles.
+    pub fn reset(&mut self) -> Result<(), HwError> {
+        let before = self.inputs;
+        self.inputs = Inputs {
+            reset: true,
+            ..Inputs::default()
+        };
+        for _ in 0..RESET_CYCLES {
+            self.step()?;
+        }
+        self.inputs = Inputs {
+            reset: false,
+            ..before
+        };
+        self.inputs.load_valid = false;
+        self.inputs.query_valid = false;
+        self.inputs.result_ready = false;
+        Ok(())
+    }
+
+    /// One cycle with the current inputs; returns the outputs it sampled.
+    fn step(&mut self) -> Result<Outputs, HwError> {
+        self.dut.drive(&self.inputs)?;
+        let outputs = self.dut.outputs();
+        let cycle = Cycle {
+            index: self.cycle,
+            dut: &self.dut,
+            inputs: &self.inputs,
+            outputs: &outputs,
+        };
+        self.stats.sampled(&cycle)?;
+        for o in &mut self.observers {
+            o.sampled(&cycle)?;
+        }
+        self.dut.rising_edge()?;
+        let cycle = Cycle {
+            index: self.cycle,
+            dut: &self.dut,
+            inputs: &self.inputs,
+            outputs: &outputs,
+        };
+        for o in &mut self.observers {
+            o.edge(&cycle)?;
+        }
+        self.cycle += 1;
+        Ok(outputs)
+    }
+
+    /// A random stall decision (never stalls without a seed).
+    fn stall(&mut self) -> bool {
+        match &mut self.stalls {
+            Some(rng) => rng.gen_bool(0.35),
+            None => false,
+        }
+    }
+
+    fn check_jobs(&self, jobs: &[Job<'_>]) -> Result<(), HwError> {
+        let cfg = self.config();
+        for job in jobs {
+            if let Some(tree) = job.load {
+                cfg.check_map(tree)?;
+            }
+            for q in job.queries {
+                if q.k == 0 || q.k as usize > cfg.k {
+                    return Err(protocol(format!(
+                        "query {}: k = {} outside 1..={} (the core's K)",
+                        q.id, q.k, cfg.k
+                    )));
+                }
+                for a in 0..3 {
+                    if q.coords[a] > cfg.layout.coord_max(a) {
+                        return Err(protocol(format!(
+                            "query {}: coordinate {} = {} exceeds the {}-bit axis",
+                            q.id, a, q.coords[a], cfg.layout.bits[a]
+                        )));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Run `jobs`; per job, per query in input order, its result (`None` if
+    /// `limits.max_cycles` ended the run first; the rest stay in flight).
+    pub fn run(
+        &mut self,
+        jobs: &[Job<'_>],
+        limits: RunLimits,
+    ) -> Result<Vec<Vec<Option<HwResult>>>, HwError> {
+        self.check_jobs(jobs)?;
+        let cfg = *self.config();
+        let mut host = Host {
+            job: 0,
+            loading: jobs.first().is_some_and(|j| j.load.is_some()),
+            load_next: 1,
+            load_presenting: false,
+            query_next: 0,
+            query_presenting: false,
+            tags: vec![],
+            tag_base: vec![],
+            current: None,
+            received: 0,
+        };
+        for (ji, job) in jobs.iter().enumerate() {
+            host.tag_base.push(host.tags.len());
+            host.tags.extend((0..job.queries.len()).map(|qi| (ji, qi)));
+        }
+        let total = host.tags.len();
+        let mut results: Vec<Vec<Option<HwResult>>> =
+            jobs.iter().map(|j| vec![None; j.queries.len()]).collect();
+        let patience = 10_000 + 8 * (cfg.tree_words() as u64 + 2) * cfg.issue_interval() as u64;
+        let start = self.cycle;
+        let mut since_progress = 0u64;
+        let mut tail = 0u64;
+        loop {
+            let all_sent = host.job + 1 >= jobs.len()
+                && !host.loading
+                && jobs
+                    .get(host.job)
+                    .is_none_or(|j| host.query_next == j.queries.len());
+            let done = host.received == total && all_sent;
+            if done {
+                if tail == limits.tail_cycles {
+                    break;
+                }
+                tail += 1;
+            }
+            if limits
+                .max_cycles
+                .is_some_and(|m| self.cycle - start >= m && !done)
+            {
+                break;
+            }
+            // This cycle's inputs.
+            self.inputs.load_valid = false;
+            self.inputs.query_valid = false;
+            if done {
+                self.inputs.result_ready = true;
+            } else {
+                let job = jobs[host.job];
+                if host.loading {
+                    let tree = job.load.expect("loading a job with a map");
+                    if !host.load_presenting && !self.stall() {
+                        host.load_presenting = true;
+                    }
+                    self.inputs.load_valid = host.load_presenting;
+                    self.inputs.load = LoadBeat {
+                        address: host.load_next as u64,
+                        word: tree.words[host.load_next],
+                        last: host.load_next == tree.len(),
+                    };
+                } else if host.query_next < job.queries.len() {
+                    if !host.query_presenting && !self.stall() {
+                        host.query_presenting = true;
+                    }
+                    let q = &job.queries[host.query_next];
+                    self.inputs.query_valid = host.query_presenting;
+                    self.inputs.query = QueryBeat {
+                        id: ((host.tag_base[host.job] + host.query_next) as u64).into(),
+                        x: (q.coords[0] as u64).into(),
+                        y: (q.coords[1] as u64).into(),
+                        z: (q.coords[2] as u64).into(),
+                        radius: q.radius.min(u32::MAX as u64).into(),
+                        k: (q.k as u64).into(),
+                    };
+                }
+                self.inputs.result_ready = !self.stall();
+            }
+            let out = self.step()?;
+            let load_fire = self.inputs.load_valid && out.load_ready;
+            let query_fire = self.inputs.query_valid && out.query_ready;
+            let result_fire = self.inputs.result_ready && out.result_valid;
+            if result_fire {
+                receive(&mut host, jobs, &mut results, &out.result)?;
+            }
+            if load_fire {
+                host.load_presenting = false;
+                let tree = jobs[host.job].load.expect("loading");
+                if host.load_next == tree.len() {
+                    host.loading = false;
+                    host.query_next = 0;
+                } else {
+                    host.load_next += 1;
+                }
+            }
+            if query_fire {
+                host.query_presenting = false;
+                host.query_next += 1;
+            }
+            if !host.loading
+                && host.query_next == jobs[host.job].queries.len()
+                && host.job + 1 < jobs.len()
+            {
+                host.job += 1;
+                host.query_next = 0;
+                host.loading = jobs[host.job].load.is_some();
+                host.load_next = 1;
+            }
+            if load_fire || query_fire || result_fire || done {
+                since_progress = 0;
+            } else {
+                since_progress += 1;
+                if since_progress > patience {
+                    return Err(protocol(format!(
+                        "no progress for {patience} cycles at cycle {} ({} of {total} results)",
+                        self.cycle, host.received
+                    )));
+                }
+            }
+        }
+        Ok(results)
+    }
+}
+
+/// Take one result beat, checking the packet protocol.
+fn receive(
+    host: &mut Host,
+    jobs: &[Job<'_>],
+    results: &mut [Vec<Option<HwResult>>],
+    beat: &ResultBeat,
+) -> Result<(), HwError> {
+    let tag = beat.id.to_u64() as usize;
+    let &(ji, qi) = host
+        .tags
+        .get(tag)
+        .ok_or_else(|| protocol(format!("result for unknown query tag {tag}")))?;
+    if beat.header {
+        if host.current.is_some() {
+            return Err(protocol("result header inside a result"));
+        }
+        if results[ji][qi].is_some() {
+            return Err(protocol(format!(
+                "duplicate result for query {}",
+                jobs[ji].queries[qi].id
+            )));
+        }
+        let count = beat.count.to_u64() as usize;
+        results[ji][qi] = Some(HwResult {
+            id: jobs[ji].queries[qi].id,
+            found: Vec::with_capacity(count),
+            visited: beat.visited.to_u64() as u32,
+        });
+        if (count == 0) != beat.last {
+            return Err(protocol("result header: last flag and count disagree"));
+        }
+        host.current = Some((tag, count));
+    } else {
+        let (ctag, count) = host
+            .current
+            .ok_or_else(|| protocol("result entry without a header"))?;
+        if ctag != tag {
+            return Err(protocol("result entries of two queries interleaved"));
+        }
+        let r = results[ji][qi].as_mut().expect("header seen");
+        r.found
+            .push((beat.address.to_u64() as u32, beat.distance.to_u64()));
+        if (r.found.len() == count) != beat.last {
+            return Err(protocol("result entries: last flag and count disagree"));
+        }
+    }
+    if beat.last {
+        host.current = None;
+        host.received += 1;
+    }
+    Ok(())
+}

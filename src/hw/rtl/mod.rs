@@ -1,0 +1,13 @@
+//! Running the core: the one simulation driver and its native (rust-hdl) target,
+//! the Verilog export and its post-processing, the cross-simulation against Icarus
+//! and Verilator, and the registered shell for place and route. Builds on the
+//! blocks of `hw`; nothing in the blocks imports this.
+
+pub mod driver;
+pub mod export;
+pub mod native;
+pub mod ports;
+pub mod shell;
+pub mod top;
+pub mod xsim;
+pub mod xsim_tb;

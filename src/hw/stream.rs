@@ -1,0 +1,72 @@
+//! The core's streams, written once: the payloads as `LogicStruct`s (one signal
+//! carries a whole beat, so a beat moves through a mux, a register or a fan-out in
+//! one assignment) and valid/ready bundles as `LogicInterface`s, in the naming of
+//! verilog-axis (`valid`, `ready`, `data`, `last`). A beat moves when `valid` and
+//! `ready` are both high at a rising clock edge.
+//!
+//! `StreamIn<T>` is the sink side (the block receives `data`), `StreamOut<T>` the
+//! source side. In the exported Verilog a bundle's members are ports named
+//! `bundle$member` (e.g. `query$valid`) and a struct is one packed vector whose
+//! fields are slices, first field in the low bits.
+
+use crate::hw::config::{Addr, Coord, Count, Dist, QueryId, ReadCount, Word};
+use rust_hdl::prelude::*;
+
+/// One query: grid coordinates, an inclusive integer radius bound in the metric
+/// (larger values saturate to the 32-bit maximum) and k (1..=K).
+#[derive(Clone, Copy, Debug, PartialEq, Default, LogicStruct)]
+pub struct QueryBeat {
+    pub id: QueryId,
+    pub x: Coord,
+    pub y: Coord,
+    pub z: Coord,
+    pub radius: Dist,
+    pub k: Count,
+}
+
+/// One beat of a result packet: a header (`header`; id, found count and photons
+/// read meaningful; `last` iff count = 0), then one beat per found photon (id, heap
+/// address and distance meaningful), `last` on the final one. The beats of one
+/// packet are contiguous; packets of different queries may leave out of order.
+#[derive(Clone, Copy, Debug, PartialEq, Default, LogicStruct)]
+pub struct ResultBeat {
+    pub header: bool,
+    pub last: bool,
+    pub id: QueryId,
+    pub count: Count,
+    pub visited: ReadCount,
+    pub address: Addr,
+    /// Named `distance`, not `dist`: SystemVerilog reserves `dist`.
+    pub distance: Dist,
+}
+
+/// A valid/ready stream into a block.
+#[derive(LogicInterface, Default)]
+#[join = "StreamOut"]
+pub struct StreamIn<T: Synth> {
+    pub valid: Signal<In, bool>,
+    pub ready: Signal<Out, bool>,
+    pub data: Signal<In, T>,
+}
+
+/// A valid/ready stream out of a block.
+#[derive(LogicInterface, Default)]
+#[join = "StreamIn"]
+pub struct StreamOut<T: Synth> {
+    pub valid: Signal<Out, bool>,
+    pub ready: Signal<In, bool>,
+    pub data: Signal<Out, T>,
+}
+
+/// The photon load stream: heap address and packed word (`W` bits, see
+/// `CoreConfig::word_width`), `last` on the final word (its address is the photon
+/// count N). Its members are separate signals because the word's width is a const
+/// generic, which rust-hdl's `LogicStruct` cannot carry.
+#[derive(LogicInterface, Default)]
+pub struct LoadIn<const W: usize> {
+    pub valid: Signal<In, bool>,
+    pub ready: Signal<Out, bool>,
+    pub address: Signal<In, Addr>,
+    pub word: Signal<In, Word<W>>,
+    pub last: Signal<In, bool>,
+}

@@ -1,0 +1,69 @@
+
+
+module top(clock,requests,advance,hold,grant,granted);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [31:0] requests;
+    input wire  advance;
+    input wire  hold;
+    output reg  [31:0] grant;
+    output reg  granted;
+    
+    // Stub signals
+    reg  [31:0] last_grant$d;
+    wire  [31:0] last_grant$q;
+    reg  last_grant$clock;
+    
+    // Local signals
+    reg  [31:0] at_or_below_last;
+    reg  [31:0] above_last;
+    
+    // Sub module instances
+    top$last_grant last_grant(
+        .d(last_grant$d),
+        .q(last_grant$q),
+        .clock(last_grant$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        last_grant$clock = clock;
+        last_grant$d = last_grant$q;
+        at_or_below_last = (last_grant$q << 32'h1) - 32'h1;
+        above_last = requests & (~at_or_below_last);
+        if (hold) begin
+            grant = last_grant$q;
+        end
+        else if (|above_last) begin
+            grant = above_last & ((~above_last) + 32'h1);
+        end
+        else begin
+            grant = requests & ((~requests) + 32'h1);
+        end
+        granted = |requests;
+        if (advance) begin
+            last_grant$d = grant;
+        end
+    end
+    
+endmodule // top
+
+
+module top$last_grant(d,q,clock);
+    
+    // Module arguments
+    input wire  [31:0] d;
+    output reg  [31:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 32'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // top$last_grant

@@ -1,0 +1,81 @@
+
+
+module top(clock,requests,advance,hold,grant,granted);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [31:0] requests;
+    input wire  advance;
+    input wire  hold;
+    output reg  [31:0] grant;
+    output reg  granted;
+    
+    // Stub signals
+    reg  [31:0] last_grant$d;
+    wire  [31:0] last_grant$q;
+    reg  last_grant$clock;
+    
+    // Local signals
+    reg  [31:0] at_or_below_last;
+    reg  [31:0] above_last;
+    
+    // Sub module instances
+    top$last_grant last_grant(
+        .d(last_grant$d),
+        .q(last_grant$q),
+        .clock(last_grant$clock)
+    );
+    
+    // Update code
+    reg last_grant$clock__xs;
+    reg [31:0] last_grant$d__xs;
+    reg [31:0] at_or_below_last__xs;
+    reg [31:0] above_last__xs;
+    reg [31:0] grant__xs;
+    reg granted__xs;
+    always @(*) begin
+        last_grant$clock__xs = clock;
+        last_grant$d__xs = last_grant$q;
+        at_or_below_last__xs = (last_grant$q << 32'h1) - 32'h1;
+        above_last__xs = requests & (~at_or_below_last__xs);
+        if (hold) begin
+            grant__xs = last_grant$q;
+        end
+        else if (|above_last__xs) begin
+            grant__xs = above_last__xs & ((~above_last__xs) + 32'h1);
+        end
+        else begin
+            grant__xs = requests & ((~requests) + 32'h1);
+        end
+        granted__xs = |requests;
+        if (advance) begin
+            last_grant$d__xs = grant__xs;
+        end
+        last_grant$clock = last_grant$clock__xs;
+        last_grant$d = last_grant$d__xs;
+        at_or_below_last = at_or_below_last__xs;
+        above_last = above_last__xs;
+        grant = grant__xs;
+        granted = granted__xs;
+    end
+    
+endmodule // top
+
+
+module top$last_grant(d,q,clock);
+    
+    // Module arguments
+    input wire  [31:0] d;
+    output reg  [31:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 32'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // top$last_grant

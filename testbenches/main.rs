@@ -1,0 +1,15 @@
+//! The hardware testbenches in one test binary (one rust-hdl link instead of one
+//! per file): one module per block or concern, each checked against the software
+//! search, brute force or an independent model.
+
+mod common;
+mod hw_array;
+mod hw_blocks;
+mod hw_config;
+mod hw_core;
+mod hw_cornell;
+mod hw_max_finder;
+mod hw_result_register;
+mod hw_throughput;
+mod hw_verilog;
+mod hw_xsim;
