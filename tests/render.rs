@@ -159,7 +159,7 @@ fn render_cli_rejects_bad_input() {
         ),
         (
             vec!["--metric".into(), "cosine".into()],
-            "unknown metric 'cosine'",
+            "invalid value 'cosine' for '--metric <METRIC>'",
         ),
     ];
     for (args, message) in cases {

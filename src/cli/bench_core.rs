@@ -7,6 +7,15 @@ use clap::Args;
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::hw::rtl::native::SimOptions;
 
+/// The query streams `bench-core` can run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum WorkloadKind {
+    /// Uniform random photons and queries on the core's grid (the paper's workload).
+    Uniform,
+    /// A Cornell-box photon map with eye-ray queries.
+    Cornell,
+}
+
 #[derive(Args)]
 pub struct BenchCoreArgs {
     #[command(flatten)]
@@ -21,8 +30,8 @@ pub struct BenchCoreArgs {
     /// grid, uniform queries: the paper's) or `cornell` (the Cornell box's photon map
     /// from --cornell-photons emitted photons on a --bits grid, queried at a 64×64
     /// image's eye-ray hits; H and the per-axis widths follow the map).
-    #[arg(long, default_value = "uniform", value_parser = ["uniform", "cornell"])]
-    workload: String,
+    #[arg(long, value_enum, default_value_t = WorkloadKind::Uniform)]
+    workload: WorkloadKind,
     /// Emitted photons of the `cornell` workload.
     #[arg(long, default_value_t = 20_000)]
     cornell_photons: usize,
@@ -45,7 +54,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     use photon_fpga::hw::rtl::driver::HwQuery;
     use photon_fpga::hw::rtl::native::CoreSim;
     let mut cfg = args.core.config()?;
-    let w = if args.workload == "cornell" {
+    let w = if args.workload == WorkloadKind::Cornell {
         let w = workload::cornell(
             args.cornell_photons,
             usize::MAX,

@@ -13,11 +13,10 @@ use crate::hw::rtl::native::{run_gather, SimOptions};
 use crate::hw::traversal::Traversal;
 use rayon::prelude::*;
 use std::fmt;
-use std::str::FromStr;
 use std::sync::Mutex;
 
 /// Which implementation answers the gathers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum BackendKind {
     /// kd-tree search on the unquantized f64 positions (the accuracy baseline).
     Float,
@@ -26,18 +25,6 @@ pub enum BackendKind {
     Sw,
     /// The rust-hdl simulation of the photon-search core.
     Rtl,
-}
-
-impl FromStr for BackendKind {
-    type Err = String;
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        match s {
-            "float" => Ok(BackendKind::Float),
-            "sw" => Ok(BackendKind::Sw),
-            "rtl" => Ok(BackendKind::Rtl),
-            _ => Err(format!("unknown backend '{s}' (expected float, sw or rtl)")),
-        }
-    }
 }
 
 impl fmt::Display for BackendKind {

@@ -12,8 +12,8 @@
 //!
 //! Photon reads per cycle scale with T (2T BlockRAM ports) for T times the area and
 //! BlockRAM; the ports and their meaning are those of the core, so the host driver,
-//! the cross-simulation and the export treat both tops alike ([`SearchTop`]). Status
-//! sinks: `port_a_reading` / `port_b_reading` = some tree reads on that port,
+//! the cross-simulation and the export treat both tops alike (`rtl::top::SearchTop`). Status
+//! outputs: `port_a_reading` / `port_b_reading` = some tree reads on that port,
 //! `all_busy` = every QueryModule of every tree is busy.
 
 use crate::hw::config::CoreConfig;

@@ -6,10 +6,9 @@
 //! default because it is what Jensen's radiance estimate assumes.
 
 use std::fmt;
-use std::str::FromStr;
 
 /// Distance metric on quantized integer coordinates.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, clap::ValueEnum)]
 pub enum Metric {
     /// Squared Euclidean distance (no square root anywhere in hardware).
     #[default]
@@ -115,16 +114,5 @@ impl fmt::Display for Metric {
             Metric::L2 => "l2",
             Metric::L1 => "l1",
         })
-    }
-}
-
-impl FromStr for Metric {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "l2" => Ok(Metric::L2),
-            "l1" => Ok(Metric::L1),
-            _ => Err(format!("unknown metric '{s}' (expected l2 or l1)")),
-        }
     }
 }

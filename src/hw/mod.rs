@@ -5,6 +5,8 @@
 //! ```text
 //! PhotonSearchArray (array.rs)          T > 1 replicated trees: T cores, same streams
 //! PhotonSearchCore (core.rs)            load / query / result valid-ready streams
+//! ├── Dispatcher (dispatcher.rs)        queries to a port with a free QueryModule
+//! ├── PacketMerge (packet_merge.rs)     the two ports' result packets into one stream
 //! ├── TreeModule (tree_module.rs)       true dual-port BlockRAM, 2^H words
 //! ├── SearchPort A (search_port.rs)     TreeModule port A (also the load port)
 //! │   ├── QueryModule × Q (query_module.rs)
@@ -14,7 +16,7 @@
 //! │   │   ├── AxisDistModule (axis_dist.rs)
 //! │   │   ├── DistModule (dist_module.rs)
 //! │   │   └── NextIndexModule (next_index.rs)
-//! │   └── ResultRegister (result_register.rs) skid buffer on the result stream
+//! │   └── ResultRegister (register_slice.rs) skid buffer on the result stream
 //! └── SearchPort B                      TreeModule port B
 //! ```
 //!
@@ -29,9 +31,12 @@
 //! level per cycle, no port slot); `Reread` is the paper's ascent, which reads every
 //! parent again.
 //!
-//! Host-facing API: [`config::CoreConfig`], [`sim::run_gather`] (fast native
-//! simulation, optional VCD), [`verilog::export_verilog`]; both tops implement
-//! [`top::SearchTop`]. The datapath limits (words <= 47 bits, 32-bit distances,
+//! The streams are written once ([`stream`]); the core and the array share one
+//! [`dispatcher::Dispatcher`] and one [`packet_merge::PacketMerge`]. Running the
+//! core (simulation driver, export, cross-simulation) lives in [`rtl`], which
+//! builds on these blocks; nothing here imports it, and nothing in `hw` imports the
+//! host. Host-facing API: [`config::CoreConfig`], [`rtl::native::run_gather`],
+//! [`rtl::export::export_verilog`]; both tops implement [`rtl::top::SearchTop`]. The datapath limits (words <= 47 bits, 32-bit distances,
 //! H <= 20, K <= 64, Q <= 32, T <= 8) are in [`config`].
 
 pub mod array;

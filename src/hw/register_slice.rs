@@ -5,7 +5,7 @@
 //!
 //! Why: without it, the read-out path runs from the read-out sequencer's registers
 //! through the found-list mux of the selected QueryModule, the OR of all Q modules'
-//! sinks, the merge of the two ports and out of the core in one cycle; place and
+//! outputs, the merge of the two ports and out of the core in one cycle; place and
 //! route named it the critical path (synth/REPORT.md). The slice cuts it at the port:
 //! every output is a flip-flop, and so is `inbound.ready`, so a downstream stall does
 //! not reach back into the sequencer combinationally either. Full throughput (a beat
@@ -25,13 +25,13 @@ pub struct RegisterSlice<T: Synth> {
     pub inbound: StreamIn<T>,
     pub outbound: StreamOut<T>,
     bypass: Constant<bool>,
-    /// The outbound register.
+    /// The output register.
     out_valid: DFF<bool>,
     out_data: DFF<T>,
-    /// The skid register: holds the beat accepted while the outbound was stalled.
+    /// The skid register: holds the beat accepted while the output was stalled.
     skid_valid: DFF<bool>,
     skid_data: DFF<T>,
-    /// The outbound register may load this cycle (it is empty or being emptied).
+    /// The output register may load this cycle (it is empty or being emptied).
     out_free: Signal<Local, bool>,
 }
 
@@ -63,7 +63,7 @@ impl<T: Synth> Logic for RegisterSlice<T> {
         self.out_free.next = self.outbound.ready.val() || (!self.out_valid.q.val());
         if self.out_free.val() {
             if self.skid_valid.q.val() {
-                // Drain the skid register first; the inbound waits (its ready is low).
+                // Drain the skid register first; the input waits (its ready is low).
                 self.out_valid.d.next = true;
                 self.out_data.d.next = self.skid_data.q.val();
                 self.skid_valid.d.next = false;
@@ -72,7 +72,7 @@ impl<T: Synth> Logic for RegisterSlice<T> {
                 self.out_data.d.next = self.inbound.data.val();
             }
         } else if self.inbound.valid.val() && (!self.skid_valid.q.val()) {
-            // The outbound stalled in the cycle this beat was sent: keep it aside.
+            // The output stalled in the cycle this beat was sent: keep it aside.
             self.skid_valid.d.next = true;
             self.skid_data.d.next = self.inbound.data.val();
         }

@@ -5,7 +5,7 @@
 //! Result stream, one beat per cycle when valid & ready: a header beat, then `count`
 //! entry beats in found-list slot order ([`ResultBeat`]). The beats pass
 //! through a [`ResultRegister`], so with `CoreConfig::pipelined` every result
-//! outbound is a flip-flop and a result leaves one cycle after it is read out.
+//! output is a flip-flop and a result leaves one cycle after it is read out.
 
 use crate::hw::config::{Addr, CoreConfig, Count, ModuleMask, SlotMask, Word};
 use crate::hw::port_arbiter::PortArbiter;

@@ -15,10 +15,9 @@
 //! child. Reads per query = distance tests.
 
 use std::fmt;
-use std::str::FromStr;
 
 /// The ascent of the kd-tree search.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, clap::ValueEnum)]
 pub enum Traversal {
     /// Remember each level's axis distance on the way down; the ascent reads nothing
     /// (reads per query = distance tests). The default.
@@ -34,18 +33,5 @@ impl fmt::Display for Traversal {
             Traversal::Remember => "remember",
             Traversal::Reread => "reread",
         })
-    }
-}
-
-impl FromStr for Traversal {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "remember" => Ok(Traversal::Remember),
-            "reread" => Ok(Traversal::Reread),
-            _ => Err(format!(
-                "unknown traversal '{s}' (expected remember or reread)"
-            )),
-        }
     }
 }

@@ -1,0 +1,71 @@
+//! `photon-fpga export-verilog`: the configured core's Verilog, its glitch-free
+//! rewrite for event-driven simulators and optionally a registered shell.
+
+use crate::cli::core_args::CoreArgs;
+use clap::Args;
+use photon_fpga::host::error::{Error, Result};
+use photon_fpga::host::output::Output;
+use photon_fpga::hw::rtl::export::export_verilog;
+use photon_fpga::hw::rtl::shell::registered_shell;
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct ExportArgs {
+    #[command(flatten)]
+    pub core: CoreArgs,
+    /// Also write DIR/shell.v: T replicated cores behind registered byte-wide I/O
+    /// (for place and route; see src/hw/rtl/shell.rs).
+    #[arg(long)]
+    pub shell_trees: Option<usize>,
+    /// Output directory; the core goes to DIR/photon_search_core.v.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+pub fn export(args: &ExportArgs) -> Result<()> {
+    let cfg = args.core.config()?;
+    if args.shell_trees == Some(0) {
+        return Err(Error::new("--shell-trees must be at least 1, got 0"));
+    }
+    // Everything is generated before the directory is made: a failure leaves nothing.
+    let exported = export_verilog(&cfg)?;
+    let verilog = &exported.verilog;
+    // Event-driven simulators (Icarus, ISim, ModelSim) hang on the raw export's
+    // glitch loops; this rewrite is what the CI cross-simulation runs under Icarus.
+    let sim_verilog = photon_fpga::hw::rtl::export::glitch_free(verilog)?;
+    let shell = match args.shell_trees {
+        Some(trees) => Some((trees, registered_shell(&exported, trees)?)),
+        None => None,
+    };
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| Error::new(format!("{}: cannot create: {e}", args.out.display())))?;
+    let path = args.out.join("photon_search_core.v");
+    Output::check(&path, &[])?.write(|w| w.write_all(verilog.as_bytes()))?;
+    let sim_path = args.out.join("photon_search_core_sim.v");
+    Output::check(&sim_path, &[])?.write(|w| w.write_all(sim_verilog.as_bytes()))?;
+    println!(
+        "wrote {}: the same core for event-driven simulators (glitch-free rewrite)",
+        sim_path.display()
+    );
+    if let Some((trees, shell)) = shell {
+        let spath = args.out.join("shell.v");
+        Output::check(&spath, &[])?.write(|w| w.write_all(shell.as_bytes()))?;
+        println!(
+            "wrote {}: {trees} core(s) behind a registered I/O shell",
+            spath.display()
+        );
+    }
+    println!(
+        "wrote {}: T = {} tree(s), H = {}, K = {}, {} x {} QueryModules per tree, {}-bit coordinates, {} metric, {}-bit distances",
+        path.display(),
+        cfg.trees,
+        cfg.address_bits,
+        cfg.k,
+        photon_fpga::hw::config::PORTS,
+        cfg.queries_per_port,
+        cfg.layout.bits[0],
+        cfg.metric,
+        cfg.dist_bits()
+    );
+    Ok(())
+}

@@ -1,0 +1,68 @@
+//! `photon-fpga gather`: the k nearest photons of every query of a CSV photon map.
+
+use crate::cli::gather_opts::GatherOpts;
+use crate::cli::set_threads;
+use clap::Args;
+use photon_fpga::host::csvio;
+use photon_fpga::host::error::{Error, Result};
+use photon_fpga::host::gather::make_backend;
+use photon_fpga::host::limits::{self};
+use photon_fpga::host::output::Output;
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct GatherArgs {
+    /// Photon positions: `x,y,z` per line (optional header, extra columns ignored).
+    #[arg(long)]
+    pub photons: PathBuf,
+    /// Query positions, same format.
+    #[arg(long)]
+    pub queries: PathBuf,
+    #[command(flatten)]
+    pub opts: GatherOpts,
+    /// Output CSV: `query,rank,photon,distance`, nearest first.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+pub fn gather(args: &GatherArgs) -> Result<()> {
+    set_threads(args.opts.threads)?;
+    let params = args.opts.params(10);
+    params.validate(1)?;
+    args.opts.check()?;
+    let inputs = [args.photons.as_path(), args.queries.as_path()];
+    let out = Output::check(&args.out, &inputs)?;
+    let vcd = args.opts.vcd(&inputs)?;
+    let photons = csvio::read_points(&args.photons)?;
+    let queries = csvio::read_points(&args.queries)?;
+    if photons.points.is_empty() {
+        return Err(Error::new(format!(
+            "{}: the photon set is empty",
+            args.photons.display()
+        )));
+    }
+    limits::check_gather_memory(
+        queries.points.len() as u64,
+        params.k,
+        photons.points.len() as u64,
+        &format!("the lines of {}", args.queries.display()),
+    )?;
+    // The grid covers the photons alone: a query never changes another's answer.
+    let backend = make_backend(
+        args.opts.backend,
+        &photons.points,
+        &params,
+        &args.opts.sim(&vcd),
+    )?;
+    for (q, line) in queries.points.iter().zip(&queries.lines) {
+        backend
+            .check_query(*q)
+            .map_err(|e| Error::new(format!("{}:{line}: {e}", args.queries.display())))?;
+    }
+    let results = backend.gather(&queries.points)?;
+    csvio::write_neighbours(&out, &results)?;
+    if let Some(v) = vcd {
+        v.commit()?;
+    }
+    Ok(())
+}

@@ -1,0 +1,161 @@
+//! `photon-fpga render` (the default command): a scene rendered with photon mapping,
+//! its gathers on the chosen backend.
+
+use crate::cli::gather_opts::GatherOpts;
+use crate::cli::set_threads;
+use clap::{Args, Parser};
+use photon_fpga::host::error::{Error, Result};
+use photon_fpga::host::gather::make_backend;
+use photon_fpga::host::limits::{self, MAX_EMITTED};
+use photon_fpga::host::output::Output;
+use photon_fpga::host::render::photons;
+use photon_fpga::host::render::scene::Scene;
+use photon_fpga::host::render::{self, RenderSettings};
+use photon_fpga::host::stages::StageTimes;
+use std::path::PathBuf;
+
+/// `WxH`, e.g. `256x256`.
+pub fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
+    let bad = || format!("invalid size '{s}' (expected WxH, e.g. 256x256)");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
+    if w == 0 || h == 0 || w > 16384 || h > 16384 {
+        return Err(bad());
+    }
+    Ok((w, h))
+}
+
+#[derive(Args)]
+pub struct RenderArgs {
+    /// Scene file (TOML); the built-in Cornell box if absent.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Photons emitted from the light.
+    #[arg(long, default_value_t = 200_000)]
+    pub photons: usize,
+    #[command(flatten)]
+    pub opts: GatherOpts,
+    /// Image size.
+    #[arg(long, default_value = "256x256", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Eye samples per pixel.
+    #[arg(long, default_value_t = 4)]
+    pub spp: u32,
+    /// Seed of every random choice; the same seed gives the same image.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Exposure multiplier applied before tone mapping.
+    #[arg(long, allow_negative_numbers = true)]
+    pub exposure: Option<f32>,
+    /// Output PNG.
+    #[arg(long, default_value = "render.png")]
+    pub out: PathBuf,
+}
+
+/// `render`'s options alone, to read their defaults.
+#[derive(Parser)]
+struct RenderDefaults {
+    #[command(flatten)]
+    args: RenderArgs,
+}
+
+impl Default for RenderArgs {
+    /// The defaults clap gives a bare `render`.
+    fn default() -> Self {
+        RenderDefaults::parse_from(["photon-fpga"]).args
+    }
+}
+
+pub fn render(args: &RenderArgs) -> Result<()> {
+    set_threads(args.opts.threads)?;
+    // A radiance estimate wants more photons than a plain gather.
+    let params = args.opts.params(32);
+    params.validate(1)?;
+    args.opts.check()?;
+    // Everything that can be refused is refused before any photon is traced.
+    if args.photons == 0 || args.photons > MAX_EMITTED {
+        return Err(Error::new(format!(
+            "--photons must be in 1..={MAX_EMITTED}, got {}",
+            args.photons
+        )));
+    }
+    if args.spp == 0 {
+        return Err(Error::new("--spp must be at least 1, got 0"));
+    }
+    limits::check_photon_memory(params.capacity)?;
+    if let Some(e) = args.exposure {
+        limits::check_positive("--exposure", e as f64)?;
+    }
+    let (w, h) = args.size;
+    limits::check_gather_memory(
+        w as u64 * h as u64 * args.spp as u64,
+        params.k,
+        params.capacity as u64,
+        &format!("--size {w}x{h} × --spp {}", args.spp),
+    )?;
+    let inputs: Vec<&std::path::Path> = args.scene.iter().map(|p| p.as_path()).collect();
+    let out = Output::check(&args.out, &inputs)?;
+    let vcd = args.opts.vcd(&inputs)?;
+    let scene = match &args.scene {
+        Some(p) => Scene::from_file(p)?,
+        None => Scene::cornell_box(),
+    };
+    let mut settings = RenderSettings {
+        width: w,
+        height: h,
+        spp: args.spp,
+        seed: args.seed,
+        ..RenderSettings::default()
+    };
+    if let Some(e) = args.exposure {
+        settings.exposure = e;
+    }
+    let mut t = StageTimes::default();
+    let photons = t
+        .time("photon emission", || {
+            photons::trace_photons_capped(&scene, args.photons, args.seed, true, params.capacity)
+        })
+        .ok_or_else(|| {
+            Error::new(format!(
+                "{} emitted photons store more than --capacity {} photons (stopped early)",
+                args.photons, params.capacity
+            ))
+        })?;
+    if photons.is_empty() {
+        return Err(Error::new("no photon reached a diffuse surface"));
+    }
+    let positions = render::photon_points(&photons);
+    let backend = t.time("kd-tree build", || {
+        make_backend(args.opts.backend, &positions, &params, &args.opts.sim(&vcd))
+    })?;
+    let pass = render::render_image(
+        &scene,
+        &settings,
+        &photons,
+        backend.as_ref(),
+        &params,
+        &mut t,
+    )?;
+    t.time("other", || render::save_png(&pass.image, &out))?;
+    if let Some(v) = vcd {
+        v.commit()?;
+    }
+    println!(
+        "{} photons stored from {} emitted; {} queries; backend {}; k = {}",
+        photons.len(),
+        args.photons,
+        pass.queries,
+        backend.name(),
+        params.k
+    );
+    if let Some(info) = backend.describe() {
+        println!("{info}");
+    }
+    println!(
+        "photons visited per query: {:.1}",
+        pass.visited as f64 / pass.queries.max(1) as f64
+    );
+    println!("{t}");
+    println!("wrote {}", args.out.display());
+    Ok(())
+}
