@@ -29,6 +29,7 @@ use crate::hw::config::{
     Addr, Coord, CoreConfig, Count, Dist, LevelMask, ModuleIndex, QueryId, ReadCount, SlotMask,
 };
 use crate::hw::max_finder::MaxFinder;
+use crate::hw::stream::{QueryBeat, ReadRequest, ReadResult};
 use crate::hw::traversal::Traversal;
 use rust_hdl::prelude::*;
 
@@ -54,37 +55,15 @@ pub struct QueryModule<const S: usize> {
     pub reset: Signal<In, bool>,
     // Query load from the dispatcher (taken when `free`).
     pub load: Signal<In, bool>,
-    pub load_id: Signal<In, QueryId>,
-    pub load_x: Signal<In, Coord>,
-    pub load_y: Signal<In, Coord>,
-    pub load_z: Signal<In, Coord>,
-    pub load_radius: Signal<In, Dist>,
-    pub load_k: Signal<In, Count>,
+    pub load_query: Signal<In, QueryBeat>,
     pub free: Signal<Out, bool>,
     // Read request to the port arbiter, with what the SearchModule needs.
     pub read_request: Signal<Out, bool>,
     pub read_grant: Signal<In, bool>,
-    pub module_index: Signal<Out, ModuleIndex>,
-    pub read_address: Signal<Out, Addr>,
-    pub read_up: Signal<Out, bool>,
-    pub read_came_from_right: Signal<Out, bool>,
-    pub query_x: Signal<Out, Coord>,
-    pub query_y: Signal<Out, Coord>,
-    pub query_z: Signal<Out, Coord>,
-    pub radius: Signal<Out, Dist>,
-    pub full: Signal<Out, bool>,
+    pub read: Signal<Out, ReadRequest>,
     // The SearchModule's result, broadcast to every QueryModule of the port.
     pub result_valid: Signal<In, bool>,
-    pub result_module: Signal<In, ModuleIndex>,
-    pub result_address: Signal<In, Addr>,
-    pub result_in_range: Signal<In, bool>,
-    pub result_dist: Signal<In, Dist>,
-    pub result_next_address: Signal<In, Addr>,
-    pub result_next_up: Signal<In, bool>,
-    pub result_next_came_from_right: Signal<In, bool>,
-    pub result_done: Signal<In, bool>,
-    pub result_axis_dist: Signal<In, Dist>,
-    pub result_far_pending: Signal<In, bool>,
+    pub result: Signal<In, ReadResult>,
     // Result read-out.
     pub finished: Signal<Out, bool>,
     pub result_taken: Signal<In, bool>,
@@ -149,35 +128,13 @@ impl<const S: usize> QueryModule<S> {
             clock: Default::default(),
             reset: Default::default(),
             load: Default::default(),
-            load_id: Default::default(),
-            load_x: Default::default(),
-            load_y: Default::default(),
-            load_z: Default::default(),
-            load_radius: Default::default(),
-            load_k: Default::default(),
+            load_query: Default::default(),
             free: Default::default(),
             read_request: Default::default(),
             read_grant: Default::default(),
-            module_index: Default::default(),
-            read_address: Default::default(),
-            read_up: Default::default(),
-            read_came_from_right: Default::default(),
-            query_x: Default::default(),
-            query_y: Default::default(),
-            query_z: Default::default(),
-            radius: Default::default(),
-            full: Default::default(),
+            read: Default::default(),
             result_valid: Default::default(),
-            result_module: Default::default(),
-            result_address: Default::default(),
-            result_in_range: Default::default(),
-            result_dist: Default::default(),
-            result_next_address: Default::default(),
-            result_next_up: Default::default(),
-            result_next_came_from_right: Default::default(),
-            result_done: Default::default(),
-            result_axis_dist: Default::default(),
-            result_far_pending: Default::default(),
+            result: Default::default(),
             finished: Default::default(),
             result_taken: Default::default(),
             out_slot: Default::default(),
@@ -277,15 +234,15 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.max_finder.clock.next = self.clock.val();
         self.max_finder.start.next = false;
         self.max_finder.candidates.next = self.occupied.q.val();
-        self.max_finder.write_dist.next = self.result_dist.val();
+        self.max_finder.write_dist.next = self.result.val().distance;
         self.max_finder.read_slot.next = self.out_slot.val();
 
         self.result_mine.next =
-            self.result_valid.val() && (self.result_module.val() == self.my_index.val());
+            self.result_valid.val() && (self.result.val().query_module == self.my_index.val());
         // A photon enters the list: appended while not full, else into the max slot.
         self.insert.next = false;
         if self.state.q.val() == QueryState::Wait {
-            self.insert.next = self.result_mine.val() && self.result_in_range.val();
+            self.insert.next = self.result_mine.val() && self.result.val().in_range;
         }
         if self.full_reg.q.val() {
             self.insert_slot.next = self.max_slot.q.val();
@@ -297,7 +254,7 @@ impl<const S: usize> Logic for QueryModule<S> {
         if self.insert.val() {
             for i in 0..self.found.len() {
                 if self.insert_slot.val().get_bit(i) {
-                    self.found[i].d.next = self.result_address.val();
+                    self.found[i].d.next = self.result.val().address;
                 }
             }
         }
@@ -305,12 +262,12 @@ impl<const S: usize> Logic for QueryModule<S> {
         match self.state.q.val() {
             QueryState::Idle => {
                 if self.load.val() {
-                    self.query_id.d.next = self.load_id.val();
-                    self.qx.d.next = self.load_x.val();
-                    self.qy.d.next = self.load_y.val();
-                    self.qz.d.next = self.load_z.val();
-                    self.radius_reg.d.next = self.load_radius.val();
-                    self.k_reg.d.next = self.load_k.val();
+                    self.query_id.d.next = self.load_query.val().id;
+                    self.qx.d.next = self.load_query.val().x;
+                    self.qy.d.next = self.load_query.val().y;
+                    self.qz.d.next = self.load_query.val().z;
+                    self.radius_reg.d.next = self.load_query.val().radius;
+                    self.k_reg.d.next = self.load_query.val().k;
                     self.full_reg.d.next = false;
                     self.count.d.next = 0.into();
                     self.append_slot.d.next = 1.into();
@@ -336,36 +293,36 @@ impl<const S: usize> Logic for QueryModule<S> {
             }
             QueryState::Wait => {
                 if self.result_mine.val() {
-                    self.search_done.d.next = self.result_done.val();
+                    self.search_done.d.next = self.result.val().done;
                     self.ascending.d.next = false;
                     if self.remember.val() {
                         // Remember this level; go down, or climb (after the MaxFinder).
                         for i in 0..self.path_dist.len() {
                             if self.level.q.val().get_bit(i) {
                                 self.path_dist[i].d.next =
-                                    self.result_axis_dist.val() & self.dist_mask.val();
+                                    self.result.val().axis_dist & self.dist_mask.val();
                             }
                         }
-                        if self.result_far_pending.val() {
+                        if self.result.val().far_pending {
                             self.pending.d.next = (self.pending.q.val() | self.level.q.val())
                                 & self.pending_mask.val();
                         } else {
                             self.pending.d.next = self.pending.q.val() & (!self.level.q.val());
                         }
-                        if self.result_next_up.val() {
+                        if self.result.val().next_up {
                             self.ascending.d.next = true;
                         } else {
-                            self.address.d.next = self.result_next_address.val();
+                            self.address.d.next = self.result.val().next_address;
                             self.level.d.next = (self.level.q.val() << 1) & self.level_mask.val();
                         }
                     } else {
-                        self.address.d.next = self.result_next_address.val();
-                        self.up.d.next = self.result_next_up.val();
-                        self.came_from_right.d.next = self.result_next_came_from_right.val();
+                        self.address.d.next = self.result.val().next_address;
+                        self.up.d.next = self.result.val().next_up;
+                        self.came_from_right.d.next = self.result.val().next_came_from_right;
                     }
-                    if self.result_done.val() {
+                    if self.result.val().done {
                         self.state.d.next = QueryState::Done;
-                    } else if self.remember.val() && self.result_next_up.val() {
+                    } else if self.remember.val() && self.result.val().next_up {
                         self.state.d.next = QueryState::Ascend;
                     } else {
                         self.state.d.next = QueryState::Ready;
@@ -431,15 +388,15 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.free.next = self.state.q.val() == QueryState::Idle;
         self.read_request.next = self.state.q.val() == QueryState::Ready;
         self.finished.next = self.state.q.val() == QueryState::Done;
-        self.module_index.next = self.my_index.val();
-        self.read_address.next = self.address.q.val();
-        self.read_up.next = self.up.q.val();
-        self.read_came_from_right.next = self.came_from_right.q.val();
-        self.query_x.next = self.qx.q.val();
-        self.query_y.next = self.qy.q.val();
-        self.query_z.next = self.qz.q.val();
-        self.radius.next = self.radius_reg.q.val();
-        self.full.next = self.full_reg.q.val();
+        self.read.next.query_module = self.my_index.val();
+        self.read.next.address = self.address.q.val();
+        self.read.next.up = self.up.q.val();
+        self.read.next.came_from_right = self.came_from_right.q.val();
+        self.read.next.x = self.qx.q.val();
+        self.read.next.y = self.qy.q.val();
+        self.read.next.z = self.qz.q.val();
+        self.read.next.radius = self.radius_reg.q.val();
+        self.read.next.full = self.full_reg.q.val();
         self.out_id.next = self.query_id.q.val();
         self.out_count.next = self.count.q.val();
         self.out_visited.next = self.visited.q.val();

@@ -12,7 +12,7 @@ use crate::hw::port_arbiter::PortArbiter;
 use crate::hw::query_module::QueryModule;
 use crate::hw::register_slice::ResultRegister;
 use crate::hw::search_module::SearchModule;
-use crate::hw::stream::{QueryBeat, ResultBeat, StreamIn, StreamOut};
+use crate::hw::stream::{QueryBeat, ReadRequest, ResultBeat, StreamIn, StreamOut};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
@@ -42,6 +42,8 @@ pub struct SearchPort<const S: usize, const W: usize> {
     load_pick: Signal<Local, ModuleMask>,
     finished_mask: Signal<Local, ModuleMask>,
     result_fire: Signal<Local, bool>,
+    /// The granted module's read (module 0's when none is granted: not valid then).
+    granted_read: Signal<Local, ReadRequest>,
     /// The beat being read out, before the ResultRegister.
     beat: Signal<Local, ResultBeat>,
     out_active: DFF<bool>,
@@ -75,6 +77,7 @@ impl<const S: usize, const W: usize> SearchPort<S, W> {
             load_pick: Default::default(),
             finished_mask: Default::default(),
             result_fire: Default::default(),
+            granted_read: Default::default(),
             beat: Default::default(),
             out_active: Default::default(),
             out_select: Default::default(),
@@ -131,55 +134,21 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
         self.beat.next.distance = 0.into();
 
         // The granted read goes to the TreeModule and, with its context, the SearchModule.
-        self.ram_address.next = 0.into();
         self.search.request_valid.next = self.arbiter.granted.val();
-        self.search.request_module.next = 0.into();
-        self.search.request_address.next = 0.into();
-        self.search.request_up.next = false;
-        self.search.request_came_from_right.next = false;
-        self.search.request_x.next = 0.into();
-        self.search.request_y.next = 0.into();
-        self.search.request_z.next = 0.into();
-        self.search.request_radius.next = 0.into();
-        self.search.request_full.next = false;
+        self.granted_read.next = self.modules[0].read.val();
         for i in 0..self.modules.len() {
             self.modules[i].clock.next = self.clock.val();
             self.modules[i].reset.next = self.reset.val();
             self.modules[i].read_grant.next = self.arbiter.grant.val().get_bit(i);
             if self.arbiter.grant.val().get_bit(i) {
-                self.ram_address.next = self.modules[i].read_address.val();
-                self.search.request_module.next = self.modules[i].module_index.val();
-                self.search.request_address.next = self.modules[i].read_address.val();
-                self.search.request_up.next = self.modules[i].read_up.val();
-                self.search.request_came_from_right.next =
-                    self.modules[i].read_came_from_right.val();
-                self.search.request_x.next = self.modules[i].query_x.val();
-                self.search.request_y.next = self.modules[i].query_y.val();
-                self.search.request_z.next = self.modules[i].query_z.val();
-                self.search.request_radius.next = self.modules[i].radius.val();
-                self.search.request_full.next = self.modules[i].full.val();
+                self.granted_read.next = self.modules[i].read.val();
             }
             // SearchModule result broadcast.
             self.modules[i].result_valid.next = self.search.result_valid.val();
-            self.modules[i].result_module.next = self.search.result_module.val();
-            self.modules[i].result_address.next = self.search.result_address.val();
-            self.modules[i].result_in_range.next = self.search.result_in_range.val();
-            self.modules[i].result_dist.next = self.search.result_dist.val();
-            self.modules[i].result_next_address.next = self.search.result_next_address.val();
-            self.modules[i].result_next_up.next = self.search.result_next_up.val();
-            self.modules[i].result_next_came_from_right.next =
-                self.search.result_next_came_from_right.val();
-            self.modules[i].result_done.next = self.search.result_done.val();
-            self.modules[i].result_axis_dist.next = self.search.result_axis_dist.val();
-            self.modules[i].result_far_pending.next = self.search.result_far_pending.val();
+            self.modules[i].result.next = self.search.result.val();
             // Query hand-out broadcast; only the picked module loads.
             self.modules[i].load.next = self.query.valid.val() && self.load_pick.val().get_bit(i);
-            self.modules[i].load_id.next = self.query.data.val().id;
-            self.modules[i].load_x.next = self.query.data.val().x;
-            self.modules[i].load_y.next = self.query.data.val().y;
-            self.modules[i].load_z.next = self.query.data.val().z;
-            self.modules[i].load_radius.next = self.query.data.val().radius;
-            self.modules[i].load_k.next = self.query.data.val().k;
+            self.modules[i].load_query.next = self.query.data.val();
             // Result read-out from the selected module; only it sees a slot.
             self.modules[i].out_slot.next = 0.into();
             if self.out_select.q.val().get_bit(i) {
@@ -191,6 +160,8 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
                 self.beat.next.distance = self.modules[i].out_dist.val();
             }
         }
+        self.search.request.next = self.granted_read.val();
+        self.ram_address.next = self.granted_read.val().address;
         if self.out_header.q.val() {
             self.beat.next.last = self.beat.val().count == 0;
         } else {

@@ -9,7 +9,7 @@
 //! `bundle$member` (e.g. `query$valid`) and a struct is one packed vector whose
 //! fields are slices, first field in the low bits.
 
-use crate::hw::config::{Addr, Coord, Count, Dist, QueryId, ReadCount, Word};
+use crate::hw::config::{Addr, Coord, Count, Dist, ModuleIndex, QueryId, ReadCount, Word};
 use rust_hdl::prelude::*;
 
 /// One query: grid coordinates, an inclusive integer radius bound in the metric
@@ -69,4 +69,42 @@ pub struct LoadIn<const W: usize> {
     pub address: Signal<In, Addr>,
     pub word: Signal<In, Word<W>>,
     pub last: Signal<In, bool>,
+}
+
+/// A photon read and its context, from a QueryModule through the port arbiter to
+/// the SearchModule (paper §4.5: the SearchModule carries the QueryModule's id so
+/// that all of a port's QueryModules can share it). The SearchModule's pipeline
+/// carries it along with the word.
+#[derive(Clone, Copy, Debug, PartialEq, Default, LogicStruct)]
+pub struct ReadRequest {
+    /// Index of the requesting QueryModule within its port.
+    pub query_module: ModuleIndex,
+    pub address: Addr,
+    /// The traversal step: climbing (`up`) from the right or the left child.
+    pub up: bool,
+    pub came_from_right: bool,
+    pub x: Coord,
+    pub y: Coord,
+    pub z: Coord,
+    pub radius: Dist,
+    pub full: bool,
+}
+
+/// What the SearchModule answers about one read, broadcast to the port's
+/// QueryModules; the one whose index is `query_module` takes it.
+#[derive(Clone, Copy, Debug, PartialEq, Default, LogicStruct)]
+pub struct ReadResult {
+    pub query_module: ModuleIndex,
+    pub address: Addr,
+    /// A first (downward) visit whose photon is within the radius.
+    pub in_range: bool,
+    pub distance: Dist,
+    pub next_address: Addr,
+    pub next_up: bool,
+    pub next_came_from_right: bool,
+    pub done: bool,
+    /// For the path memory (`Traversal::Remember`): the photon's axis distance and
+    /// whether its far child is still to be visited.
+    pub axis_dist: Dist,
+    pub far_pending: bool,
 }
