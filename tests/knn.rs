@@ -448,3 +448,21 @@ fn pruned_ascent_reads_only_the_descent_path() {
         }
     }
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
+    /// Any small map, query, k, radius and metric: `check` (both ascents and the
+    /// float search against brute force, slot consistency, counts). proptest shrinks
+    /// a failure to a minimal map.
+    #[test]
+    fn any_small_map_matches_brute_force(
+        points in proptest::collection::vec([0u32..64, 0u32..64, 0u32..64], 1..80),
+        q in [0u32..64, 0u32..64, 0u32..64],
+        k in 1usize..12,
+        r0 in proptest::prop_oneof![proptest::strategy::Just(u64::MAX), 0u64..3000],
+        l1 in proptest::bool::ANY,
+    ) {
+        let metric = if l1 { Metric::L1 } else { Metric::L2 };
+        check(&points, q, k, r0, metric);
+    }
+}
