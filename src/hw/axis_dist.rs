@@ -3,7 +3,7 @@
 //! far subtree with it, so it is measured in the search metric (|dq|^2 for L2,
 //! |dq| for L1), exactly `Metric::axis_dist` of the software search.
 
-use crate::hw::config::{Coord, Dist};
+use crate::hw::config::{low_mask, Coord, Dist};
 use crate::hw::metric::Metric;
 use rust_hdl::prelude::*;
 
@@ -22,14 +22,23 @@ pub struct AxisDistModule {
     /// The near child is the right one iff `q[a] >= p[a]` (knn.rs traversal rule).
     pub near_right: Signal<Out, bool>,
     metric_is_l2: Constant<bool>,
+    dist_mask: Constant<Dist>,
     query_on_axis: Signal<Local, Coord>,
     photon_on_axis: Signal<Local, Coord>,
     axis_delta: Signal<Local, Coord>,
 }
 
 impl AxisDistModule {
+    /// Full-width datapath (32-bit distances).
     pub fn new(metric: Metric) -> Self {
+        Self::with_widths(metric, 32)
+    }
+
+    /// A datapath whose axis distance has the metric's `dist_bits` (masked, so
+    /// synthesis drops the bits above).
+    pub fn with_widths(metric: Metric, dist_bits: u32) -> Self {
         AxisDistModule {
+            dist_mask: Constant::new(Dist::from(low_mask(dist_bits))),
             query_x: Default::default(),
             query_y: Default::default(),
             query_z: Default::default(),
@@ -68,9 +77,10 @@ impl Logic for AxisDistModule {
             self.axis_delta.next = self.photon_on_axis.val() - self.query_on_axis.val();
         }
         if self.metric_is_l2.val() {
-            self.axis_dist.next = self.axis_delta.val() * self.axis_delta.val();
+            self.axis_dist.next =
+                (self.axis_delta.val() * self.axis_delta.val()) & self.dist_mask.val();
         } else {
-            self.axis_dist.next = bit_cast::<32, 16>(self.axis_delta.val());
+            self.axis_dist.next = bit_cast::<32, 16>(self.axis_delta.val()) & self.dist_mask.val();
         }
     }
 }

@@ -190,6 +190,32 @@ impl CoreConfig {
         self.trees * PORTS * self.queries_per_port
     }
 
+    /// Query-id bits the core keeps (issue 11, "only what the scene needs"): the
+    /// host tags queries from a pool of `2^id_bits` tags, twice the queries that can
+    /// be in flight (one per QueryModule, plus up to two result beats held in each
+    /// port's ResultRegister after its QueryModule was freed). The core returns the
+    /// low `id_bits` of the id it was given.
+    pub fn id_bits(&self) -> u32 {
+        let in_flight = self.query_modules() + 2 * PORTS * self.trees;
+        bits_for(2 * in_flight as u64).min(32)
+    }
+
+    /// Bits of a found-list count or k (0..=K).
+    pub fn count_bits(&self) -> u32 {
+        bits_for(self.k as u64)
+    }
+
+    /// Bits of a query's photon-read count: at most 2N − 1 reads (every node read
+    /// on the way down and, with re-reads, once more on the way up), N < 2^H.
+    pub fn visited_bits(&self) -> u32 {
+        self.address_bits + 1
+    }
+
+    /// Bits of a QueryModule's index within its port.
+    pub fn module_bits(&self) -> u32 {
+        bits_for(self.queries_per_port.saturating_sub(1) as u64).max(1)
+    }
+
     /// Photon words the TreeModule holds.
     pub fn tree_words(&self) -> usize {
         1 << self.address_bits
@@ -263,6 +289,20 @@ impl CoreConfig {
             )));
         }
         Ok(())
+    }
+}
+
+/// Bits needed to hold `x` (at least 1).
+pub fn bits_for(x: u64) -> u32 {
+    (u64::BITS - x.leading_zeros()).max(1)
+}
+
+/// The low `bits` bits set.
+pub fn low_mask(bits: u32) -> u64 {
+    if bits >= 64 {
+        u64::MAX
+    } else {
+        (1u64 << bits) - 1
     }
 }
 

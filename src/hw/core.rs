@@ -12,7 +12,7 @@
 //!   Results of different queries may leave out of order; beats of one result are
 //!   contiguous.
 
-use crate::hw::config::{Addr, CoreConfig, PORTS};
+use crate::hw::config::{low_mask, Addr, CoreConfig, PORTS};
 use crate::hw::dispatcher::Dispatcher;
 use crate::hw::packet_merge::PacketMerge;
 use crate::hw::search_port::SearchPort;
@@ -39,6 +39,8 @@ pub struct PhotonSearchCore<const S: usize, const W: usize> {
     photon_count: DFF<Addr>,
     loaded: DFF<bool>,
     load_fire: Signal<Local, bool>,
+    /// H address bits: the photon count register is as wide as the tree.
+    addr_mask: Constant<Addr>,
 }
 
 impl<const S: usize, const W: usize> PhotonSearchCore<S, W> {
@@ -61,6 +63,7 @@ impl<const S: usize, const W: usize> PhotonSearchCore<S, W> {
             photon_count: Default::default(),
             loaded: Default::default(),
             load_fire: Default::default(),
+            addr_mask: Constant::new(Addr::from(low_mask(cfg.address_bits))),
         }
     }
 }
@@ -96,7 +99,7 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
         if self.load_fire.val() {
             self.loaded.d.next = self.load.last.val();
             if self.load.last.val() {
-                self.photon_count.d.next = self.load.address.val();
+                self.photon_count.d.next = self.load.address.val() & self.addr_mask.val();
             }
         }
 

@@ -5,7 +5,7 @@
 //! full, R is the list maximum and only a strictly nearer photon enters (`d < R`),
 //! the boundary rules of knn.rs. It runs in parallel with AxisDist/NextIndex.
 
-use crate::hw::config::{Coord, Dist};
+use crate::hw::config::{low_mask, Coord, Dist};
 use crate::hw::metric::Metric;
 use rust_hdl::prelude::*;
 
@@ -23,6 +23,13 @@ pub struct DistModule {
     pub distance: Signal<Out, Dist>,
     pub in_range: Signal<Out, bool>,
     metric_is_l2: Constant<bool>,
+    /// The configured widths ("only what the scene needs"): each axis's coordinate
+    /// bits and the metric's distance bits. The differences and the sum are masked
+    /// so that synthesis drops the datapath bits above them.
+    mask_x: Constant<Coord>,
+    mask_y: Constant<Coord>,
+    mask_z: Constant<Coord>,
+    dist_mask: Constant<Dist>,
     delta_x: Signal<Local, Coord>,
     delta_y: Signal<Local, Coord>,
     delta_z: Signal<Local, Coord>,
@@ -32,8 +39,19 @@ pub struct DistModule {
 }
 
 impl DistModule {
+    /// Full-width datapath (15-bit coordinates, 32-bit distances).
     pub fn new(metric: Metric) -> Self {
+        Self::with_widths(metric, [15; 3], 32)
+    }
+
+    /// A datapath for `coord_bits` per axis and `dist_bits`-bit distances.
+    pub fn with_widths(metric: Metric, coord_bits: [u32; 3], dist_bits: u32) -> Self {
+        let coord = |a: usize| Constant::new(Coord::from(low_mask(coord_bits[a])));
         DistModule {
+            mask_x: coord(0),
+            mask_y: coord(1),
+            mask_z: coord(2),
+            dist_mask: Constant::new(Dist::from(low_mask(dist_bits))),
             query_x: Default::default(),
             query_y: Default::default(),
             query_z: Default::default(),
@@ -59,19 +77,19 @@ impl Logic for DistModule {
     #[hdl_gen]
     fn update(&mut self) {
         if self.query_x.val() >= self.photon_x.val() {
-            self.delta_x.next = self.query_x.val() - self.photon_x.val();
+            self.delta_x.next = (self.query_x.val() - self.photon_x.val()) & self.mask_x.val();
         } else {
-            self.delta_x.next = self.photon_x.val() - self.query_x.val();
+            self.delta_x.next = (self.photon_x.val() - self.query_x.val()) & self.mask_x.val();
         }
         if self.query_y.val() >= self.photon_y.val() {
-            self.delta_y.next = self.query_y.val() - self.photon_y.val();
+            self.delta_y.next = (self.query_y.val() - self.photon_y.val()) & self.mask_y.val();
         } else {
-            self.delta_y.next = self.photon_y.val() - self.query_y.val();
+            self.delta_y.next = (self.photon_y.val() - self.query_y.val()) & self.mask_y.val();
         }
         if self.query_z.val() >= self.photon_z.val() {
-            self.delta_z.next = self.query_z.val() - self.photon_z.val();
+            self.delta_z.next = (self.query_z.val() - self.photon_z.val()) & self.mask_z.val();
         } else {
-            self.delta_z.next = self.photon_z.val() - self.query_z.val();
+            self.delta_z.next = (self.photon_z.val() - self.query_z.val()) & self.mask_z.val();
         }
         if self.metric_is_l2.val() {
             self.term_x.next = self.delta_x.val() * self.delta_x.val();
@@ -83,7 +101,8 @@ impl Logic for DistModule {
             self.term_z.next = bit_cast::<32, 16>(self.delta_z.val());
         }
         // CoreConfig::validate guarantees the sum fits the distance width.
-        self.distance.next = self.term_x.val() + self.term_y.val() + self.term_z.val();
+        self.distance.next =
+            (self.term_x.val() + self.term_y.val() + self.term_z.val()) & self.dist_mask.val();
         if self.full.val() {
             self.in_range.next = self.distance.val() < self.radius.val();
         } else {

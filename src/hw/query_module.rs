@@ -26,7 +26,8 @@
 //! custom Verilog block like the TreeModule's and is left to the area work (issue 11).
 
 use crate::hw::config::{
-    Addr, Coord, CoreConfig, Count, Dist, LevelMask, ModuleIndex, QueryId, ReadCount, SlotMask,
+    low_mask, Addr, Coord, CoreConfig, Count, Dist, LevelMask, ModuleIndex, QueryId, ReadCount,
+    SlotMask,
 };
 use crate::hw::max_finder::MaxFinder;
 use crate::hw::stream::{QueryBeat, ReadRequest, ReadResult};
@@ -67,6 +68,9 @@ pub struct QueryModule<const S: usize> {
     // Result read-out.
     pub finished: Signal<Out, bool>,
     pub result_taken: Signal<In, bool>,
+    /// This module is the one being read out (its id, count and reads appear).
+    pub out_enable: Signal<In, bool>,
+    /// The slot being read out (one-hot; zero while not read out).
     pub out_slot: Signal<In, SlotMask<S>>,
     pub out_id: Signal<Out, QueryId>,
     pub out_count: Signal<Out, Count>,
@@ -81,6 +85,19 @@ pub struct QueryModule<const S: usize> {
     dist_mask: Constant<Dist>,
     level_mask: Constant<LevelMask>,
     pending_mask: Constant<LevelMask>,
+    /// The widths the configuration needs (issue 11): every register is loaded
+    /// through its mask, so synthesis drops the bits above (a flip-flop whose input
+    /// is constant or itself). Query id (`CoreConfig::id_bits`), coordinates per
+    /// axis, heap address (H bits), counts (0..=K), photon reads (H + 1 bits), the
+    /// K slots that exist.
+    id_mask: Constant<QueryId>,
+    coord_mask_x: Constant<Coord>,
+    coord_mask_y: Constant<Coord>,
+    coord_mask_z: Constant<Coord>,
+    addr_mask: Constant<Addr>,
+    count_mask: Constant<Count>,
+    visited_mask: Constant<ReadCount>,
+    slot_mask: Constant<SlotMask<S>>,
     state: DFF<QueryState>,
     query_id: DFF<QueryId>,
     qx: DFF<Coord>,
@@ -119,6 +136,8 @@ pub struct QueryModule<const S: usize> {
     parent_dist: Signal<Local, Dist>,
     parent_pending: Signal<Local, bool>,
     parent_within: Signal<Local, bool>,
+    /// One found-list entry on its way into the read-out's AND-OR.
+    slot_address: Signal<Local, Addr>,
 }
 
 impl<const S: usize> QueryModule<S> {
@@ -137,6 +156,7 @@ impl<const S: usize> QueryModule<S> {
             result: Default::default(),
             finished: Default::default(),
             result_taken: Default::default(),
+            out_enable: Default::default(),
             out_slot: Default::default(),
             out_id: Default::default(),
             out_count: Default::default(),
@@ -148,6 +168,14 @@ impl<const S: usize> QueryModule<S> {
             dist_mask: Constant::new(Dist::from((1u64 << cfg.dist_bits()) - 1)),
             level_mask: Constant::new(LevelMask::from((1u64 << cfg.address_bits) - 1)),
             pending_mask: Constant::new(LevelMask::from((1u64 << cfg.path_levels()) - 1)),
+            id_mask: Constant::new(QueryId::from(low_mask(cfg.id_bits()))),
+            coord_mask_x: Constant::new(Coord::from(cfg.layout.coord_max(0) as u64)),
+            coord_mask_y: Constant::new(Coord::from(cfg.layout.coord_max(1) as u64)),
+            coord_mask_z: Constant::new(Coord::from(cfg.layout.coord_max(2) as u64)),
+            addr_mask: Constant::new(Addr::from(low_mask(cfg.address_bits))),
+            count_mask: Constant::new(Count::from(low_mask(cfg.count_bits()))),
+            visited_mask: Constant::new(ReadCount::from(low_mask(cfg.visited_bits()))),
+            slot_mask: Constant::new(SlotMask::<S>::from(low_mask(cfg.k as u32))),
             state: Default::default(),
             query_id: Default::default(),
             qx: Default::default(),
@@ -178,6 +206,7 @@ impl<const S: usize> QueryModule<S> {
             parent_dist: Default::default(),
             parent_pending: Default::default(),
             parent_within: Default::default(),
+            slot_address: Default::default(),
         }
     }
 }
@@ -254,7 +283,7 @@ impl<const S: usize> Logic for QueryModule<S> {
         if self.insert.val() {
             for i in 0..self.found.len() {
                 if self.insert_slot.val().get_bit(i) {
-                    self.found[i].d.next = self.result.val().address;
+                    self.found[i].d.next = self.result.val().address & self.addr_mask.val();
                 }
             }
         }
@@ -262,12 +291,18 @@ impl<const S: usize> Logic for QueryModule<S> {
         match self.state.q.val() {
             QueryState::Idle => {
                 if self.load.val() {
-                    self.query_id.d.next = self.load_query.val().id;
-                    self.qx.d.next = self.load_query.val().x;
-                    self.qy.d.next = self.load_query.val().y;
-                    self.qz.d.next = self.load_query.val().z;
-                    self.radius_reg.d.next = self.load_query.val().radius;
-                    self.k_reg.d.next = self.load_query.val().k;
+                    self.query_id.d.next = self.load_query.val().id & self.id_mask.val();
+                    self.qx.d.next = self.load_query.val().x & self.coord_mask_x.val();
+                    self.qy.d.next = self.load_query.val().y & self.coord_mask_y.val();
+                    self.qz.d.next = self.load_query.val().z & self.coord_mask_z.val();
+                    // A radius beyond every possible distance is the largest one:
+                    // the same photons are within it, in a register of distance bits.
+                    if (self.load_query.val().radius & (!self.dist_mask.val())).any() {
+                        self.radius_reg.d.next = self.dist_mask.val();
+                    } else {
+                        self.radius_reg.d.next = self.load_query.val().radius;
+                    }
+                    self.k_reg.d.next = self.load_query.val().k & self.count_mask.val();
                     self.full_reg.d.next = false;
                     self.count.d.next = 0.into();
                     self.append_slot.d.next = 1.into();
@@ -287,7 +322,7 @@ impl<const S: usize> Logic for QueryModule<S> {
             }
             QueryState::Ready => {
                 if self.read_grant.val() {
-                    self.visited.d.next = self.visited.q.val() + 1;
+                    self.visited.d.next = (self.visited.q.val() + 1) & self.visited_mask.val();
                     self.state.d.next = QueryState::Wait;
                 }
             }
@@ -312,11 +347,12 @@ impl<const S: usize> Logic for QueryModule<S> {
                         if self.result.val().next_up {
                             self.ascending.d.next = true;
                         } else {
-                            self.address.d.next = self.result.val().next_address;
+                            self.address.d.next =
+                                self.result.val().next_address & self.addr_mask.val();
                             self.level.d.next = (self.level.q.val() << 1) & self.level_mask.val();
                         }
                     } else {
-                        self.address.d.next = self.result.val().next_address;
+                        self.address.d.next = self.result.val().next_address & self.addr_mask.val();
                         self.up.d.next = self.result.val().next_up;
                         self.came_from_right.d.next = self.result.val().next_came_from_right;
                     }
@@ -332,9 +368,10 @@ impl<const S: usize> Logic for QueryModule<S> {
                             self.max_finder.start.next = true;
                             self.state.d.next = QueryState::MaxFind;
                         } else {
-                            self.count.d.next = self.count.q.val() + 1;
+                            self.count.d.next = (self.count.q.val() + 1) & self.count_mask.val();
                             self.occupied.d.next = self.occupied.q.val() | self.append_slot.q.val();
-                            self.append_slot.d.next = self.append_slot.q.val() << 1;
+                            self.append_slot.d.next =
+                                (self.append_slot.q.val() << 1) & self.slot_mask.val();
                             if (self.count.q.val() + 1) == self.k_reg.q.val() {
                                 self.max_finder.start.next = true;
                                 self.max_finder.candidates.next =
@@ -397,17 +434,26 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.read.next.z = self.qz.q.val();
         self.read.next.radius = self.radius_reg.q.val();
         self.read.next.full = self.full_reg.q.val();
-        self.out_id.next = self.query_id.q.val();
-        self.out_count.next = self.count.q.val();
-        self.out_visited.next = self.visited.q.val();
+        // Read-out: zero unless this module is selected, so that the port merges
+        // its modules with an OR tree instead of a chain of multiplexers (issue
+        // 11: the read-out was the critical path). The found list is read the same
+        // way: an AND-OR over the one-hot slot.
+        self.out_id.next = 0.into();
+        self.out_count.next = 0.into();
+        self.out_visited.next = 0.into();
+        if self.out_enable.val() {
+            self.out_id.next = self.query_id.q.val();
+            self.out_count.next = self.count.q.val();
+            self.out_visited.next = self.visited.q.val();
+        }
         self.out_dist.next = self.max_finder.read_dist.val();
         self.out_address.next = 0.into();
-        if self.out_slot.val().any() {
-            for i in 0..self.found.len() {
-                if self.out_slot.val().get_bit(i) {
-                    self.out_address.next = self.found[i].q.val();
-                }
+        for i in 0..self.found.len() {
+            self.slot_address.next = 0.into();
+            if self.out_slot.val().get_bit(i) {
+                self.slot_address.next = self.found[i].q.val();
             }
+            self.out_address.next = self.out_address.val() | self.slot_address.val();
         }
     }
 }

@@ -149,16 +149,18 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
             // Query hand-out broadcast; only the picked module loads.
             self.modules[i].load.next = self.query.valid.val() && self.load_pick.val().get_bit(i);
             self.modules[i].load_query.next = self.query.data.val();
-            // Result read-out from the selected module; only it sees a slot.
+            // Result read-out: only the selected module sees a slot and drives its
+            // outputs (the others give zeros), so the beat is an OR over modules.
+            self.modules[i].out_enable.next = self.out_select.q.val().get_bit(i);
             self.modules[i].out_slot.next = 0.into();
             if self.out_select.q.val().get_bit(i) {
                 self.modules[i].out_slot.next = self.out_slot.q.val();
-                self.beat.next.id = self.modules[i].out_id.val();
-                self.beat.next.count = self.modules[i].out_count.val();
-                self.beat.next.visited = self.modules[i].out_visited.val();
-                self.beat.next.address = self.modules[i].out_address.val();
-                self.beat.next.distance = self.modules[i].out_dist.val();
             }
+            self.beat.next.id = self.beat.val().id | self.modules[i].out_id.val();
+            self.beat.next.count = self.beat.val().count | self.modules[i].out_count.val();
+            self.beat.next.visited = self.beat.val().visited | self.modules[i].out_visited.val();
+            self.beat.next.address = self.beat.val().address | self.modules[i].out_address.val();
+            self.beat.next.distance = self.beat.val().distance | self.modules[i].out_dist.val();
         }
         self.search.request.next = self.granted_read.val();
         self.ram_address.next = self.granted_read.val().address;

@@ -182,10 +182,13 @@ struct Host {
     load_next: usize,
     load_presenting: bool,
     query_next: usize,
-    query_presenting: bool,
-    /// Global query tag -> (job, query index).
-    tags: Vec<(usize, usize)>,
-    tag_base: Vec<usize>,
+    /// The tag of the query being presented, while it is.
+    query_tag: Option<usize>,
+    /// Tag -> (job, query index) while the query is in flight (accepted, its last
+    /// result beat not yet received). The core keeps `CoreConfig::id_bits` of the
+    /// id, so tags come from a pool of that size, reused in FIFO order.
+    tags: Vec<Option<(usize, usize)>>,
+    free_tags: std::collections::VecDeque<usize>,
     /// Result in progress: (tag, count).
     current: Option<(usize, usize)>,
     received: usize,
@@ -325,17 +328,13 @@ impl<D: Dut> Driver<D> {
             load_next: 1,
             load_presenting: false,
             query_next: 0,
-            query_presenting: false,
-            tags: vec![],
-            tag_base: vec![],
+            query_tag: None,
+            tags: vec![None; 1 << cfg.id_bits()],
+            free_tags: (0..1 << cfg.id_bits()).collect(),
             current: None,
             received: 0,
         };
-        for (ji, job) in jobs.iter().enumerate() {
-            host.tag_base.push(host.tags.len());
-            host.tags.extend((0..job.queries.len()).map(|qi| (ji, qi)));
-        }
-        let total = host.tags.len();
+        let total: usize = jobs.iter().map(|j| j.queries.len()).sum();
         let mut results: Vec<Vec<Option<HwResult>>> =
             jobs.iter().map(|j| vec![None; j.queries.len()]).collect();
         let patience = 10_000 + 8 * (cfg.tree_words() as u64 + 2) * cfg.issue_interval() as u64;
@@ -380,13 +379,14 @@ impl<D: Dut> Driver<D> {
                         last: host.load_next == tree.len(),
                     };
                 } else if host.query_next < job.queries.len() {
-                    if !host.query_presenting && !self.stall() {
-                        host.query_presenting = true;
+                    if host.query_tag.is_none() && !self.stall() {
+                        // No free tag: every tag is in flight; wait for a result.
+                        host.query_tag = host.free_tags.pop_front();
                     }
                     let q = &job.queries[host.query_next];
-                    self.inputs.query_valid = host.query_presenting;
+                    self.inputs.query_valid = host.query_tag.is_some();
                     self.inputs.query = QueryBeat {
-                        id: ((host.tag_base[host.job] + host.query_next) as u64).into(),
+                        id: (host.query_tag.unwrap_or(0) as u64).into(),
                         x: (q.coords[0] as u64).into(),
                         y: (q.coords[1] as u64).into(),
                         z: (q.coords[2] as u64).into(),
@@ -414,7 +414,8 @@ impl<D: Dut> Driver<D> {
                 }
             }
             if query_fire {
-                host.query_presenting = false;
+                let tag = host.query_tag.take().expect("presented with a tag");
+                host.tags[tag] = Some((host.job, host.query_next));
                 host.query_next += 1;
             }
             if !host.loading
@@ -450,9 +451,11 @@ fn receive(
     beat: &ResultBeat,
 ) -> Result<(), HwError> {
     let tag = beat.id.to_u64() as usize;
-    let &(ji, qi) = host
+    let (ji, qi) = host
         .tags
         .get(tag)
+        .copied()
+        .flatten()
         .ok_or_else(|| protocol(format!("result for unknown query tag {tag}")))?;
     if beat.header {
         if host.current.is_some() {
@@ -491,6 +494,8 @@ fn receive(
     if beat.last {
         host.current = None;
         host.received += 1;
+        host.tags[tag] = None;
+        host.free_tags.push_back(tag);
     }
     Ok(())
 }
