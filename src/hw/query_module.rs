@@ -425,15 +425,27 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.free.next = self.state.q.val() == QueryState::Idle;
         self.read_request.next = self.state.q.val() == QueryState::Ready;
         self.finished.next = self.state.q.val() == QueryState::Done;
-        self.read.next.query_module = self.my_index.val();
-        self.read.next.address = self.address.q.val();
-        self.read.next.up = self.up.q.val();
-        self.read.next.came_from_right = self.came_from_right.q.val();
-        self.read.next.x = self.qx.q.val();
-        self.read.next.y = self.qy.q.val();
-        self.read.next.z = self.qz.q.val();
-        self.read.next.radius = self.radius_reg.q.val();
-        self.read.next.full = self.full_reg.q.val();
+        // The read and its context, zero unless granted (the port ORs its modules).
+        self.read.next.query_module = 0.into();
+        self.read.next.address = 0.into();
+        self.read.next.up = false;
+        self.read.next.came_from_right = false;
+        self.read.next.x = 0.into();
+        self.read.next.y = 0.into();
+        self.read.next.z = 0.into();
+        self.read.next.radius = 0.into();
+        self.read.next.full = false;
+        if self.read_grant.val() {
+            self.read.next.query_module = self.my_index.val();
+            self.read.next.address = self.address.q.val();
+            self.read.next.up = self.up.q.val();
+            self.read.next.came_from_right = self.came_from_right.q.val();
+            self.read.next.x = self.qx.q.val();
+            self.read.next.y = self.qy.q.val();
+            self.read.next.z = self.qz.q.val();
+            self.read.next.radius = self.radius_reg.q.val();
+            self.read.next.full = self.full_reg.q.val();
+        }
         // Read-out: zero unless this module is selected, so that the port merges
         // its modules with an OR tree instead of a chain of multiplexers (issue
         // 11: the read-out was the critical path). The found list is read the same

@@ -42,8 +42,9 @@ pub struct SearchPort<const S: usize, const W: usize> {
     load_pick: Signal<Local, ModuleMask>,
     finished_mask: Signal<Local, ModuleMask>,
     result_fire: Signal<Local, bool>,
-    /// The granted module's read (module 0's when none is granted: not valid then).
+    /// The granted module's read (zero when none is granted: not valid then).
     granted_read: Signal<Local, ReadRequest>,
+    read_pick: Signal<Local, ReadRequest>,
     /// The beat being read out, before the ResultRegister.
     beat: Signal<Local, ResultBeat>,
     out_active: DFF<bool>,
@@ -78,6 +79,7 @@ impl<const S: usize, const W: usize> SearchPort<S, W> {
             finished_mask: Default::default(),
             result_fire: Default::default(),
             granted_read: Default::default(),
+            read_pick: Default::default(),
             beat: Default::default(),
             out_active: Default::default(),
             out_select: Default::default(),
@@ -135,14 +137,35 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
 
         // The granted read goes to the TreeModule and, with its context, the SearchModule.
         self.search.request_valid.next = self.arbiter.granted.val();
-        self.granted_read.next = self.modules[0].read.val();
+        // The granted module's read: every module drives zeros unless granted, so
+        // the selection is an OR over modules, not a chain of multiplexers.
+        self.granted_read.next.query_module = 0.into();
+        self.granted_read.next.address = 0.into();
+        self.granted_read.next.up = false;
+        self.granted_read.next.came_from_right = false;
+        self.granted_read.next.x = 0.into();
+        self.granted_read.next.y = 0.into();
+        self.granted_read.next.z = 0.into();
+        self.granted_read.next.radius = 0.into();
+        self.granted_read.next.full = false;
         for i in 0..self.modules.len() {
             self.modules[i].clock.next = self.clock.val();
             self.modules[i].reset.next = self.reset.val();
             self.modules[i].read_grant.next = self.arbiter.grant.val().get_bit(i);
-            if self.arbiter.grant.val().get_bit(i) {
-                self.granted_read.next = self.modules[i].read.val();
-            }
+            self.read_pick.next = self.modules[i].read.val();
+            self.granted_read.next.query_module =
+                self.granted_read.val().query_module | self.read_pick.val().query_module;
+            self.granted_read.next.address =
+                self.granted_read.val().address | self.read_pick.val().address;
+            self.granted_read.next.up = self.granted_read.val().up || self.read_pick.val().up;
+            self.granted_read.next.came_from_right =
+                self.granted_read.val().came_from_right || self.read_pick.val().came_from_right;
+            self.granted_read.next.x = self.granted_read.val().x | self.read_pick.val().x;
+            self.granted_read.next.y = self.granted_read.val().y | self.read_pick.val().y;
+            self.granted_read.next.z = self.granted_read.val().z | self.read_pick.val().z;
+            self.granted_read.next.radius =
+                self.granted_read.val().radius | self.read_pick.val().radius;
+            self.granted_read.next.full = self.granted_read.val().full || self.read_pick.val().full;
             // SearchModule result broadcast.
             self.modules[i].result_valid.next = self.search.result_valid.val();
             self.modules[i].result.next = self.search.result.val();
