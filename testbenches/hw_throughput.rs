@@ -112,3 +112,76 @@ fn paper_core_reads_every_cycle() {
 fn paper_core_reads_every_cycle_with_rereads() {
     throughput(Metric::L1, 1023, 200, 43, true, Traversal::Reread);
 }
+
+/// Right-sized Q (issue 11): Q fitted to a query stream from the software model of
+/// its read intervals (`CoreConfig::fit_queries_per_port`) is below the worst-case
+/// issue interval and still keeps every port reading ≥ 0.98 photons per cycle while
+/// all QueryModules are busy, on the paper workload and on a Cornell-box stream;
+/// every result equals the software search.
+#[test]
+fn fitted_q_keeps_every_port_reading() {
+    use photon_fpga::host::workload;
+    use photon_fpga::hw::config::ReadProfile;
+    let paper = CoreConfig::paper();
+    let uniform = workload::uniform(paper.layout, 1023, 300, 5);
+    let cornell = workload::cornell(60_000, usize::MAX, 10, 64, 6);
+    let mut cornell_cfg =
+        CoreConfig::for_map(cornell.tree.image(), 10, Metric::L1).expect("config");
+    cornell_cfg.traversal = Traversal::Remember;
+    for (name, mut cfg, w) in [
+        ("paper", paper, &uniform),
+        ("cornell", cornell_cfg, &cornell),
+    ] {
+        let max = cfg.max_dist();
+        let step = (w.queries.len() / 300).max(1);
+        let queries: Vec<HwQuery> = w
+            .queries
+            .iter()
+            .step_by(step)
+            .take(300)
+            .enumerate()
+            .map(|(i, &coords)| HwQuery {
+                id: i as u32,
+                coords,
+                radius: max,
+                k: cfg.k as u32,
+            })
+            .collect();
+        let mut profile = ReadProfile::default();
+        let soft: Vec<_> = queries
+            .iter()
+            .map(|q| knn::search_with(&w.tree, q.coords, cfg.k, max, cfg.metric, cfg.traversal))
+            .collect();
+        for f in &soft {
+            profile.reads += f.visited as u64;
+            profile.max_finds += f.max_finds as u64;
+            profile.climbs += f.climbs as u64;
+        }
+        cfg.fit_queries_per_port(&profile);
+        assert!(
+            cfg.queries_per_port < cfg.issue_interval(),
+            "{name}: fitted Q {} is the worst case",
+            cfg.queries_per_port
+        );
+        let (results, stats) =
+            run_gather(&cfg, w.tree.image(), &queries, &SimOptions::default()).expect("sim");
+        for (r, f) in results.iter().zip(&soft) {
+            assert_eq!(r.visited, f.visited, "{name}: reads differ");
+            let mut d: Vec<u64> = r.found.iter().map(|x| x.1).collect();
+            d.sort();
+            assert_eq!(d, f.sorted_dists(), "{name}: distances differ");
+        }
+        for (p, &reads) in stats.busy_reads_per_port.iter().enumerate() {
+            let rate = reads as f64 / stats.busy_cycles.max(1) as f64;
+            eprintln!(
+                "{name}: Q = {}, port {p}: {rate:.3} reads per busy cycle",
+                cfg.queries_per_port
+            );
+            assert!(
+                rate >= 0.98,
+                "{name}: port {p} reads {rate:.3} per cycle with Q = {}",
+                cfg.queries_per_port
+            );
+        }
+    }
+}

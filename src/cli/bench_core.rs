@@ -43,6 +43,10 @@ pub struct BenchCoreArgs {
     /// points, queries and k, one thread each, side by side.
     #[arg(long)]
     cpu: bool,
+    /// Size Q from this stream (`CoreConfig::fit_queries_per_port`: the mean read
+    /// interval of the software model plus slack) instead of the worst case.
+    #[arg(long, conflicts_with = "queries_per_port")]
+    fit_q: bool,
 }
 
 /// Stream random queries through the simulated core on a full random map and report
@@ -51,6 +55,7 @@ pub struct BenchCoreArgs {
 pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     use photon_fpga::host::map::knn::{search_with, Traversal};
     use photon_fpga::host::workload;
+    use photon_fpga::hw::config::ReadProfile;
     use photon_fpga::hw::rtl::driver::HwQuery;
     use photon_fpga::hw::rtl::native::CoreSim;
     let mut cfg = args.core.config()?;
@@ -94,6 +99,29 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
             k: cfg.k as u32,
         })
         .collect();
+    // The stream's cost per read as the software search counts it, for Q.
+    let mut profile = ReadProfile::default();
+    for q in &queries {
+        let f = search_with(tree, q.coords, cfg.k, max, cfg.metric, cfg.traversal);
+        profile.reads += f.visited as u64;
+        profile.max_finds += f.max_finds as u64;
+        profile.climbs += f.climbs as u64;
+    }
+    if args.fit_q {
+        cfg.fit_queries_per_port(&profile);
+    }
+    println!(
+        "mean read interval of a QueryModule on this stream (software model): {:.2} cycles \
+         ({:.2} MaxFinder runs, {:.1} climbs per query); fitted Q: {}",
+        cfg.mean_read_interval(&profile),
+        profile.max_finds as f64 / queries.len().max(1) as f64,
+        profile.climbs as f64 / queries.len().max(1) as f64,
+        {
+            let mut c = cfg;
+            c.fit_queries_per_port(&profile);
+            c.queries_per_port
+        }
+    );
     let mut sim = CoreSim::new(&cfg, &SimOptions::default())?;
     sim.load_map(tree.image())?;
     let load_cycles = sim.stats().cycles;

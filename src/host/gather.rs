@@ -6,7 +6,7 @@ use crate::host::error::{Error, Result};
 use crate::host::map::kdtree::{KdTree, PackedTree};
 use crate::host::map::knn::{self, FloatDist, Scalar};
 use crate::host::map::quantize::{GridPoint, Point, Quantizer};
-use crate::hw::config::CoreConfig;
+use crate::hw::config::{CoreConfig, ReadProfile};
 use crate::hw::metric::Metric;
 use crate::hw::rtl::driver::{HwQuery, SimStats};
 use crate::hw::rtl::native::{run_gather, SimOptions};
@@ -412,7 +412,7 @@ impl GatherBackend for RtlBackend {
     fn describe(&self) -> Option<String> {
         let c = &self.config;
         Some(format!(
-            "{}\ncore: H = {}, K = {}, {} x {} QueryModules, {} metric, {}-bit distances, {} traversal",
+            "{}\ncore: H = {}, K = {}, {} x Q QueryModules (Q fitted to the queries, at most {}), {} metric, {}-bit distances, {} traversal",
             self.map.describe(),
             c.address_bits,
             c.k,
@@ -445,6 +445,24 @@ impl GatherBackend for RtlBackend {
                 GridPoint::Outside(g) => outside.push((i, g)),
             }
         }
+        // Right-sized Q (issue 11): from what the software search costs on an even
+        // sample of these queries, instead of the worst-case issue interval.
+        let mut config = self.config;
+        let mut profile = ReadProfile::default();
+        for q in hw.iter().step_by(hw.len().div_ceil(512).max(1)) {
+            let f = knn::search_with(
+                &m.tree,
+                q.coords,
+                config.k,
+                q.radius,
+                config.metric,
+                config.traversal,
+            );
+            profile.reads += f.visited as u64;
+            profile.max_finds += f.max_finds as u64;
+            profile.climbs += f.climbs as u64;
+        }
+        config.fit_queries_per_port(&profile);
         // Each query's answer depends only on the map and the query, not on which
         // QueryModule or simulation serves it, so independent simulations of the
         // core on chunks of the stream give the same results for any thread count.
@@ -459,14 +477,7 @@ impl GatherBackend for RtlBackend {
         let size = hw.len().div_ceil(chunks).max(1);
         let runs: Vec<_> = hw
             .par_chunks(size)
-            .map(|chunk| {
-                Ok(run_gather(
-                    &self.config,
-                    m.tree.image(),
-                    chunk,
-                    &self.options,
-                )?)
-            })
+            .map(|chunk| Ok(run_gather(&config, m.tree.image(), chunk, &self.options)?))
             .collect::<Result<_>>()?;
         let mut out: Vec<Gathered> = vec![Gathered::default(); queries.len()];
         let mut stats = self.stats.lock().expect("stats lock");

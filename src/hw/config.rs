@@ -74,6 +74,16 @@ pub type ReadCount = Bits<32>;
 /// one-hot current level and its pending far children (`Traversal::Remember`).
 pub type LevelMask = Bits<32>;
 
+/// What a query stream costs the QueryModules, summed over a sample of queries as
+/// the software search counts it (`knn::Found`): photon reads, MaxFinder runs,
+/// levels climbed without a read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ReadProfile {
+    pub reads: u64,
+    pub max_finds: u64,
+    pub climbs: u64,
+}
+
 /// Elaboration-time parameters of one core.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CoreConfig {
@@ -156,6 +166,29 @@ impl CoreConfig {
     /// per distance bit, the update of R.
     pub fn issue_interval(&self) -> usize {
         5 + self.pipelined as usize + self.dist_bits() as usize
+    }
+
+    /// A QueryModule's mean cycles per photon read on a query stream whose software
+    /// search made `profile`'s reads, MaxFinder runs and climbs: the read's round
+    /// trip (grant, BlockRAM, read-data register, two SearchModule stages, the
+    /// insertion cycle: the issue interval without the MaxFinder), plus one cycle
+    /// per distance bit and one for R per MaxFinder run, plus one per level climbed.
+    pub fn mean_read_interval(&self, profile: &ReadProfile) -> f64 {
+        let round_trip = (self.issue_interval() - self.dist_bits() as usize) as f64;
+        let reads = profile.reads.max(1) as f64;
+        round_trip
+            + (profile.max_finds as f64 * (self.dist_bits() + 1) as f64 + profile.climbs as f64)
+                / reads
+    }
+
+    /// Right-sized Q (issue 11): enough QueryModules that a port still reads a
+    /// photon nearly every cycle on this stream — the mean read interval with 25 %
+    /// slack for the queueing at the arbiter (measured: ≥ 0.98 reads per port per
+    /// cycle on the paper workload and a Cornell-box stream, testbenches/hw_throughput),
+    /// never more than the worst-case issue interval.
+    pub fn fit_queries_per_port(&mut self, profile: &ReadProfile) {
+        let q = (1.25 * self.mean_read_interval(profile)).ceil() as usize;
+        self.queries_per_port = q.clamp(2, self.issue_interval().min(MAX_QUERIES_PER_PORT));
     }
 
     /// Entries of a QueryModule's path memory: one per level that can have children

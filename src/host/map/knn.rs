@@ -103,6 +103,12 @@ pub struct Found<D> {
     /// Distance tests (down visits only): what the paper's C code counts as
     /// "photons processed", every photon at most once.
     pub tested: u32,
+    /// Insertions that set a new R (the list became or was full): each costs the
+    /// QueryModule a MaxFinder run, one cycle per distance bit.
+    pub max_finds: u32,
+    /// Levels climbed without a read ([`Traversal::Remember`]): a QueryModule cycle
+    /// each.
+    pub climbs: u32,
 }
 
 impl<D: Ord + Copy> Found<D> {
@@ -191,6 +197,7 @@ pub fn search_with<C: Scalar, S: NodeSource<C> + ?Sized>(
 struct Radius<D> {
     list: FoundList<D>,
     r: D,
+    max_finds: u32,
 }
 
 impl<D: Ord + Copy> Radius<D> {
@@ -198,6 +205,7 @@ impl<D: Ord + Copy> Radius<D> {
         Radius {
             list: FoundList::new(k),
             r: r0,
+            max_finds: 0,
         }
     }
 
@@ -215,6 +223,7 @@ impl<D: Ord + Copy> Radius<D> {
         if self.within(d) {
             if let Some(max) = self.list.insert(addr as u32, d) {
                 self.r = max;
+                self.max_finds += 1;
             }
         }
     }
@@ -273,6 +282,7 @@ fn search_remember<C: Scalar, S: NodeSource<C> + ?Sized>(
         pending: false,
     }; 64];
     let (mut addr, mut level) = (1usize, 0usize);
+    let mut climbs = 0u32;
     'descend: loop {
         let rd = read(tree, q, addr, metric);
         visited += 1;
@@ -293,6 +303,7 @@ fn search_remember<C: Scalar, S: NodeSource<C> + ?Sized>(
         while addr != 1 {
             let from = addr;
             addr >>= 1;
+            climbs += 1;
             level -= 1;
             let l = path[level];
             if l.pending && st.within(l.axis_dist) {
@@ -308,6 +319,8 @@ fn search_remember<C: Scalar, S: NodeSource<C> + ?Sized>(
         slots: st.list.slots,
         visited,
         tested: visited,
+        max_finds: st.max_finds,
+        climbs,
     }
 }
 
@@ -358,6 +371,8 @@ fn search_reread<C: Scalar, S: NodeSource<C> + ?Sized>(
         slots: st.list.slots,
         visited,
         tested,
+        max_finds: st.max_finds,
+        climbs: 0,
     }
 }
 
