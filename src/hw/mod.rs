@@ -46,6 +46,7 @@ pub mod core;
 pub mod dispatcher;
 pub mod dist_module;
 pub mod error;
+pub mod lut_ram;
 pub mod max_finder;
 pub mod metric;
 pub mod next_index;

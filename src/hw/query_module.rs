@@ -16,19 +16,18 @@
 //!   pending far child within R is read next (the sibling of the node we came
 //!   from); otherwise climb on, until the root ends the search.
 //!
-//! Where the path memory lives: H - 1 distance registers and a pending bit mask per
-//! QueryModule, masked to the configured widths. They are written one level per
-//! result and read one level per ASCEND cycle by every QueryModule at once, so a
-//! memory shared by the port would need Q ports; registers need no new primitive
-//! and simulate as plain rust-hdl DFFs. Measured (synth/REPORT.md): +126 flip-flops
-//! per QueryModule and +35% LUTs for the core. A LUT-RAM per QueryModule (one
-//! RAM32M-class primitive holds 32 × 6 bits) would be cheaper still; it needs a
-//! custom Verilog block like the TreeModule's and is left to the area work (issue 11).
+//! Where the lists live (issue 11): the found-index list (K × H bits) and the path
+//! memory ((H − 1) × distance bits) are each written one entry per cycle and read
+//! one entry at a time by this module alone, so each is a small LUT-RAM of its own
+//! ([`LutRam`]: no flip-flop per bit, no read multiplexer); a memory shared by the
+//! port would need Q ports. The pending bits and the one-hot level stay registers
+//! (all bits are tested at once), as do the MaxFinder's bit-transposed rows.
 
 use crate::hw::config::{
     low_mask, Addr, Coord, CoreConfig, Count, Dist, LevelMask, ModuleIndex, QueryId, ReadCount,
     SlotMask,
 };
+use crate::hw::lut_ram::{LutRam, RamIndex};
 use crate::hw::max_finder::MaxFinder;
 use crate::hw::stream::{QueryBeat, ReadRequest, ReadResult};
 use crate::hw::traversal::Traversal;
@@ -124,9 +123,18 @@ pub struct QueryModule<const S: usize> {
     pending: DFF<LevelMask>,
     /// The last result asked for the ascent (entered once the MaxFinder is done).
     ascending: DFF<bool>,
-    /// Axis distance of the node read at each level (`CoreConfig::path_levels`).
-    path_dist: Vec<DFF<Dist>>,
-    found: Vec<DFF<Addr>>,
+    /// The path memory: axis distance of the node read at each level
+    /// (`CoreConfig::path_levels` entries), in LUT-RAM.
+    path: LutRam,
+    /// The found-index list: K heap addresses, in LUT-RAM.
+    found: LutRam,
+    /// Entry index of each slot / level, to turn a one-hot mask into a RAM index.
+    slot_index: Vec<Constant<RamIndex>>,
+    level_index: Vec<Constant<RamIndex>>,
+    insert_index: Signal<Local, RamIndex>,
+    out_index: Signal<Local, RamIndex>,
+    level_at: Signal<Local, RamIndex>,
+    parent_at: Signal<Local, RamIndex>,
     max_finder: MaxFinder<S>,
     result_mine: Signal<Local, bool>,
     insert: Signal<Local, bool>,
@@ -136,8 +144,6 @@ pub struct QueryModule<const S: usize> {
     parent_dist: Signal<Local, Dist>,
     parent_pending: Signal<Local, bool>,
     parent_within: Signal<Local, bool>,
-    /// One found-list entry on its way into the read-out's AND-OR.
-    slot_address: Signal<Local, Addr>,
 }
 
 impl<const S: usize> QueryModule<S> {
@@ -196,8 +202,18 @@ impl<const S: usize> QueryModule<S> {
             level: Default::default(),
             pending: Default::default(),
             ascending: Default::default(),
-            path_dist: (0..cfg.path_levels()).map(|_| DFF::default()).collect(),
-            found: (0..cfg.k).map(|_| DFF::default()).collect(),
+            path: LutRam::new(cfg.path_levels().max(1), cfg.dist_bits()),
+            found: LutRam::new(cfg.k, cfg.address_bits),
+            slot_index: (0..cfg.k)
+                .map(|i| Constant::new(RamIndex::from(i as u64)))
+                .collect(),
+            level_index: (0..cfg.address_bits as usize)
+                .map(|i| Constant::new(RamIndex::from(i as u64)))
+                .collect(),
+            insert_index: Default::default(),
+            out_index: Default::default(),
+            level_at: Default::default(),
+            parent_at: Default::default(),
             max_finder: MaxFinder::new(cfg.dist_bits(), cfg.k),
             result_mine: Default::default(),
             insert: Default::default(),
@@ -206,7 +222,6 @@ impl<const S: usize> QueryModule<S> {
             parent_dist: Default::default(),
             parent_pending: Default::default(),
             parent_within: Default::default(),
-            slot_address: Default::default(),
         }
     }
 }
@@ -238,22 +253,23 @@ impl<const S: usize> Logic for QueryModule<S> {
             pending,
             ascending
         );
-        for i in 0..self.found.len() {
-            self.found[i].clock.next = self.clock.val();
-            self.found[i].d.next = self.found[i].q.val();
-        }
-        for i in 0..self.path_dist.len() {
-            self.path_dist[i].clock.next = self.clock.val();
-            self.path_dist[i].d.next = self.path_dist[i].q.val();
+        self.found.clock.next = self.clock.val();
+        self.path.clock.next = self.clock.val();
+        // One-hot masks to RAM indices.
+        self.level_at.next = 0.into();
+        self.parent_at.next = 0.into();
+        for i in 0..self.level_index.len() {
+            if self.level.q.val().get_bit(i) {
+                self.level_at.next = self.level_at.val() | self.level_index[i].val();
+            }
+            if self.level.q.val().get_bit(i + 1) {
+                self.parent_at.next = self.parent_at.val() | self.level_index[i].val();
+            }
         }
         // ASCEND's view of the parent level's entry.
         self.parent_level.next = self.level.q.val() >> 1;
-        self.parent_dist.next = 0.into();
-        for i in 0..self.path_dist.len() {
-            if self.parent_level.val().get_bit(i) {
-                self.parent_dist.next = self.path_dist[i].q.val();
-            }
-        }
+        self.path.read_index.next = self.parent_at.val();
+        self.parent_dist.next = self.path.read_data.val();
         self.parent_pending.next = (self.pending.q.val() & self.parent_level.val()).any();
         if self.full_reg.q.val() {
             self.parent_within.next = self.parent_dist.val() < self.radius_reg.q.val();
@@ -280,13 +296,25 @@ impl<const S: usize> Logic for QueryModule<S> {
         }
         self.max_finder.write_enable.next = self.insert.val();
         self.max_finder.write_slot.next = self.insert_slot.val();
-        if self.insert.val() {
-            for i in 0..self.found.len() {
-                if self.insert_slot.val().get_bit(i) {
-                    self.found[i].d.next = self.result.val().address & self.addr_mask.val();
-                }
+        self.insert_index.next = 0.into();
+        self.out_index.next = 0.into();
+        for i in 0..self.slot_index.len() {
+            if self.insert_slot.val().get_bit(i) {
+                self.insert_index.next = self.insert_index.val() | self.slot_index[i].val();
+            }
+            if self.out_slot.val().get_bit(i) {
+                self.out_index.next = self.out_index.val() | self.slot_index[i].val();
             }
         }
+        self.found.write_enable.next = self.insert.val();
+        self.found.write_index.next = self.insert_index.val();
+        self.found.write_data.next =
+            bit_cast::<32, 24>(self.result.val().address & self.addr_mask.val());
+        self.found.read_index.next = self.out_index.val();
+        // The path memory takes each down visit's axis distance at its level.
+        self.path.write_enable.next = false;
+        self.path.write_index.next = self.level_at.val();
+        self.path.write_data.next = self.result.val().axis_dist & self.dist_mask.val();
 
         match self.state.q.val() {
             QueryState::Idle => {
@@ -332,12 +360,7 @@ impl<const S: usize> Logic for QueryModule<S> {
                     self.ascending.d.next = false;
                     if self.remember.val() {
                         // Remember this level; go down, or climb (after the MaxFinder).
-                        for i in 0..self.path_dist.len() {
-                            if self.level.q.val().get_bit(i) {
-                                self.path_dist[i].d.next =
-                                    self.result.val().axis_dist & self.dist_mask.val();
-                            }
-                        }
+                        self.path.write_enable.next = true;
                         if self.result.val().far_pending {
                             self.pending.d.next = (self.pending.q.val() | self.level.q.val())
                                 & self.pending_mask.val();
@@ -448,8 +471,7 @@ impl<const S: usize> Logic for QueryModule<S> {
         }
         // Read-out: zero unless this module is selected, so that the port merges
         // its modules with an OR tree instead of a chain of multiplexers (issue
-        // 11: the read-out was the critical path). The found list is read the same
-        // way: an AND-OR over the one-hot slot.
+        // 11: the read-out was the critical path).
         self.out_id.next = 0.into();
         self.out_count.next = 0.into();
         self.out_visited.next = 0.into();
@@ -460,12 +482,8 @@ impl<const S: usize> Logic for QueryModule<S> {
         }
         self.out_dist.next = self.max_finder.read_dist.val();
         self.out_address.next = 0.into();
-        for i in 0..self.found.len() {
-            self.slot_address.next = 0.into();
-            if self.out_slot.val().get_bit(i) {
-                self.slot_address.next = self.found[i].q.val();
-            }
-            self.out_address.next = self.out_address.val() | self.slot_address.val();
+        if self.out_slot.val().any() {
+            self.out_address.next = bit_cast::<24, 32>(self.found.read_data.val());
         }
     }
 }
