@@ -149,11 +149,14 @@ def ecp5(d, files, seeds, cache_only):
             src = re.search(r"Source (\S+)", path)
             snk = re.findall(r"Sink (\S+)", path)
             best = (f, (src.group(1) if src else "?"), (snk[-1] if snk else "?"), nets)
+            # What one core (in its shell) uses of the device, for the device-fitted table.
+            use = {k: re.search(rf"{k}:\s+(\d+)/\s*(\d+)", out) for k in ("Total LUT4s", "Total DFFs", "DP16KD")}
+            used = {k: (int(m.group(1)), int(m.group(2))) for k, m in use.items() if m}
     if not fmax:
         if errors and errors[-1].startswith(("not routed", "does not fit")):
             return errors[-1]
         return f"does not place on ECP5-85k: {errors[-1]}" if errors else None
-    return dict(fmax=fmax, best=best)
+    return dict(fmax=fmax, best=best, used=used if best else {})
 
 
 def sim(d, opts, files, cache_only):
@@ -258,6 +261,43 @@ def main():
     report()
 
 
+# XC6VSX475T (the paper's device): 74,400 slices of 4 LUT6 and 8 flip-flops, 1,064 RAMB36E1.
+XC6V = dict(luts=297_600, ffs=595_200, ramb36=1_064)
+PAPER_MHZ = 215.0  # the paper's clock on that device; assumed here, no open tool times Virtex-6
+
+
+def fitted(rows):
+    """How many cores fit each device, and the queries/s they would answer."""
+    L = ["\n## Device-fitted throughput\n",
+         "Cores that fit = the tightest of the device's resources divided by one core's. XC6VSX475T: "
+         "from the yosys xc6v counts above (LUTs, FFs, RAMB36E1 with two RAMB18E1 per RAMB36), clock "
+         f"*assumed* {PAPER_MHZ:.0f} MHz (the paper's; no open tool times Virtex-6). ECP5-85k: from "
+         "nextpnr's utilisation of one core in its I/O shell (LUT4s, DFFs, DP16KD), clock = that core's "
+         "*placed and routed* fmax (the array itself has not been placed and routed: an upper bound). "
+         "Queries/s = cores x reads/cycle (simulated) x clock / reads per query (simulated); kiddo: "
+         "measured by the same run on the same queries, one thread of this 2-core machine.\n",
+         "| configuration | XC6VSX475T cores | queries/s at 215 MHz (assumed) | vs kiddo 1 thread | "
+         "ECP5-85k cores | queries/s at the 1-core fmax | vs kiddo 1 thread |",
+         "|---|---:|---:|---:|---:|---:|---:|"]
+    for name, trees, x, e, s, err in rows:
+        if not (x and s) or trees != 1:
+            continue
+        ram = x["ramb36"] + (x["ramb18"] + 1) // 2
+        n6 = min(XC6V["luts"] // max(x["luts"], 1), XC6V["ffs"] // max(x["ffs"], 1),
+                 XC6V["ramb36"] // max(ram, 1))
+        q6 = n6 * s["rpc"] * PAPER_MHZ * 1e6 / s["rpq"]
+        cells = [f"{n6}", f"{q6 / 1e6:,.1f} M", f"{q6 / s['kiddo']:,.1f}x"]
+        if isinstance(e, dict) and e.get("used"):
+            u = e["used"]
+            n5 = min(tot // max(used, 1) for used, tot in u.values())
+            q5 = n5 * s["rpc"] * e["best"][0] * 1e6 / s["rpq"]
+            cells += [f"{n5}", f"{q5 / 1e6:,.1f} M", f"{q5 / s['kiddo']:,.1f}x"]
+        else:
+            cells += ["?", "?", "?"]
+        L.append(f"| {name} | " + " | ".join(cells) + " |")
+    return L
+
+
 def write(rows):
     L = []
     L.append("# Synthesis report\n")
@@ -300,6 +340,7 @@ def write(rows):
         L.append("\nRows that say *not run yet* have no result for the current Verilog on this machine "
                  "(results are cached per machine in synth/build/); their last measurement, of older "
                  "Verilog, is in the git history of this file.")
+    L.extend(fitted(rows))
     L.append("\n## Critical paths (best seed)\n")
     L.extend(crit)
     path = os.path.join(ROOT, "synth", "REPORT.md")
