@@ -34,7 +34,7 @@ impl AxisDistModule {
         Self::with_widths(metric, 32)
     }
 
-    /// A datapath whose axis distance has the metric's `dist_bits` (masked, so
+    /// A datapath whose axis distance has `dist_bits` (masked, so
     /// synthesis drops the bits above).
     pub fn with_widths(metric: Metric, dist_bits: u32) -> Self {
         AxisDistModule {

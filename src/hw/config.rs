@@ -155,6 +155,12 @@ impl CoreConfig {
         self.metric.dist_bits(self.layout.bits)
     }
 
+    /// Bits of a distance along one axis (the widest axis's largest).
+    pub fn axis_dist_bits(&self) -> u32 {
+        let widest = (0..3).map(|a| self.layout.coord_max(a)).max().unwrap_or(0);
+        bits_for(self.metric.axis_dist(0, widest))
+    }
+
     /// Largest distance two photons of this layout can have.
     pub fn max_dist(&self) -> u64 {
         self.metric.max_dist(self.layout.bits)

@@ -328,7 +328,8 @@ impl<const S: usize> Logic for QueryModule<S> {
                     if (self.load_query.val().radius & (!self.dist_mask.val())).any() {
                         self.radius_reg.d.next = self.dist_mask.val();
                     } else {
-                        self.radius_reg.d.next = self.load_query.val().radius;
+                        self.radius_reg.d.next =
+                            self.load_query.val().radius & self.dist_mask.val();
                     }
                     self.k_reg.d.next = self.load_query.val().k & self.count_mask.val();
                     self.full_reg.d.next = false;
@@ -407,7 +408,7 @@ impl<const S: usize> Logic for QueryModule<S> {
             }
             QueryState::MaxFind => {
                 if !self.max_finder.busy.val() {
-                    self.radius_reg.d.next = self.max_finder.max_dist.val();
+                    self.radius_reg.d.next = self.max_finder.max_dist.val() & self.dist_mask.val();
                     self.full_reg.d.next = true;
                     self.max_slot.d.next = self.max_finder.max_slot.val();
                     if self.search_done.q.val() {
@@ -426,12 +427,12 @@ impl<const S: usize> Logic for QueryModule<S> {
                     self.state.d.next = QueryState::Done;
                 } else if self.parent_pending.val() && self.parent_within.val() {
                     // Enter the far child: the sibling of the node we came from.
-                    self.address.d.next = self.address.q.val() ^ 1;
+                    self.address.d.next = (self.address.q.val() ^ 1) & self.addr_mask.val();
                     self.pending.d.next = self.pending.q.val() & (!self.parent_level.val());
                     self.ascending.d.next = false;
                     self.state.d.next = QueryState::Ready;
                 } else {
-                    self.address.d.next = self.address.q.val() >> 1;
+                    self.address.d.next = (self.address.q.val() >> 1) & self.addr_mask.val();
                     self.level.d.next = self.parent_level.val();
                 }
             }

@@ -88,7 +88,7 @@ impl<const W: usize> SearchModule<W> {
             photon_count: Default::default(),
             result_valid: Default::default(),
             result: Default::default(),
-            axis_dist: AxisDistModule::with_widths(cfg.metric, cfg.dist_bits()),
+            axis_dist: AxisDistModule::with_widths(cfg.metric, cfg.axis_dist_bits()),
             dist_module: DistModule::with_widths(cfg.metric, l.bits, cfg.dist_bits()),
             next_index: NextIndexModule::new(cfg.address_bits),
             offset_x: offset(l.offset(0)),
