@@ -179,8 +179,10 @@ def sim(d, opts, files, cache_only):
     rpq = float(re.search(r"photons visited per query: ([\d.]+)", out).group(1))
     tests = float(re.search(r"distance tests per query: ([\d.]+)", out).group(1))
     cpu = re.search(r"kiddo (\d+), software search (\d+)", out)
+    par = re.search(r"all (\d+) threads, same queries: kiddo (\d+)", out)
     return dict(rpc=rpc, busy=busy.group(2), rpq=rpq, tests=tests, kiddo=float(cpu.group(1)),
-                sw=float(cpu.group(2))), None
+                sw=float(cpu.group(2)), kiddo_all=float(par.group(2)) if par else None,
+                threads=int(par.group(1)) if par else None), None
 
 
 def export(name, opts, trees):
@@ -275,10 +277,11 @@ def fitted(rows):
          "nextpnr's utilisation of one core in its I/O shell (LUT4s, DFFs, DP16KD), clock = that core's "
          "*placed and routed* fmax (the array itself has not been placed and routed: an upper bound). "
          "Queries/s = cores x reads/cycle (simulated) x clock / reads per query (simulated); kiddo: "
-         "measured by the same run on the same queries, one thread of this 2-core machine.\n",
+         "measured by the same run on the same queries, one thread and all threads (rayon) of this 2-core machine.\n",
          "| configuration | XC6VSX475T cores | queries/s at 215 MHz (assumed) | vs kiddo 1 thread | "
-         "ECP5-85k cores | queries/s at the 1-core fmax | vs kiddo 1 thread |",
-         "|---|---:|---:|---:|---:|---:|---:|"]
+         "vs kiddo all threads | ECP5-85k cores | queries/s at the 1-core fmax | vs kiddo 1 thread | "
+         "vs kiddo all threads |",
+         "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for name, trees, x, e, s, err in rows:
         if not (x and s) or trees != 1:
             continue
@@ -286,14 +289,15 @@ def fitted(rows):
         n6 = min(XC6V["luts"] // max(x["luts"], 1), XC6V["ffs"] // max(x["ffs"], 1),
                  XC6V["ramb36"] // max(ram, 1))
         q6 = n6 * s["rpc"] * PAPER_MHZ * 1e6 / s["rpq"]
-        cells = [f"{n6}", f"{q6 / 1e6:,.1f} M", f"{q6 / s['kiddo']:,.1f}x"]
+        allt = lambda q: f"{q / s['kiddo_all']:,.1f}x ({s['threads']})" if s.get("kiddo_all") else "not measured"
+        cells = [f"{n6}", f"{q6 / 1e6:,.1f} M", f"{q6 / s['kiddo']:,.1f}x", allt(q6)]
         if isinstance(e, dict) and e.get("used"):
             u = e["used"]
             n5 = min(tot // max(used, 1) for used, tot in u.values())
             q5 = n5 * s["rpc"] * e["best"][0] * 1e6 / s["rpq"]
-            cells += [f"{n5}", f"{q5 / 1e6:,.1f} M", f"{q5 / s['kiddo']:,.1f}x"]
+            cells += [f"{n5}", f"{q5 / 1e6:,.1f} M", f"{q5 / s['kiddo']:,.1f}x", allt(q5)]
         else:
-            cells += ["?", "?", "?"]
+            cells += ["?", "?", "?", "?"]
         L.append(f"| {name} | " + " | ".join(cells) + " |")
     return L
 

@@ -222,6 +222,10 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
             "cpu queries/s, 1 thread, same queries: kiddo {:.0}, software search {:.0}",
             cpu.kiddo, cpu.sw
         );
+        println!(
+            "cpu queries/s, all {} threads, same queries: kiddo {:.0}",
+            cpu.threads, cpu.kiddo_all
+        );
         if let Some(q) = core_qps {
             println!("core / kiddo: {:.2}", q / cpu.kiddo);
         }

@@ -13,13 +13,17 @@ use std::hint::black_box;
 use std::num::NonZero;
 use std::time::{Duration, Instant};
 
-/// Queries per second of both CPU searches on one workload, single thread.
+/// Queries per second of both CPU searches on one workload, single thread, and of
+/// kiddo on all threads.
 #[derive(Clone, Copy, Debug)]
 pub struct CpuRates {
     /// kiddo `ImmutableKdTree<f32, 3>`, `nearest_n` in the same metric.
     pub kiddo: f64,
     /// `knn::search_with` on the packed, quantized tree (the hardware's reference).
     pub sw: f64,
+    /// kiddo on every thread of rayon's pool (the queries split between them).
+    pub kiddo_all: f64,
+    pub threads: usize,
 }
 
 /// Timing rounds per search (see [`measure`]).
@@ -88,8 +92,14 @@ pub fn measure(
     }
     // Interleaved rounds, best of each: another process on the machine slows a round
     // down, never speeds it up, so the best round is the least disturbed one.
-    let (mut kiddo, mut sw) = (0.0f64, 0.0f64);
+    let (mut kiddo, mut sw, mut kiddo_all) = (0.0f64, 0.0f64, 0.0f64);
     for _ in 0..ROUNDS {
+        kiddo_all = kiddo_all.max(rate(queries.len(), min, || {
+            use rayon::prelude::*;
+            fq.par_iter().for_each(|q| {
+                black_box(kiddo_dists(&kd, q, nz, metric));
+            });
+        }));
         kiddo = kiddo.max(rate(queries.len(), min, || {
             for q in &fq {
                 black_box(kiddo_dists(&kd, q, nz, metric));
@@ -108,5 +118,10 @@ pub fn measure(
             }
         }));
     }
-    Ok(CpuRates { kiddo, sw })
+    Ok(CpuRates {
+        kiddo,
+        sw,
+        kiddo_all,
+        threads: rayon::current_num_threads(),
+    })
 }
