@@ -27,6 +27,7 @@ fn stalls(seed: u64) -> SimOptions {
     SimOptions {
         vcd: None,
         stall_seed: Some(seed),
+        ..Default::default()
     }
 }
 

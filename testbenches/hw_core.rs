@@ -256,6 +256,7 @@ fn random_stalls_on_every_stream() {
         let opts = SimOptions {
             vcd: None,
             stall_seed: Some(seed),
+            ..Default::default()
         };
         let (results, _) = run_gather(&cfg, tree.image(), &queries, &opts).expect("sim");
         check_results(&cfg, &tree, &points, &queries, &results);
@@ -279,6 +280,7 @@ fn two_maps_one_after_the_other() {
             &SimOptions {
                 vcd: None,
                 stall_seed,
+                ..Default::default()
             },
         )
         .unwrap();
@@ -335,6 +337,7 @@ fn vcd_trace_is_streamed() {
     let opts = SimOptions {
         vcd: Some(path.clone()),
         stall_seed: None,
+        ..Default::default()
     };
     let (results, stats) = run_gather(&cfg, tree.image(), &queries, &opts).expect("sim");
     check_results(&cfg, &tree, &points, &queries, &results);

@@ -11,5 +11,6 @@ mod hw_cornell;
 mod hw_max_finder;
 mod hw_result_register;
 mod hw_throughput;
+mod hw_verilator;
 mod hw_verilog;
 mod hw_xsim;

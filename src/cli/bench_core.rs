@@ -5,7 +5,7 @@
 use super::core_args::CoreArgs;
 use clap::Args;
 use photon_fpga::host::error::{Error, Result};
-use photon_fpga::hw::rtl::native::SimOptions;
+use photon_fpga::hw::rtl::native::{Engine, SimOptions};
 
 /// The query streams `bench-core` can run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -47,6 +47,10 @@ pub struct BenchCoreArgs {
     /// interval of the software model plus slack) instead of the worst case.
     #[arg(long, conflicts_with = "queries_per_port")]
     fit_q: bool,
+    /// The simulator: rust-hdl's native simulation or the exported Verilog under
+    /// Verilator (built on first use, cached under target/verilator/).
+    #[arg(long, value_enum, default_value_t = Engine::Native)]
+    engine: Engine,
 }
 
 /// Stream random queries through the simulated core on a full random map and report
@@ -122,7 +126,11 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
             c.queries_per_port
         }
     );
-    let mut sim = CoreSim::new(&cfg, &SimOptions::default())?;
+    let opts = SimOptions {
+        engine: args.engine,
+        ..SimOptions::default()
+    };
+    let mut sim = CoreSim::new(&cfg, &opts)?;
     sim.load_map(tree.image())?;
     let load_cycles = sim.stats().cycles;
     let t0 = std::time::Instant::now();

@@ -9,7 +9,7 @@ use crate::host::map::quantize::{GridPoint, Point, Quantizer};
 use crate::hw::config::{CoreConfig, ReadProfile};
 use crate::hw::metric::Metric;
 use crate::hw::rtl::driver::{HwQuery, SimStats};
-use crate::hw::rtl::native::{run_gather, SimOptions};
+use crate::hw::rtl::native::{run_gather, Engine, SimOptions};
 use crate::hw::traversal::Traversal;
 use rayon::prelude::*;
 use std::fmt;
@@ -25,6 +25,9 @@ pub enum BackendKind {
     Sw,
     /// The rust-hdl simulation of the photon-search core.
     Rtl,
+    /// The exported Verilog of the core under Verilator (same results and cycles
+    /// as rtl, much faster).
+    Verilator,
 }
 
 impl fmt::Display for BackendKind {
@@ -33,6 +36,7 @@ impl fmt::Display for BackendKind {
             BackendKind::Float => "float",
             BackendKind::Sw => "sw",
             BackendKind::Rtl => "rtl",
+            BackendKind::Verilator => "verilator",
         })
     }
 }
@@ -147,6 +151,13 @@ pub fn make_backend(
         BackendKind::Float => Box::new(FloatBackend::new(photons, params)?),
         BackendKind::Sw => Box::new(SwBackend::new(photons, params)?),
         BackendKind::Rtl => Box::new(RtlBackend::new(photons, params, sim.clone())?),
+        BackendKind::Verilator => {
+            let sim = SimOptions {
+                engine: Engine::Verilator,
+                ..sim.clone()
+            };
+            Box::new(RtlBackend::new(photons, params, sim)?)
+        }
     })
 }
 

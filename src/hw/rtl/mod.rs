@@ -9,5 +9,6 @@ pub mod native;
 pub mod ports;
 pub mod shell;
 pub mod top;
+pub mod verilator;
 pub mod xsim;
 pub mod xsim_tb;

@@ -27,6 +27,18 @@ pub struct SimOptions {
     pub vcd: Option<PathBuf>,
     /// Random valid/ready stalls on every stream, from this seed.
     pub stall_seed: Option<u64>,
+    /// Which simulator runs the core.
+    pub engine: Engine,
+}
+
+/// The simulator behind the driver.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Engine {
+    /// rust-hdl's own simulation of the blocks (VCD traces).
+    #[default]
+    Native,
+    /// The exported Verilog under Verilator ([`crate::hw::rtl::verilator`]).
+    Verilator,
 }
 
 /// Env var naming a VCD file to trace into when `SimOptions::vcd` is unset.
@@ -199,13 +211,19 @@ pub struct CoreSim(Driver<Box<dyn Dut>>);
 impl CoreSim {
     /// Elaborate and check a core for `cfg`, then reset it.
     pub fn new(cfg: &CoreConfig, opts: &SimOptions) -> Result<Self, HwError> {
-        let dut = elaborate(cfg)?;
+        let dut: Box<dyn Dut> = match opts.engine {
+            Engine::Native => elaborate(cfg)?,
+            Engine::Verilator => {
+                cfg.validate()?;
+                Box::new(crate::hw::rtl::verilator::VerilatorDut::new(cfg)?)
+            }
+        };
         let vcd_path = opts
             .vcd
             .clone()
             .or_else(|| std::env::var_os(VCD_ENV).map(PathBuf::from));
         let mut observers: Vec<Box<dyn Observer>> = vec![];
-        if let Some(path) = vcd_path {
+        if let Some(path) = vcd_path.filter(|_| opts.engine == Engine::Native) {
             observers.push(Box::new(VcdObserver::create(&path)?));
         }
         Ok(CoreSim(Driver::new(dut, opts.stall_seed, observers)?))
