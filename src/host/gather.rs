@@ -417,7 +417,10 @@ impl RtlBackend {
 
 impl GatherBackend for RtlBackend {
     fn name(&self) -> &'static str {
-        "rtl"
+        match self.options.engine {
+            Engine::Native => "rtl",
+            Engine::Verilator => "verilator",
+        }
     }
 
     fn describe(&self) -> Option<String> {
