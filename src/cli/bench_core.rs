@@ -51,6 +51,10 @@ pub struct BenchCoreArgs {
     /// Verilator (built on first use, cached under target/verilator/).
     #[arg(long, value_enum, default_value_t = Engine::Native)]
     engine: Engine,
+    /// Also run the stream on the other engine and report both speeds (the results
+    /// and cycle counts must agree).
+    #[arg(long)]
+    both_engines: bool,
 }
 
 /// Stream random queries through the simulated core on a full random map and report
@@ -210,7 +214,41 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         st.busy_cycles,
         busy_per_port.join(", ")
     );
-    println!("simulation speed: {:.0} cycles/s", cycles as f64 / secs);
+    println!(
+        "simulation speed ({:?}): {:.0} cycles/s",
+        args.engine,
+        cycles as f64 / secs
+    );
+    if args.both_engines {
+        // The same stream on the other simulator, side by side in this run: the
+        // results and cycle counts must be equal.
+        let other = match args.engine {
+            Engine::Native => Engine::Verilator,
+            Engine::Verilator => Engine::Native,
+        };
+        let mut sim2 = CoreSim::new(
+            &cfg,
+            &SimOptions {
+                engine: other,
+                ..opts
+            },
+        )?;
+        sim2.load_map(tree.image())?;
+        let t0 = std::time::Instant::now();
+        let results2 = sim2.run_queries(&queries)?;
+        let secs2 = t0.elapsed().as_secs_f64();
+        let cycles2 = sim2.stats().cycles - load_cycles;
+        if results2 != results || cycles2 != cycles {
+            return Err(Error::new(format!(
+                "{other:?} disagrees with {:?}: {cycles2} against {cycles} cycles",
+                args.engine
+            )));
+        }
+        println!(
+            "simulation speed ({other:?}, same stream, same results and cycles): {:.0} cycles/s",
+            cycles2 as f64 / secs2
+        );
+    }
     let reads_per_query = reads as f64 / queries.len() as f64;
     let core_qps = args
         .fmax_mhz
