@@ -272,7 +272,8 @@ def fitted(rows):
     """How many cores fit each device, and the queries/s they would answer."""
     L = ["\n## Device-fitted throughput\n",
          "Cores that fit = the tightest of the device's resources divided by one core's. XC6VSX475T: "
-         "from the yosys xc6v counts above (LUTs, FFs, RAMB36E1 with two RAMB18E1 per RAMB36), clock "
+         "from the yosys xc6v counts above (LUTs plus 4 per LUT-RAM primitive, FFs, RAMB36E1 with two "
+         "RAMB18E1 per RAMB36; no routing or packing losses), clock "
          f"*assumed* {PAPER_MHZ:.0f} MHz (the paper's; no open tool times Virtex-6). ECP5-85k: from "
          "nextpnr's utilisation of one core in its I/O shell (LUT4s, DFFs, DP16KD), clock = that core's "
          "*placed and routed* fmax (the array itself has not been placed and routed: an upper bound). "
@@ -286,7 +287,9 @@ def fitted(rows):
         if not (x and s) or trees != 1:
             continue
         ram = x["ramb36"] + (x["ramb18"] + 1) // 2
-        n6 = min(XC6V["luts"] // max(x["luts"], 1), XC6V["ffs"] // max(x["ffs"], 1),
+        # A LUT-RAM primitive (RAM32M/RAM64M) takes 4 LUTs of a SLICEM.
+        luts = x["luts"] + 4 * x.get("lutram", 0)
+        n6 = min(XC6V["luts"] // max(luts, 1), XC6V["ffs"] // max(x["ffs"], 1),
                  XC6V["ramb36"] // max(ram, 1))
         q6 = n6 * s["rpc"] * PAPER_MHZ * 1e6 / s["rpq"]
         allt = lambda q: f"{q / s['kiddo_all']:,.1f}x ({s['threads']})" if s.get("kiddo_all") else "not measured"
@@ -326,6 +329,8 @@ def write(rows):
             L.append(f"| {name} | {trees} | n/a: {err} | | | | | | | | | | | | | | | |")
             continue
         xs = [f"{x[k]:,}" if x else "?" for k in ("luts", "ffs", "ramb36", "ramb18", "carry4", "dsp", "slices_est")]
+        if x and x.get("lutram"):
+            xs[0] += f" + {x['lutram']} LUT-RAM"
         if isinstance(e, str):
             fm, e = e, None
         else:
