@@ -179,3 +179,62 @@ fn verilator_render_is_byte_identical_to_sw() {
     }
     assert!(pngs[0] == pngs[1], "verilator and sw renders differ");
 }
+
+/// Issue 14: `gather --backend verilator` writes the very file `--backend rtl`
+/// writes, on hard cases: every photon of a cluster at one point, photons on one
+/// plane and on one line, ties on grid cell boundaries, queries on photons, at the
+/// grid corners and beyond the photon box, radius 0, bounded and unbounded, both
+/// metrics.
+#[test]
+#[cfg_attr(not(has_verilator), ignore = "needs verilator")]
+fn verilator_gather_equals_rtl_on_hard_cases() {
+    let mut photons: Vec<[i32; 3]> = vec![[7, 7, 7]; 20];
+    photons.extend((0..40).map(|i| [i * 3 % 64, i * 7 % 64, 10]));
+    photons.extend((0..20).map(|i| [i * 3, 5, 5]));
+    photons.extend([
+        [0, 0, 0],
+        [63, 63, 63],
+        [32, 32, 32],
+        [31, 32, 32],
+        [33, 32, 32],
+    ]);
+    let queries: Vec<[i32; 3]> = vec![
+        [7, 7, 7],
+        [0, 0, 0],
+        [63, 63, 63],
+        [32, 32, 32],
+        [12, 5, 5],
+        [30, 30, 10],
+        [100, -5, 7],
+    ];
+    let csv = |pts: &[[i32; 3]]| {
+        pts.iter()
+            .map(|p| format!("{},{},{}\n", p[0], p[1], p[2]))
+            .collect::<String>()
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let (pp, qp) = (dir.path().join("p.csv"), dir.path().join("q.csv"));
+    std::fs::write(&pp, csv(&photons)).unwrap();
+    std::fs::write(&qp, csv(&queries)).unwrap();
+    for (metric, k, radius) in [("l2", 6, None), ("l1", 4, Some("3")), ("l2", 3, Some("0"))] {
+        let mut outputs = vec![];
+        for backend in ["rtl", "verilator"] {
+            let out = dir.path().join(format!("{metric}_{k}_{backend}.csv"));
+            let mut cmd = bin();
+            cmd.args(["gather", "--backend", backend, "--metric", metric])
+                .args(["--k", &k.to_string()])
+                .args(["--photons", pp.to_str().unwrap()])
+                .args(["--queries", qp.to_str().unwrap()])
+                .args(["--out", out.to_str().unwrap()]);
+            if let Some(r) = radius {
+                cmd.args(["--radius", r]);
+            }
+            cmd.assert().success();
+            outputs.push(std::fs::read(&out).unwrap());
+        }
+        assert!(
+            outputs[0] == outputs[1],
+            "{metric}, k = {k}, radius {radius:?}: verilator and rtl files differ"
+        );
+    }
+}
