@@ -147,16 +147,11 @@ fn fitted_q_keeps_every_port_reading() {
                 k: cfg.k as u32,
             })
             .collect();
-        let mut profile = ReadProfile::default();
         let soft: Vec<_> = queries
             .iter()
             .map(|q| knn::search_with(&w.tree, q.coords, cfg.k, max, cfg.metric, cfg.traversal))
             .collect();
-        for f in &soft {
-            profile.reads += f.visited as u64;
-            profile.max_finds += f.max_finds as u64;
-            profile.climbs += f.climbs as u64;
-        }
+        let profile: ReadProfile = soft.iter().map(|f| f.read_profile()).sum();
         cfg.fit_queries_per_port(&profile);
         assert!(
             cfg.queries_per_port < cfg.issue_interval(),

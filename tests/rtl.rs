@@ -9,29 +9,33 @@ fn bin() -> Command {
     Command::cargo_bin("photon-fpga").unwrap()
 }
 
+/// The PNG bytes of the same render through each of `backends`.
+fn renders(backends: &[&str], size: &str, photons: &str, k: &str) -> Vec<Vec<u8>> {
+    let dir = tempfile::tempdir().unwrap();
+    backends
+        .iter()
+        .map(|backend| {
+            let out = dir.path().join(format!("{backend}.png"));
+            bin()
+                .args(["render", "--size", size, "--spp", "1", "--photons", photons])
+                .args([
+                    "--k",
+                    k,
+                    "--backend",
+                    backend,
+                    "--out",
+                    out.to_str().unwrap(),
+                ])
+                .assert()
+                .success();
+            std::fs::read(&out).unwrap()
+        })
+        .collect()
+}
+
 #[test]
 fn rtl_render_is_byte_identical_to_sw() {
-    let dir = tempfile::tempdir().unwrap();
-    let mut pngs = Vec::new();
-    for backend in ["sw", "rtl"] {
-        let out = dir.path().join(format!("{backend}.png"));
-        bin()
-            .args([
-                "render",
-                "--size",
-                "16x12",
-                "--spp",
-                "1",
-                "--photons",
-                "1500",
-                "--k",
-                "6",
-            ])
-            .args(["--backend", backend, "--out", out.to_str().unwrap()])
-            .assert()
-            .success();
-        pngs.push(std::fs::read(&out).unwrap());
-    }
+    let pngs = renders(&["sw", "rtl"], "16x12", "1500", "6");
     assert!(pngs[0] == pngs[1], "rtl and sw renders differ");
 }
 
@@ -156,27 +160,7 @@ fn rtl_refuses_what_the_core_cannot_hold() {
 #[test]
 #[cfg_attr(not(has_verilator), ignore = "needs verilator")]
 fn verilator_render_is_byte_identical_to_sw() {
-    let dir = tempfile::tempdir().unwrap();
-    let mut pngs = Vec::new();
-    for backend in ["sw", "verilator"] {
-        let out = dir.path().join(format!("{backend}.png"));
-        bin()
-            .args([
-                "render",
-                "--size",
-                "64x64",
-                "--spp",
-                "1",
-                "--photons",
-                "20000",
-                "--k",
-                "10",
-            ])
-            .args(["--backend", backend, "--out", out.to_str().unwrap()])
-            .assert()
-            .success();
-        pngs.push(std::fs::read(&out).unwrap());
-    }
+    let pngs = renders(&["sw", "verilator"], "64x64", "20000", "10");
     assert!(pngs[0] == pngs[1], "verilator and sw renders differ");
 }
 

@@ -108,13 +108,10 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         })
         .collect();
     // The stream's cost per read as the software search counts it, for Q.
-    let mut profile = ReadProfile::default();
-    for q in &queries {
-        let f = search_with(tree, q.coords, cfg.k, max, cfg.metric, cfg.traversal);
-        profile.reads += f.visited as u64;
-        profile.max_finds += f.max_finds as u64;
-        profile.climbs += f.climbs as u64;
-    }
+    let profile: ReadProfile = queries
+        .iter()
+        .map(|q| search_with(tree, q.coords, cfg.k, max, cfg.metric, cfg.traversal).read_profile())
+        .sum();
     if args.fit_q {
         cfg.fit_queries_per_port(&profile);
     }

@@ -462,20 +462,15 @@ impl GatherBackend for RtlBackend {
         // Right-sized Q (issue 11): from what the software search costs on an even
         // sample of these queries, instead of the worst-case issue interval.
         let mut config = self.config;
-        let mut profile = ReadProfile::default();
-        for q in hw.iter().step_by(hw.len().div_ceil(512).max(1)) {
-            let f = knn::search_with(
-                &m.tree,
-                q.coords,
-                config.k,
-                q.radius,
-                config.metric,
-                config.traversal,
-            );
-            profile.reads += f.visited as u64;
-            profile.max_finds += f.max_finds as u64;
-            profile.climbs += f.climbs as u64;
-        }
+        let profile: ReadProfile = hw
+            .iter()
+            .step_by(hw.len().div_ceil(512).max(1))
+            .map(|q| {
+                let c = &config;
+                knn::search_with(&m.tree, q.coords, c.k, q.radius, c.metric, c.traversal)
+                    .read_profile()
+            })
+            .sum();
         config.fit_queries_per_port(&profile);
         // Each query's answer depends only on the map and the query, not on which
         // QueryModule or simulation serves it, so independent simulations of the

@@ -84,6 +84,16 @@ pub struct ReadProfile {
     pub climbs: u64,
 }
 
+impl std::iter::Sum for ReadProfile {
+    fn sum<I: Iterator<Item = ReadProfile>>(iter: I) -> Self {
+        iter.fold(ReadProfile::default(), |a, b| ReadProfile {
+            reads: a.reads + b.reads,
+            max_finds: a.max_finds + b.max_finds,
+            climbs: a.climbs + b.climbs,
+        })
+    }
+}
+
 /// Elaboration-time parameters of one core.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CoreConfig {

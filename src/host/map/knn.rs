@@ -41,6 +41,7 @@
 
 use crate::host::map::kdtree::{KdTree, PackedTree};
 pub use crate::host::map::scalar::{FloatDist, Scalar};
+use crate::hw::config::ReadProfile;
 use crate::hw::metric::Metric;
 pub use crate::hw::traversal::Traversal;
 use std::cmp::Reverse;
@@ -109,6 +110,17 @@ pub struct Found<D> {
     /// Levels climbed without a read ([`Traversal::Remember`]): a QueryModule cycle
     /// each.
     pub climbs: u32,
+}
+
+impl<D> Found<D> {
+    /// What this search costs a QueryModule, for `CoreConfig::fit_queries_per_port`.
+    pub fn read_profile(&self) -> ReadProfile {
+        ReadProfile {
+            reads: self.visited as u64,
+            max_finds: self.max_finds as u64,
+            climbs: self.climbs as u64,
+        }
+    }
 }
 
 impl<D: Ord + Copy> Found<D> {

@@ -202,8 +202,9 @@ pub struct VerilatorDut {
     stdout: BufReader<ChildStdout>,
     outputs: Outputs,
     status: [bool; 3],
-    in_buf: Vec<u32>,
+    /// One cycle's output record, as bytes and as words.
     out_buf: Vec<u8>,
+    out_words: Vec<u32>,
 }
 
 /// Append `value`'s low `width` bits at bit `at` of `bits` (little-endian words).
@@ -243,6 +244,12 @@ impl VerilatorDut {
             .map_err(|e| verr(format!("cannot start {}: {e}", bin.display())))?;
         let stdin = BufWriter::new(child.stdin.take().expect("piped"));
         let stdout = BufReader::new(child.stdout.take().expect("piped"));
+        let n_out: usize = exported
+            .ports
+            .iter()
+            .filter(|p| !p.input)
+            .map(|p| words(p.width))
+            .sum();
         Ok(VerilatorDut {
             cfg: *cfg,
             ports: exported.ports,
@@ -251,8 +258,8 @@ impl VerilatorDut {
             stdout,
             outputs: Outputs::default(),
             status: [false; 3],
-            in_buf: vec![],
-            out_buf: vec![],
+            out_buf: vec![0; 4 * n_out],
+            out_words: Vec::with_capacity(n_out),
         })
     }
 
@@ -296,32 +303,25 @@ impl Dut for VerilatorDut {
     }
 
     fn drive(&mut self, v: &Inputs) -> Result<(), HwError> {
-        self.in_buf.clear();
+        // The hot path of this backend: no allocation per cycle (the BufWriter and
+        // the two buffers are reused; a port is at most 8 words here).
+        let stopped = |e: std::io::Error| verr(format!("the model stopped: {e}"));
         for p in self.ports.iter().filter(|p| p.input && p.name != "clock") {
-            let mut bits = vec![0u32; words(p.width).max(3)];
+            let mut bits = [0u32; 8];
             Self::input_bits(&p.name, v, &mut bits)?;
-            self.in_buf.extend_from_slice(&bits[..words(p.width)]);
+            for w in &bits[..words(p.width)] {
+                self.stdin.write_all(&w.to_le_bytes()).map_err(stopped)?;
+            }
         }
-        let bytes: Vec<u8> = self.in_buf.iter().flat_map(|w| w.to_le_bytes()).collect();
-        self.stdin
-            .write_all(&bytes)
-            .and_then(|_| self.stdin.flush())
-            .map_err(|e| verr(format!("the model stopped: {e}")))?;
-        let n_out: usize = self
-            .ports
-            .iter()
-            .filter(|p| !p.input)
-            .map(|p| words(p.width))
-            .sum();
-        self.out_buf.resize(4 * n_out, 0);
-        self.stdout
-            .read_exact(&mut self.out_buf)
-            .map_err(|e| verr(format!("the model stopped: {e}")))?;
-        let out: Vec<u32> = self
-            .out_buf
-            .chunks(4)
-            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-            .collect();
+        self.stdin.flush().map_err(stopped)?;
+        self.stdout.read_exact(&mut self.out_buf).map_err(stopped)?;
+        self.out_words.clear();
+        self.out_words.extend(
+            self.out_buf
+                .chunks(4)
+                .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])),
+        );
+        let out = &self.out_words;
         let mut k = 0;
         let mut o = Outputs::default();
         for p in self.ports.iter().filter(|p| !p.input) {
