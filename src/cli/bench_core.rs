@@ -20,21 +20,31 @@ pub enum WorkloadKind {
 pub struct BenchCoreArgs {
     #[command(flatten)]
     core: CoreArgs,
-    /// Queries to stream through the core.
-    #[arg(long, default_value_t = 400)]
-    queries: usize,
+    /// Queries to stream through the core [default: 400 uniform ones; with
+    /// `--workload cornell` every eye-ray query of the image, or an even sample of
+    /// this many].
+    #[arg(long)]
+    queries: Option<usize>,
     /// Seed of the random photon map (2^H − 1 photons) and queries.
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// The workload: `uniform` (a full random map of 2^H − 1 photons on the core's
     /// grid, uniform queries: the paper's) or `cornell` (the Cornell box's photon map
-    /// from --cornell-photons emitted photons on a --bits grid, queried at a 64×64
-    /// image's eye-ray hits; H and the per-axis widths follow the map).
+    /// from --cornell-photons emitted photons on a --bits grid, queried at the
+    /// eye-ray hits of a --cornell-size image; H and the per-axis widths follow the map).
     #[arg(long, value_enum, default_value_t = WorkloadKind::Uniform)]
     workload: WorkloadKind,
     /// Emitted photons of the `cornell` workload.
     #[arg(long, default_value_t = 20_000)]
     cornell_photons: usize,
+    /// Image of the `cornell` workload: width x height (one query per eye sample
+    /// that hits a diffuse surface). `--cornell-size 256x256 --cornell-spp 4
+    /// --cornell-photons 200000` is the default render's whole stream.
+    #[arg(long, default_value = "64x64", value_parser = super::render::parse_size)]
+    cornell_size: (u32, u32),
+    /// Eye samples per pixel of the `cornell` workload.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    cornell_spp: u32,
     /// Clock of the core in MHz (e.g. a placed-and-routed fmax from synth/REPORT.md):
     /// prints the core's queries/s = reads/cycle × fmax / reads per query.
     #[arg(long)]
@@ -68,30 +78,31 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     use photon_fpga::hw::rtl::native::CoreSim;
     let mut cfg = args.core.config()?;
     let w = if args.workload == WorkloadKind::Cornell {
-        let w = workload::cornell(
+        let settings = photon_fpga::host::render::RenderSettings {
+            width: args.cornell_size.0,
+            height: args.cornell_size.1,
+            spp: args.cornell_spp,
+            seed: args.seed,
+            ..Default::default()
+        };
+        let w = workload::cornell_image(
             args.cornell_photons,
             usize::MAX,
             cfg.layout.bits[0],
-            64,
-            args.seed,
+            &settings,
         );
         cfg.layout = w.tree.layout;
         cfg.address_bits = w.tree.address_bits();
         cfg.validate()?;
         cfg.check_map(w.tree.image())?;
-        // Every query of the image would take too long to simulate: an even sample.
-        let step = (w.queries.len() / args.queries.max(1)).max(1);
-        let queries = w
-            .queries
-            .iter()
-            .step_by(step)
-            .take(args.queries)
-            .copied()
-            .collect();
+        // Every query of the image, or an even sample of --queries of them.
+        let want = args.queries.unwrap_or(w.queries.len());
+        let step = (w.queries.len() / want.max(1)).max(1);
+        let queries = w.queries.iter().step_by(step).take(want).copied().collect();
         workload::Workload { queries, ..w }
     } else {
         let n = (1usize << cfg.address_bits) - 1;
-        workload::uniform(cfg.layout, n, args.queries, args.seed)
+        workload::uniform(cfg.layout, n, args.queries.unwrap_or(400), args.seed)
     };
     let (points, tree) = (&w.points, &w.tree);
     let n = tree.len();

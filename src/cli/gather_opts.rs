@@ -36,8 +36,8 @@ pub struct GatherOpts {
     /// Largest photon map accepted.
     #[arg(long, default_value_t = DEFAULT_CAPACITY)]
     pub capacity: usize,
-    /// With --backend rtl: stream the simulation's waveform to this VCD file
-    /// (also: env PHOTON_FPGA_VCD=path).
+    /// With --backend rtl or verilator: stream the simulation's waveform to this
+    /// VCD file (also: env PHOTON_FPGA_VCD=path).
     #[arg(long)]
     pub vcd: Option<PathBuf>,
     /// Worker threads (default: all cores). Results do not depend on it.
@@ -46,13 +46,13 @@ pub struct GatherOpts {
 }
 
 impl GatherOpts {
-    /// The waveform output (`--vcd` or env PHOTON_FPGA_VCD, rtl only), checked now
+    /// The waveform output (`--vcd` or env PHOTON_FPGA_VCD; rtl and verilator), checked now
     /// and staged: the simulator writes a temporary file that becomes the VCD only
     /// when the whole run succeeds.
     pub fn vcd(&self, inputs: &[&std::path::Path]) -> Result<Option<Staged>> {
         let path = match &self.vcd {
             Some(p) => p.clone(),
-            None if self.backend == BackendKind::Rtl => {
+            None if self.backend.simulates() => {
                 match std::env::var_os(photon_fpga::hw::rtl::native::VCD_ENV) {
                     Some(p) => PathBuf::from(p),
                     None => return Ok(None),
@@ -60,8 +60,8 @@ impl GatherOpts {
             }
             None => return Ok(None),
         };
-        if self.backend != BackendKind::Rtl {
-            return Err(Error::new("--vcd needs --backend rtl"));
+        if !self.backend.simulates() {
+            return Err(Error::new("--vcd needs --backend rtl or verilator"));
         }
         Ok(Some(Output::check(&path, inputs)?.stage()?))
     }

@@ -41,6 +41,13 @@ impl fmt::Display for BackendKind {
     }
 }
 
+impl BackendKind {
+    /// Whether this backend simulates the hardware (and so can dump a waveform).
+    pub fn simulates(self) -> bool {
+        matches!(self, BackendKind::Rtl | BackendKind::Verilator)
+    }
+}
+
 /// Default photon capacity: 2^20 − 1 photons, a 20-bit tree address.
 pub const DEFAULT_CAPACITY: usize = (1 << 20) - 1;
 
@@ -144,8 +151,8 @@ pub fn make_backend(
     params: &GatherParams,
     sim: &SimOptions,
 ) -> Result<Box<dyn GatherBackend>> {
-    if kind != BackendKind::Rtl && sim.vcd.is_some() {
-        return Err(Error::new("--vcd needs --backend rtl"));
+    if !kind.simulates() && sim.vcd.is_some() {
+        return Err(Error::new("--vcd needs --backend rtl or verilator"));
     }
     Ok(match kind {
         BackendKind::Float => Box::new(FloatBackend::new(photons, params)?),

@@ -36,12 +36,6 @@ pub fn uniform(layout: PhotonLayout, photons: usize, queries: usize, seed: u64) 
 /// of a `side` × `side` image's eye rays (one per pixel), in pixel order. Queries
 /// outside the photons' box (none in this scene) are left out.
 pub fn cornell(emitted: usize, max_photons: usize, bits: u32, side: u32, seed: u64) -> Workload {
-    let scene = Scene::cornell_box();
-    let mut photons = trace_photons(&scene, emitted, seed, false);
-    photons.truncate(max_photons);
-    let world = render::photon_points(&photons);
-    let quant = Quantizer::from_points(&world, bits).expect("a Cornell-box photon map");
-    let points: Vec<[u32; 3]> = world.iter().map(|&p| quant.quantize(p)).collect();
     let settings = RenderSettings {
         width: side,
         height: side,
@@ -49,7 +43,24 @@ pub fn cornell(emitted: usize, max_photons: usize, bits: u32, side: u32, seed: u
         seed,
         ..RenderSettings::default()
     };
-    let (eye, _) = eye_queries(&scene, &settings);
+    cornell_image(emitted, max_photons, bits, &settings)
+}
+
+/// [`cornell`] for any image: every eye-ray query of `settings` (size, samples
+/// per pixel, seed), e.g. the default render's whole stream.
+pub fn cornell_image(
+    emitted: usize,
+    max_photons: usize,
+    bits: u32,
+    settings: &RenderSettings,
+) -> Workload {
+    let scene = Scene::cornell_box();
+    let mut photons = trace_photons(&scene, emitted, settings.seed, false);
+    photons.truncate(max_photons);
+    let world = render::photon_points(&photons);
+    let quant = Quantizer::from_points(&world, bits).expect("a Cornell-box photon map");
+    let points: Vec<[u32; 3]> = world.iter().map(|&p| quant.quantize(p)).collect();
+    let (eye, _) = eye_queries(&scene, settings);
     let queries = render::query_points(&eye)
         .into_iter()
         .filter_map(|q| match quant.grid(q) {

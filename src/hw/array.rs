@@ -14,9 +14,12 @@
 //! BlockRAM; the ports and their meaning are those of the core, so the host driver,
 //! the cross-simulation and the export treat both tops alike (`rtl::top::SearchTop`). Status
 //! outputs: `port_a_reading` / `port_b_reading` = some tree reads on that port,
-//! `all_busy` = every QueryModule of every tree is busy.
+//! `all_busy` = every QueryModule of every tree is busy; `trees_reading_a` /
+//! `trees_reading_b` / `trees_busy` the same per tree (bit t = tree t), so a
+//! simulation of the exported Verilog (Verilator) measures every port's reads as
+//! the native simulation does by looking inside.
 
-use crate::hw::config::CoreConfig;
+use crate::hw::config::{CoreConfig, MAX_TREES};
 use crate::hw::core::PhotonSearchCore;
 use crate::hw::dispatcher::Dispatcher;
 use crate::hw::packet_merge::PacketMerge;
@@ -37,6 +40,10 @@ pub struct PhotonSearchArray<const S: usize, const W: usize> {
     pub port_a_reading: Signal<Out, bool>,
     pub port_b_reading: Signal<Out, bool>,
     pub all_busy: Signal<Out, bool>,
+    // The same per tree: bit t is tree t (bits from T up are 0).
+    pub trees_reading_a: Signal<Out, Bits<MAX_TREES>>,
+    pub trees_reading_b: Signal<Out, Bits<MAX_TREES>>,
+    pub trees_busy: Signal<Out, Bits<MAX_TREES>>,
     pub trees: Vec<PhotonSearchCore<S, W>>,
     dispatch: Dispatcher<QueryBeat>,
     merge: PacketMerge,
@@ -58,6 +65,9 @@ impl<const S: usize, const W: usize> PhotonSearchArray<S, W> {
             port_a_reading: Default::default(),
             port_b_reading: Default::default(),
             all_busy: Default::default(),
+            trees_reading_a: Default::default(),
+            trees_reading_b: Default::default(),
+            trees_busy: Default::default(),
             trees: (0..cfg.trees).map(|_| PhotonSearchCore::new(cfg)).collect(),
             dispatch: Dispatcher::new(cfg.trees),
             merge: PacketMerge::new(cfg.trees),
@@ -81,7 +91,22 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchArray<S, W> {
         self.any_reading_a.next = false;
         self.any_reading_b.next = false;
         self.every_busy.next = true;
+        self.trees_reading_a.next = 0.into();
+        self.trees_reading_b.next = 0.into();
+        self.trees_busy.next = 0.into();
         for i in 0..self.trees.len() {
+            self.trees_reading_a.next = self
+                .trees_reading_a
+                .val()
+                .replace_bit(i, self.trees[i].port_a_reading.val());
+            self.trees_reading_b.next = self
+                .trees_reading_b
+                .val()
+                .replace_bit(i, self.trees[i].port_b_reading.val());
+            self.trees_busy.next = self
+                .trees_busy
+                .val()
+                .replace_bit(i, self.trees[i].all_busy.val());
             self.load_ready_all.next = self.load_ready_all.val() && self.trees[i].load.ready.val();
             self.any_reading_a.next =
                 self.any_reading_a.val() || self.trees[i].port_a_reading.val();

@@ -130,10 +130,11 @@ impl Observer for StatsObserver {
             s.reads_per_port = vec![0; 2 * trees];
             s.busy_reads_per_port = vec![0; 2 * trees];
         }
-        let status: Vec<[bool; 3]> = (0..trees).map(|t| c.dut.tree_status(t)).collect();
-        let all_busy = status.iter().all(|s| s[2]);
+        // Twice over the trees rather than collecting: no allocation per cycle.
+        let all_busy = (0..trees).all(|t| c.dut.tree_status(t)[2]);
         s.busy_cycles += all_busy as u64;
-        for (t, [a, b, _]) in status.into_iter().enumerate() {
+        for t in 0..trees {
+            let [a, b, _] = c.dut.tree_status(t);
             for (port, reading) in [(2 * t, a), (2 * t + 1, b)] {
                 s.reads_per_port[port] += reading as u64;
                 if all_busy {

@@ -211,21 +211,26 @@ pub struct CoreSim(Driver<Box<dyn Dut>>);
 impl CoreSim {
     /// Elaborate and check a core for `cfg`, then reset it.
     pub fn new(cfg: &CoreConfig, opts: &SimOptions) -> Result<Self, HwError> {
-        let dut: Box<dyn Dut> = match opts.engine {
-            Engine::Native => elaborate(cfg)?,
-            Engine::Verilator => {
-                cfg.validate()?;
-                Box::new(crate::hw::rtl::verilator::VerilatorDut::new(cfg)?)
-            }
-        };
         let vcd_path = opts
             .vcd
             .clone()
             .or_else(|| std::env::var_os(VCD_ENV).map(PathBuf::from));
         let mut observers: Vec<Box<dyn Observer>> = vec![];
-        if let Some(path) = vcd_path.filter(|_| opts.engine == Engine::Native) {
-            observers.push(Box::new(VcdObserver::create(&path)?));
-        }
+        let dut: Box<dyn Dut> = match opts.engine {
+            Engine::Native => {
+                if let Some(path) = &vcd_path {
+                    observers.push(Box::new(VcdObserver::create(path)?));
+                }
+                elaborate(cfg)?
+            }
+            Engine::Verilator => {
+                cfg.validate()?;
+                Box::new(crate::hw::rtl::verilator::VerilatorDut::new(
+                    cfg,
+                    vcd_path.as_deref(),
+                )?)
+            }
+        };
         Ok(CoreSim(Driver::new(dut, opts.stall_seed, observers)?))
     }
 
