@@ -145,9 +145,11 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     let mut sim = CoreSim::new(&cfg, &opts)?;
     sim.load_map(tree.image())?;
     let load_cycles = sim.stats().cycles;
+    let passes0 = sim.settle_passes();
     let t0 = std::time::Instant::now();
     let results = sim.run_queries(&queries)?;
     let secs = t0.elapsed().as_secs_f64();
+    let passes = sim.settle_passes().zip(passes0).map(|(b, a)| b - a);
     let st = sim.stats().clone();
     let mut sw_visited = 0u64;
     let mut sw_tested = 0u64;
@@ -227,6 +229,15 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         args.engine,
         cycles as f64 / secs
     );
+    if let Some(p) = passes {
+        // The native simulation's profile: two settles a cycle (clock low, rising
+        // edge), each a few passes over every block.
+        println!(
+            "native settle passes per cycle: {:.1} ({:.0} passes/s, every block updated per pass)",
+            p as f64 / cycles.max(1) as f64,
+            p as f64 / secs
+        );
+    }
     if args.both_engines {
         // The same stream on the other simulator, side by side in this run: the
         // results and cycle counts must be equal.

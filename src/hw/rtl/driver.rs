@@ -89,6 +89,12 @@ pub trait Dut {
     fn tree_status(&self, t: usize) -> [bool; 3];
     /// The rising clock edge.
     fn rising_edge(&mut self) -> Result<(), HwError>;
+    /// Settle passes so far (every block's `update`, repeated until nothing
+    /// changes), for simulators that settle by passes (native): the profile of
+    /// issue 14.
+    fn settle_passes(&self) -> Option<u64> {
+        None
+    }
     /// The rust-hdl block, for observers that read every port (native simulation).
     fn block(&self) -> Option<&dyn rust_hdl::prelude::Block> {
         None
@@ -220,6 +226,11 @@ impl<D: Dut> Driver<D> {
 
     pub fn config(&self) -> &CoreConfig {
         self.dut.config()
+    }
+
+    /// The simulated core.
+    pub fn dut(&self) -> &D {
+        &self.dut
     }
 
     /// Counters since the core was built.

@@ -52,6 +52,7 @@ fn sim_error(msg: impl Into<String>) -> HwError {
 pub struct NativeDut<const W: usize, U: SearchTop<W>> {
     cfg: CoreConfig,
     uut: Box<U>,
+    passes: u64,
 }
 
 impl<const W: usize, U: SearchTop<W>> NativeDut<W, U> {
@@ -61,20 +62,31 @@ impl<const W: usize, U: SearchTop<W>> NativeDut<W, U> {
         let mut uut = Box::new(U::elaborate(cfg));
         uut.connect_all();
         check_all(uut.as_ref()).map_err(|e| sim_error(format!("circuit check failed: {e:?}")))?;
-        let mut dut = NativeDut { cfg: *cfg, uut };
+        let mut dut = NativeDut {
+            cfg: *cfg,
+            uut,
+            passes: 0,
+        };
         dut.uut.io().clock.next = false.into();
         dut.settle()?;
         Ok(dut)
     }
 
+    /// rust-hdl's `simulate`, counting passes: every block's `update` runs once
+    /// per pass, and a value crosses one parent/child boundary per pass, so a
+    /// settle takes as many passes as the deepest combinational path has block
+    /// crossings (about 8 in the core).
     fn settle(&mut self) -> Result<(), HwError> {
-        if simulate(self.uut.as_mut(), 200) {
-            Ok(())
-        } else {
-            Err(sim_error(
-                "the circuit did not settle (combinational loop?)",
-            ))
+        for _ in 0..200 {
+            self.passes += 1;
+            self.uut.update_all();
+            if !self.uut.has_changed() {
+                return Ok(());
+            }
         }
+        Err(sim_error(
+            "the circuit did not settle (combinational loop?)",
+        ))
     }
 }
 
@@ -114,6 +126,10 @@ impl<const W: usize, U: SearchTop<W>> Dut for NativeDut<W, U> {
     fn rising_edge(&mut self) -> Result<(), HwError> {
         self.uut.io().clock.next = true.into();
         self.settle()
+    }
+
+    fn settle_passes(&self) -> Option<u64> {
+        Some(self.passes)
     }
 
     fn block(&self) -> Option<&dyn Block> {
@@ -199,6 +215,9 @@ impl Dut for Box<dyn Dut> {
     fn rising_edge(&mut self) -> Result<(), HwError> {
         self.as_mut().rising_edge()
     }
+    fn settle_passes(&self) -> Option<u64> {
+        self.as_ref().settle_passes()
+    }
     fn block(&self) -> Option<&dyn Block> {
         self.as_ref().block()
     }
@@ -241,6 +260,11 @@ impl CoreSim {
     /// Counters since the core was built.
     pub fn stats(&self) -> &SimStats {
         self.0.stats()
+    }
+
+    /// The native simulation's settle passes since the core was built.
+    pub fn settle_passes(&self) -> Option<u64> {
+        self.0.dut().settle_passes()
     }
 
     /// Synchronous reset.
