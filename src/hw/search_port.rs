@@ -2,6 +2,15 @@
 //! round-robin PortArbiter and its own SearchModule, plus the hand-out of queries to
 //! free QueryModules and the read-out of finished ones as a result stream.
 //!
+//! Query hand-out (issue 11): the free QueryModule that takes the next query is
+//! picked one cycle ahead into a register (`load_pick`), so `query.ready` and every
+//! module's load enable come from flip-flops. Combinationally (a module's state →
+//! the port's free mask → lowest set bit → the core's dispatcher → another module's
+//! load enable) this was the critical path of the 2 × 11 core on the ECP5 (62.1 MHz,
+//! 12 nets). A free module stays free until it is loaded, so the registered pick is
+//! still free when it is used; the module loaded in this cycle is left out of the
+//! next pick. Cost: a module freed in cycle t can take a query in t + 1, not t.
+//!
 //! Result stream, one beat per cycle when valid & ready: a header beat, then `count`
 //! entry beats in found-list slot order ([`ResultBeat`]). The beats pass
 //! through a [`ResultRegister`], so with `CoreConfig::pipelined` every result
@@ -39,7 +48,11 @@ pub struct SearchPort<const S: usize, const W: usize> {
     all_modules: Constant<ModuleMask>,
     requests: Signal<Local, ModuleMask>,
     free_mask: Signal<Local, ModuleMask>,
-    load_pick: Signal<Local, ModuleMask>,
+    /// Free modules not loaded in this cycle: the candidates for the next pick.
+    still_free: Signal<Local, ModuleMask>,
+    /// The module the next query goes to (one-hot; zero: none free).
+    load_pick: DFF<ModuleMask>,
+    query_fire: Signal<Local, bool>,
     finished_mask: Signal<Local, ModuleMask>,
     result_fire: Signal<Local, bool>,
     /// The granted module's read (zero when none is granted: not valid then).
@@ -75,7 +88,9 @@ impl<const S: usize, const W: usize> SearchPort<S, W> {
             all_modules: Constant::new(ModuleMask::from(((1u64 << q) - 1) & 0xFFFF_FFFF)),
             requests: Default::default(),
             free_mask: Default::default(),
+            still_free: Default::default(),
             load_pick: Default::default(),
+            query_fire: Default::default(),
             finished_mask: Default::default(),
             result_fire: Default::default(),
             granted_read: Default::default(),
@@ -93,7 +108,7 @@ impl<const S: usize, const W: usize> SearchPort<S, W> {
 impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, out_active, out_select, out_header, out_slot, out_left);
+        dff_setup!(self, clock, load_pick, out_active, out_select, out_header, out_slot, out_left);
         self.arbiter.clock.next = self.clock.val();
         self.search.clock.next = self.clock.val();
         self.search.reset.next = self.reset.val();
@@ -122,9 +137,19 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
         // One read per cycle: every grant is used.
         self.arbiter.hold.next = false;
         self.arbiter.advance.next = self.arbiter.granted.val();
-        // Hand a query to the lowest free module.
-        self.load_pick.next = self.free_mask.val() & ((!self.free_mask.val()) + 1);
-        self.query.ready.next = self.free_mask.val().any();
+        // Hand a query to the registered pick; pick the lowest free module, other
+        // than the one loaded now, for the next cycle.
+        self.query.ready.next = self.load_pick.q.val().any();
+        self.query_fire.next = self.query.valid.val() && self.load_pick.q.val().any();
+        self.still_free.next = self.free_mask.val() & self.all_modules.val();
+        if self.query_fire.val() {
+            self.still_free.next =
+                self.free_mask.val() & self.all_modules.val() & !self.load_pick.q.val();
+        }
+        self.load_pick.d.next = self.still_free.val() & ((!self.still_free.val()) + 1);
+        if self.reset.val() {
+            self.load_pick.d.next = 0.into();
+        }
 
         // Read-out sequencer signals (registered state, see below).
         self.result_fire.next = self.out_active.q.val() && self.result_register.inbound.ready.val();
@@ -170,7 +195,7 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
             self.modules[i].result_valid.next = self.search.result_valid.val();
             self.modules[i].result.next = self.search.result.val();
             // Query hand-out broadcast; only the picked module loads.
-            self.modules[i].load.next = self.query.valid.val() && self.load_pick.val().get_bit(i);
+            self.modules[i].load.next = self.query.valid.val() && self.load_pick.q.val().get_bit(i);
             self.modules[i].load_query.next = self.query.data.val();
             // Result read-out: only the selected module sees a slot and drives its
             // outputs (the others give zeros), so the beat is an OR over modules.
