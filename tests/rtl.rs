@@ -246,9 +246,18 @@ fn bench_core_runs_both_engines_and_a_whole_cornell_stream() {
         .assert()
         .success();
     let text = String::from_utf8_lossy(&out.get_output().stdout).to_string();
-    assert!(text.contains("same stream, same results and cycles"), "{text}");
+    assert!(
+        text.contains("same stream, same results and cycles"),
+        "{text}"
+    );
     let out = bin()
-        .args(["bench-core", "--engine", "verilator", "--workload", "cornell"])
+        .args([
+            "bench-core",
+            "--engine",
+            "verilator",
+            "--workload",
+            "cornell",
+        ])
         .args(["--cornell-photons", "3000", "--cornell-size", "12x10"])
         .args(["--k", "8", "--metric", "l2", "--fit-q"])
         .assert()

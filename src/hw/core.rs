@@ -11,6 +11,15 @@
 //! * `result`: [`ResultBeat`] packets, a header then one beat per found photon.
 //!   Results of different queries may leave out of order; beats of one result are
 //!   contiguous.
+//!
+//! Between the dispatcher and each port sits a one-beat query stage (issue 11): the
+//! dispatcher's grant ends in a register, and the port's load enables start from
+//! one, so the hand-out is no longer one combinational path from one port's
+//! registered pick through the dispatcher's round robin to every QueryModule's load
+//! enable (the 2 × 11 core's ECP5 critical path after the registered pick: 61.8 MHz,
+//! 12 nets). A stage takes a query only while empty and while its port has a free
+//! QueryModule picked; that module stays free until this stage's query loads it,
+//! one cycle later.
 
 use crate::hw::config::{low_mask, Addr, CoreConfig, PORTS};
 use crate::hw::dispatcher::Dispatcher;
@@ -39,6 +48,11 @@ pub struct PhotonSearchCore<const S: usize, const W: usize> {
     photon_count: DFF<Addr>,
     loaded: DFF<bool>,
     load_fire: Signal<Local, bool>,
+    /// The query stages in front of the ports.
+    stage_a_valid: DFF<bool>,
+    stage_a_data: DFF<QueryBeat>,
+    stage_b_valid: DFF<bool>,
+    stage_b_data: DFF<QueryBeat>,
     /// H address bits: the photon count register is as wide as the tree.
     addr_mask: Constant<Addr>,
 }
@@ -63,6 +77,10 @@ impl<const S: usize, const W: usize> PhotonSearchCore<S, W> {
             photon_count: Default::default(),
             loaded: Default::default(),
             load_fire: Default::default(),
+            stage_a_valid: Default::default(),
+            stage_a_data: Default::default(),
+            stage_b_valid: Default::default(),
+            stage_b_data: Default::default(),
             addr_mask: Constant::new(Addr::from(low_mask(cfg.address_bits))),
         }
     }
@@ -71,7 +89,16 @@ impl<const S: usize, const W: usize> PhotonSearchCore<S, W> {
 impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, photon_count, loaded);
+        dff_setup!(
+            self,
+            clock,
+            photon_count,
+            loaded,
+            stage_a_valid,
+            stage_a_data,
+            stage_b_valid,
+            stage_b_data
+        );
         self.tree.clock.next = self.clock.val();
         self.port_a.clock.next = self.clock.val();
         self.port_b.clock.next = self.clock.val();
@@ -83,8 +110,12 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
         self.port_a.photon_count.next = self.photon_count.q.val();
         self.port_b.photon_count.next = self.photon_count.q.val();
 
-        // Load: only while every QueryModule is free (no search reads port A).
-        self.load.ready.next = self.port_a.idle.val() && self.port_b.idle.val();
+        // Load: only while every QueryModule is free (no search reads port A) and no
+        // query waits in a stage.
+        self.load.ready.next = self.port_a.idle.val()
+            && self.port_b.idle.val()
+            && (!self.stage_a_valid.q.val())
+            && (!self.stage_b_valid.q.val());
         self.load_fire.next = self.load.valid.val() && self.load.ready.val();
         if self.load_fire.val() {
             self.tree.a_address.next = self.load.address.val();
@@ -108,12 +139,30 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
         self.dispatch.inbound.data.next = self.query.data.val();
         self.query.ready.next = self.dispatch.inbound.ready.val();
         self.dispatch.hold.next = (!self.loaded.q.val()) || self.load.valid.val();
-        self.port_a.query.valid.next = self.dispatch.sinks[0].valid.val();
-        self.port_a.query.data.next = self.dispatch.sinks[0].data.val();
-        self.dispatch.sinks[0].ready.next = self.port_a.query.ready.val();
-        self.port_b.query.valid.next = self.dispatch.sinks[1].valid.val();
-        self.port_b.query.data.next = self.dispatch.sinks[1].data.val();
-        self.dispatch.sinks[1].ready.next = self.port_b.query.ready.val();
+        // Each port's stage: empty and the port has a pick → ready; the staged
+        // query moves into the port when the port takes it.
+        self.dispatch.sinks[0].ready.next =
+            self.port_a.query.ready.val() && (!self.stage_a_valid.q.val());
+        self.dispatch.sinks[1].ready.next =
+            self.port_b.query.ready.val() && (!self.stage_b_valid.q.val());
+        self.port_a.query.valid.next = self.stage_a_valid.q.val();
+        self.port_a.query.data.next = self.stage_a_data.q.val();
+        self.port_b.query.valid.next = self.stage_b_valid.q.val();
+        self.port_b.query.data.next = self.stage_b_data.q.val();
+        if self.stage_a_valid.q.val() && self.port_a.query.ready.val() {
+            self.stage_a_valid.d.next = false;
+        }
+        if self.dispatch.sinks[0].valid.val() && self.dispatch.sinks[0].ready.val() {
+            self.stage_a_valid.d.next = true;
+            self.stage_a_data.d.next = self.dispatch.sinks[0].data.val();
+        }
+        if self.stage_b_valid.q.val() && self.port_b.query.ready.val() {
+            self.stage_b_valid.d.next = false;
+        }
+        if self.dispatch.sinks[1].valid.val() && self.dispatch.sinks[1].ready.val() {
+            self.stage_b_valid.d.next = true;
+            self.stage_b_data.d.next = self.dispatch.sinks[1].data.val();
+        }
 
         // Result packets of both ports, merged.
         self.merge.sources[0].valid.next = self.port_a.result.valid.val();
@@ -128,6 +177,8 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
 
         if self.reset.val() {
             self.loaded.d.next = false;
+            self.stage_a_valid.d.next = false;
+            self.stage_b_valid.d.next = false;
         }
         self.port_a_reading.next = self.port_a.reading.val();
         self.port_b_reading.next = self.port_b.reading.val();
