@@ -209,7 +209,14 @@ pub fn radiance(
                     flux += p.power;
                 }
             }
-            q.albedo * flux * (std::f32::consts::FRAC_1_PI / area as f32)
+            // A region too small for f32 (area below ~1e-38) is as degenerate as
+            // r = 0: black, never inf or NaN (issue 12, all k photons at one point).
+            let l = q.albedo * flux * (std::f32::consts::FRAC_1_PI / area as f32);
+            if l.is_finite() {
+                l
+            } else {
+                Vec3::ZERO
+            }
         })
         .collect()
 }

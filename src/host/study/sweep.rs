@@ -196,6 +196,9 @@ pub fn run(plan: &Plan, report: &[ReportRow], bar: &ProgressBar) -> Result<Sweep
         let ref_params = GatherParams {
             k: plan.reference_k,
             metric: Metric::L2,
+            // The float search has no photon-word limit: the reference may exceed
+            // the core's 2^20 photons.
+            capacity: rpts.len(),
             ..GatherParams::default()
         };
         let (_, reference) = float_render(&eye, &rp, &rpts, &ref_params)?;
