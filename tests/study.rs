@@ -5,7 +5,7 @@
 use assert_cmd::Command;
 use photon_fpga::host::gather::{FloatBackend, GatherBackend, GatherParams, Gathered, Neighbour};
 use photon_fpga::host::study::hwcost::{cost, parse_report};
-use photon_fpga::host::study::metrics::{radius_rel_error, recall, rel_rmse};
+use photon_fpga::host::study::metrics::{host_radius, radius_rel_error, recall, rel_rmse};
 use photon_fpga::hw::metric::Metric;
 use rand::{Rng, SeedableRng};
 use std::collections::BTreeMap;
@@ -240,6 +240,14 @@ fn error_measures_against_hand_and_brute_force() {
         .collect();
     assert_eq!(recall(&float, &brute), 1.0);
     assert!(radius_rel_error(&float, &brute) < 1e-12);
+    // The host's radius from float positions is the float search's own.
+    let host = host_radius(&float, &qs, &pts, Metric::L1);
+    for (h, f) in host.iter().zip(&float) {
+        assert_eq!(h.neighbours.len(), f.neighbours.len());
+        for (a, b) in h.neighbours.iter().zip(&f.neighbours) {
+            assert!((a.distance - b.distance).abs() < 1e-12, "{a:?} {b:?}");
+        }
+    }
 }
 
 #[test]

@@ -1,8 +1,10 @@
 //! The study's error measures (issue 12), each a plain function of two results so
 //! the tests can check it against an independent computation.
 
-use crate::host::gather::Gathered;
+use crate::host::gather::{canonical_order, Gathered, Neighbour};
+use crate::host::map::quantize::Point;
 use crate::host::render::QueryPoint;
+use crate::hw::metric::Metric;
 use glam::Vec3;
 
 /// Linear radiance image of the gathered (photon-mapped) light: per pixel the sum
@@ -21,6 +23,45 @@ pub fn gathered_image(pixels: usize, queries: &[QueryPoint], radiance: &[Vec3]) 
         }
     }
     img
+}
+
+/// The same gathered photons with their distances recomputed on the host from the
+/// float positions (`metric`'s world distance to the unquantized query): the core
+/// returns photon indices only (paper §4), so the host can take the estimate's
+/// radius from the exact positions and leave the core only the choice of photons.
+pub fn host_radius(
+    gathered: &[Gathered],
+    queries: &[Point],
+    photons: &[Point],
+    metric: Metric,
+) -> Vec<Gathered> {
+    gathered
+        .iter()
+        .zip(queries)
+        .map(|(g, q)| {
+            let mut n: Vec<Neighbour> = g
+                .neighbours
+                .iter()
+                .map(|x| {
+                    let p = photons[x.photon as usize];
+                    let d = [0, 1, 2].map(|a| (p[a] - q[a]).abs());
+                    let distance = match metric {
+                        Metric::L1 => d[0] + d[1] + d[2],
+                        Metric::L2 => (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt(),
+                    };
+                    Neighbour {
+                        photon: x.photon,
+                        distance,
+                    }
+                })
+                .collect();
+            canonical_order(&mut n);
+            Gathered {
+                neighbours: n,
+                visited: g.visited,
+            }
+        })
+        .collect()
 }
 
 /// Relative RMSE of `got` against `want` over every pixel and channel:

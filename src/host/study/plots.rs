@@ -65,20 +65,20 @@ fn log_range(v: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
 /// Image error against hardware queries/s, one series per metric, points labelled
 /// bits/k: `rows` are the points to show (one scene, one photon count).
 pub fn pareto(path: &Path, rows: &[&Row], title: &str) -> Result<()> {
-    let pts: Vec<(Metric, f64, f64, String)> = rows
+    let pts: Vec<(Metric, bool, f64, f64, String)> = rows
         .iter()
         .filter_map(|r| {
             let q = r.hw.as_ref()?.queries_per_s?;
-            Some((
-                r.metric,
-                q,
-                100.0 * r.err_float,
-                format!("{}/{}", r.bits, r.k),
-            ))
+            let label = format!("{}/{}", r.bits, r.k);
+            Some([
+                (r.metric, false, q, 100.0 * r.err_float, label.clone()),
+                (r.metric, true, q, 100.0 * r.err_float_host, label),
+            ])
         })
+        .flatten()
         .collect();
-    let (x0, x1) = log_range(pts.iter().map(|p| p.1), 1.3);
-    let (y0, y1) = log_range(pts.iter().map(|p| p.2), 1.5);
+    let (x0, x1) = log_range(pts.iter().map(|p| p.2), 1.3);
+    let (y0, y1) = log_range(pts.iter().map(|p| p.3), 1.5);
     png(path, 1000, 700, |root| {
         let mut chart = ChartBuilder::on(root)
             .caption(title, (FONT, 20))
@@ -93,19 +93,33 @@ pub fn pareto(path: &Path, rows: &[&Row], title: &str) -> Result<()> {
             .axis_desc_style((FONT, 15))
             .label_style((FONT, 13))
             .draw()?;
-        for (i, metric) in [Metric::L1, Metric::L2].into_iter().enumerate() {
+        let series = [
+            (Metric::L1, false),
+            (Metric::L2, false),
+            (Metric::L1, true),
+            (Metric::L2, true),
+        ];
+        for (i, (metric, host)) in series.into_iter().enumerate() {
             let color = COLORS[i];
-            let series: Vec<_> = pts.iter().filter(|p| p.0 == metric).collect();
+            let series: Vec<_> = pts
+                .iter()
+                .filter(|p| p.0 == metric && p.1 == host)
+                .collect();
             if series.is_empty() {
                 continue;
             }
+            let what = if host {
+                "radius on the host"
+            } else {
+                "core's grid radius"
+            };
             chart
                 .draw_series(series.iter().map(|p| {
-                    EmptyElement::at((p.1, p.2))
+                    EmptyElement::at((p.2, p.3))
                         + Circle::new((0, 0), 4, color.filled())
-                        + Text::new(p.3.clone(), (5, -12), (FONT, 11))
+                        + Text::new(p.4.clone(), (5, -12), (FONT, 10))
                 }))?
-                .label(format!("{metric} (labels: bits/k)"))
+                .label(format!("{metric}, {what} (labels: bits/k)"))
                 .legend(move |(x, y)| Circle::new((x, y), 5, color.filled()));
         }
         chart

@@ -49,6 +49,10 @@ pub struct Row {
     pub err_reference: f64,
     /// The float render's own error against the reference (photon noise and bias).
     pub float_err_reference: f64,
+    /// The same, with the radius recomputed on the host from the gathered
+    /// photons' float positions (`metrics::host_radius`).
+    pub err_float_host: f64,
+    pub err_reference_host: f64,
     pub recall: f64,
     pub radius_err: f64,
     pub reads_per_query: f64,
@@ -225,6 +229,9 @@ pub fn run(plan: &Plan, report: &[ReportRow], bar: &ProgressBar) -> Result<Sweep
                         let (g, counts): (Vec<Gathered>, Vec<Counts>) = res.into_iter().unzip();
                         let l = render::radiance(&eye.queries, &ph, &g, k, None, metric);
                         let img = metrics::gathered_image(eye.pixels, &eye.queries, &l);
+                        let gh = metrics::host_radius(&g, &eye.points, &pts, metric);
+                        let lh = render::radiance(&eye.queries, &ph, &gh, k, None, metric);
+                        let img_host = metrics::gathered_image(eye.pixels, &eye.queries, &lh);
                         let n = counts.len();
                         let sample = grid_sample(&m, &eye.points, plan.timing_sample);
                         let secs = time_search(&m, &sample);
@@ -255,6 +262,8 @@ pub fn run(plan: &Plan, report: &[ReportRow], bar: &ProgressBar) -> Result<Sweep
                             err_float: metrics::rel_rmse(&img, &fimg),
                             err_reference: metrics::rel_rmse(&img, &reference),
                             float_err_reference,
+                            err_float_host: metrics::rel_rmse(&img_host, &fimg),
+                            err_reference_host: metrics::rel_rmse(&img_host, &reference),
                             recall: metrics::recall(&g, &fg),
                             radius_err: metrics::radius_rel_error(&g, &fg),
                             reads_per_query: mean(counts.iter().map(|c| c[0]), n),
