@@ -124,6 +124,7 @@ pub fn pareto(path: &Path, rows: &[&Row], title: &str) -> Result<()> {
         }
         chart
             .configure_series_labels()
+            .position(SeriesLabelPosition::LowerRight)
             .label_font((FONT, 14))
             .background_style(WHITE.mix(0.9))
             .border_style(BLACK)
