@@ -9,6 +9,7 @@ use cli::bench_core::{bench_core, BenchCoreArgs};
 use cli::export::{export, ExportArgs};
 use cli::gather::{gather, GatherArgs};
 use cli::render::{render, RenderArgs};
+use cli::study::{study, StudyArgs};
 
 #[derive(Parser)]
 #[command(name = "photon-fpga", version, about)]
@@ -28,6 +29,9 @@ enum Cmd {
     /// Simulate a core on a workload (random map or Cornell box): reads per cycle and
     /// per query against the software search, cycles/s; --cpu times kiddo beside it.
     BenchCore(BenchCoreArgs),
+    /// Speed against error: sweep bits, metric, k and photons; write the table,
+    /// the Pareto plot and the paper's Figs. 3-6 (issue 12).
+    Study(StudyArgs),
 }
 
 fn main() -> ExitCode {
@@ -37,6 +41,7 @@ fn main() -> ExitCode {
         Some(Cmd::ExportVerilog(a)) => export(a),
         Some(Cmd::BenchCore(a)) => bench_core(a),
         Some(Cmd::Render(a)) => render(a),
+        Some(Cmd::Study(a)) => study(a),
         None => render(&RenderArgs::default()),
     };
     match result {

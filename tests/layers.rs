@@ -8,13 +8,13 @@
 //! 3. `host::map` — quantizer, kd-tree, kNN
 //! 4. `host::{gather, csvio}` — gather backends and their file formats
 //! 5. `host::render` — scene, photons, renderer
-//! 6. `host::workload` — benchmark workloads
+//! 6. `host::workload` — benchmark workloads; `host::study` — the speed/error study
 //! 7. the binary (`main.rs`, `cli/`)
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-const LAYERS: [(&str, usize); 13] = [
+const LAYERS: [(&str, usize); 14] = [
     ("hw::rtl", 1),
     ("hw", 0),
     ("host::error", 2),
@@ -26,6 +26,7 @@ const LAYERS: [(&str, usize); 13] = [
     ("host::csvio", 4),
     ("host::render", 5),
     ("host::workload", 6),
+    ("host::study", 6),
     // host/mod.rs only declares the modules.
     ("host", 2),
     ("cli", 7),

@@ -7,6 +7,7 @@ pub mod export;
 pub mod gather;
 pub mod gather_opts;
 pub mod render;
+pub mod study;
 
 use photon_fpga::host::error::{Error, Result};
 

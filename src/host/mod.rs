@@ -3,7 +3,7 @@
 //! (`render`) and the shared plumbing (errors, limits, atomic output, timing).
 //!
 //! Layers, lowest first (tests/layers.rs checks them): `error`, `limits`,
-//! `output`, `stages` → `map` → `gather`, `csvio` → `render` → `workload`.
+//! `output`, `stages` → `map` → `gather`, `csvio` → `render` → `workload`, `study`.
 
 pub mod csvio;
 pub mod error;
@@ -13,4 +13,5 @@ pub mod map;
 pub mod output;
 pub mod render;
 pub mod stages;
+pub mod study;
 pub mod workload;

@@ -2,6 +2,7 @@
 //! eye rays to gather queries and images from the gathered photons.
 
 pub mod geometry;
+pub mod l1_area;
 pub mod photons;
 pub mod renderer;
 pub mod scene;

@@ -11,6 +11,7 @@ use crate::host::error::{Error, Result};
 use crate::host::gather::{GatherBackend, GatherParams, Gathered};
 use crate::host::map::quantize::Point;
 use crate::host::output::Output;
+use crate::host::render::l1_area::l1_section_area;
 use crate::host::render::photons::{stream_rng, Photon};
 use crate::host::render::scene::{glass_scatter, reflect, Material, Ray, Scene, Surface};
 use crate::host::stages::StageTimes;
@@ -165,11 +166,10 @@ pub fn query_points(queries: &[QueryPoint]) -> Vec<Point> {
 /// bounded (the region searched is the full disk even though it held fewer
 /// photons), else the farthest distance. For `Metric::L2` the region cut by a plane
 /// is a disk, A = πr². For `Metric::L1` the region is an octahedron, whose section
-/// by an axis-aligned plane through its centre is a diamond of area 2r²: exact for
-/// axis-aligned surfaces such as the Cornell box's walls. Tilted planes cut a
-/// smaller section (down to the regular hexagon of area (3√3/4)·r² ≈ 1.30·r² for
-/// the normal (1,1,1)/√3), so there the L1 estimate is biased dark by up to 35%;
-/// our default scene has diffuse material only on axis-aligned quads.
+/// by the query's tangent plane is a polygon (`l1_area::l1_section_area`): the
+/// diamond 2r² on axis-aligned surfaces such as the Cornell box's walls, down to
+/// the regular hexagon (3√3/4)·r² ≈ 1.30·r² for the normal (1,1,1)/√3; with 2r²
+/// everywhere tilted surfaces came out up to 35% dark (issue 12).
 ///
 /// Only photons arriving from the query's side count (dot(dir, normal) < 0): photons
 /// hitting the other face of a thin wall, or another surface behind, must not leak
@@ -200,7 +200,7 @@ pub fn radiance(
             }
             let area = match metric {
                 Metric::L2 => std::f64::consts::PI * r * r,
-                Metric::L1 => 2.0 * r * r,
+                Metric::L1 => l1_section_area(q.normal.as_dvec3()) * r * r,
             };
             let mut flux = Vec3::ZERO;
             for n in &g.neighbours {
@@ -209,7 +209,14 @@ pub fn radiance(
                     flux += p.power;
                 }
             }
-            q.albedo * flux * (std::f32::consts::FRAC_1_PI / area as f32)
+            // A region too small for f32 (area below ~1e-38) is as degenerate as
+            // r = 0: black, never inf or NaN (issue 12, all k photons at one point).
+            let l = q.albedo * flux * (std::f32::consts::FRAC_1_PI / area as f32);
+            if l.is_finite() {
+                l
+            } else {
+                Vec3::ZERO
+            }
         })
         .collect()
 }

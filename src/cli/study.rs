@@ -1,0 +1,120 @@
+//! `photon-fpga study` (issue 12): the accuracy/throughput sweep, its table and
+//! Pareto plot, and the paper's Figs. 3–6 from the project's own runs.
+
+use crate::cli::set_threads;
+use clap::Args;
+use indicatif::ProgressBar;
+use photon_fpga::host::error::{Error, Result};
+use photon_fpga::host::render::scene::Scene;
+use photon_fpga::host::study::hwcost::parse_report;
+use photon_fpga::host::study::plan::{Plan, HW_MAX_K};
+use photon_fpga::host::study::report::{self, OutDir};
+use photon_fpga::host::study::{figures, sweep};
+use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::rtl::native::Engine;
+use std::path::{Path, PathBuf};
+
+#[derive(Args)]
+pub struct StudyArgs {
+    /// Scene file (TOML); the built-in Cornell box and corridor if absent.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// A reduced sweep for tests (under a minute in a debug build): one scene,
+    /// 32x32, 3000 photons, bits 6/10/16, k = 10.
+    #[arg(long)]
+    pub quick: bool,
+    /// The synthesis report the clocks and areas come from.
+    #[arg(long, default_value = "synth/REPORT.md")]
+    pub report: PathBuf,
+    /// Simulator for the core's reads per cycle (default: Verilator when installed
+    /// and not --quick, else rust-hdl's native simulation).
+    #[arg(long, value_enum)]
+    pub engine: Option<Engine>,
+    /// Worker threads (results do not depend on it).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Output directory: study.csv, STUDY.md, pareto.png, fig3.png … fig6.png.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+fn on_path(tool: &str) -> bool {
+    std::env::var_os("PATH")
+        .is_some_and(|p| std::env::split_paths(&p).any(|d| Path::new(&d).join(tool).is_file()))
+}
+
+pub fn study(args: &StudyArgs) -> Result<()> {
+    set_threads(args.threads)?;
+    // Everything that can be refused is refused before the sweep: the report, the
+    // scene, the output directory.
+    let report_text = std::fs::read_to_string(&args.report).map_err(|e| {
+        Error::new(format!(
+            "{}: cannot read the synthesis report ({e}); give --report FILE",
+            args.report.display()
+        ))
+    })?;
+    let rows = parse_report(&report_text);
+    let scene = match &args.scene {
+        Some(p) => {
+            let name = p
+                .file_stem()
+                .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+            Some((name, Scene::from_file(p)?))
+        }
+        None => None,
+    };
+    let out = OutDir::check(&args.out)?;
+    let engine = args
+        .engine
+        .unwrap_or(if !args.quick && on_path("verilator") {
+            Engine::Verilator
+        } else {
+            Engine::Native
+        });
+    let mut plan = if args.quick {
+        Plan::quick(scene)
+    } else {
+        Plan::full(scene, engine)
+    };
+    plan.engine = engine;
+    let bar = ProgressBar::new(0);
+    let result = sweep::run(&plan, &rows, &bar)?;
+    bar.set_message("figures 3-6");
+    // The core's reads per second at the figures' configuration, where simulated.
+    let hw_rate = |k: usize| -> Option<f64> {
+        if k > HW_MAX_K {
+            return None;
+        }
+        result
+            .rows
+            .iter()
+            .find(|r| {
+                r.scene == plan.scenes[0].0
+                    && r.emitted == plan.photons[0]
+                    && r.metric == Metric::L1
+                    && r.k == k
+                    && r.bits == figures::FIG_BITS
+            })
+            .and_then(|r| r.hw.as_ref())
+            .and_then(|h| Some(h.sim.reads_per_cycle() * h.cost.fmax_mhz? * 1e6))
+    };
+    let figs = figures::run(&plan, &hw_rate)?;
+    bar.finish_and_clear();
+    let mut command = "photon-fpga study".to_string();
+    if let Some(s) = &args.scene {
+        command += &format!(" --scene {}", s.display());
+    }
+    if args.quick {
+        command += " --quick";
+    }
+    command += &format!(" --out {}", args.out.display());
+    report::write_all(out.staging(), &plan, &result, &figs, &command)?;
+    out.commit()?;
+    println!(
+        "{} points; wrote {} in {}",
+        result.rows.len(),
+        report::FILES.join(", "),
+        args.out.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,119 @@
+//! What a study sweeps: scenes, coordinate bits, metrics, k, photon counts, and
+//! how large its images, references and samples are (full and `--quick`).
+
+use crate::host::render::scene::Scene;
+use crate::hw::metric::Metric;
+use crate::hw::rtl::native::Engine;
+
+/// Largest k the core holds (`src/hw/config.rs`: K <= 64); larger k are
+/// software-only points of the sweep.
+pub const HW_MAX_K: usize = 64;
+/// Widest coordinate the core holds per axis (`src/hw/photon_word.rs`: <= 15 bits).
+pub const HW_MAX_BITS: u32 = 15;
+
+/// The scene the study's second row of results comes from (issue 12: "a
+/// caustic-heavy or long/flat one, where an isotropic grid matters").
+pub fn corridor() -> Scene {
+    Scene::from_toml_str(
+        include_str!("../../../scenes/corridor.toml"),
+        "corridor.toml",
+    )
+    .expect("the built-in corridor scene is valid")
+}
+
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// (name, scene), first the one the figures and the README's numbers use.
+    pub scenes: Vec<(String, Scene)>,
+    pub bits: Vec<u32>,
+    pub metrics: Vec<Metric>,
+    pub ks: Vec<usize>,
+    /// Emitted photons; the first is the base count (hardware runs, figures).
+    pub photons: Vec<usize>,
+    /// The converged reference: float L2 with this many emitted photons and this k.
+    pub reference_photons: usize,
+    pub reference_k: usize,
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    pub seed: u64,
+    /// Queries simulated per hardware configuration, and at which bits.
+    pub hw_sample: usize,
+    pub hw_bits: Vec<u32>,
+    pub engine: Engine,
+    /// Queries timed (one thread) per point for the software search's queries/s.
+    pub timing_sample: usize,
+    /// Fig. 4's emitted photon counts and Fig. 3's fractions of the queries.
+    pub fig_photons: Vec<usize>,
+    pub fig_query_fractions: Vec<usize>,
+    /// Fig. 5/6's k values.
+    pub fig_ks: Vec<usize>,
+    pub quick: bool,
+}
+
+impl Plan {
+    /// The full study: both built-in scenes (or `scene`), bits 6..=16.
+    pub fn full(scene: Option<(String, Scene)>, engine: Engine) -> Plan {
+        let scenes = match scene {
+            Some(s) => vec![s],
+            None => vec![
+                ("cornell".to_string(), Scene::cornell_box()),
+                ("corridor".to_string(), corridor()),
+            ],
+        };
+        Plan {
+            scenes,
+            bits: (6..=16).collect(),
+            metrics: vec![Metric::L1, Metric::L2],
+            ks: vec![10, 32, 64, 100, 500],
+            photons: vec![200_000, 50_000],
+            reference_photons: 2_000_000,
+            reference_k: 1000,
+            width: 128,
+            height: 128,
+            spp: 1,
+            seed: 1,
+            hw_sample: 400,
+            hw_bits: vec![10],
+            engine,
+            timing_sample: 2000,
+            fig_photons: vec![25_000, 50_000, 100_000, 200_000, 400_000],
+            fig_query_fractions: vec![8, 4, 2, 1],
+            fig_ks: vec![10, 32, 64, 100, 500],
+            quick: false,
+        }
+    }
+
+    /// `--quick`: a sweep small enough for a debug-build test (under a minute): the
+    /// first scene only, a 32 x 32 image, a few thousand photons, bits {6, 10, 16},
+    /// k = 10, the native simulation on a handful of queries.
+    pub fn quick(scene: Option<(String, Scene)>) -> Plan {
+        let scene = scene.unwrap_or_else(|| ("cornell".to_string(), Scene::cornell_box()));
+        Plan {
+            scenes: vec![scene],
+            bits: vec![6, 10, 16],
+            metrics: vec![Metric::L1, Metric::L2],
+            ks: vec![10],
+            photons: vec![3000],
+            reference_photons: 30_000,
+            reference_k: 100,
+            width: 32,
+            height: 32,
+            spp: 1,
+            seed: 1,
+            hw_sample: 80,
+            hw_bits: vec![10],
+            engine: Engine::Native,
+            timing_sample: 200,
+            fig_photons: vec![1000, 3000],
+            fig_query_fractions: vec![2, 1],
+            fig_ks: vec![10, 32],
+            quick: true,
+        }
+    }
+
+    /// Whether the core can run a gather of `k` photons on a `bits`-bit grid.
+    pub fn hw_capable(k: usize, bits: u32) -> bool {
+        k <= HW_MAX_K && bits <= HW_MAX_BITS
+    }
+}

@@ -1,0 +1,325 @@
+//! The study's plots (issue 12): the Pareto plot of error against hardware
+//! throughput and the paper's Figs. 3–6, drawn with plotters into an RGB buffer
+//! and encoded with the `image` crate. The font is bundled (DejaVu Sans,
+//! `assets/`), so the plots look the same on any machine.
+
+use crate::host::error::{Error, Result};
+use crate::host::study::figures::{Breakdown, FigPoint, Figures, HW_PARTS, SW_PARTS};
+use crate::host::study::sweep::Row;
+use crate::hw::metric::Metric;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::Once;
+
+type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+type Drawn = std::result::Result<(), Box<dyn std::error::Error>>;
+
+const FONT: &str = "sans-serif";
+const COLORS: [RGBColor; 4] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+];
+
+fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The bundled TTF is valid; a failure would show as missing text only.
+        let _ = plotters::style::register_font(
+            FONT,
+            FontStyle::Normal,
+            include_bytes!("../../../assets/DejaVuSans.ttf"),
+        );
+    });
+}
+
+/// Draw a `w` x `h` PNG at `path`.
+fn png(path: &Path, w: u32, h: u32, draw: impl FnOnce(&Area) -> Drawn) -> Result<()> {
+    register_font();
+    let fail = |e: &dyn std::fmt::Display| Error::new(format!("{}: {e}", path.display()));
+    let mut buf = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| fail(&e))?;
+        draw(&root).map_err(|e| fail(&e))?;
+        root.present().map_err(|e| fail(&e))?;
+    }
+    let img = image::RgbImage::from_raw(w, h, buf).expect("buffer of w x h x 3");
+    img.save(path).map_err(|e| fail(&e))
+}
+
+/// (lo, hi) of `v` widened by `pad` (a factor, for log axes).
+fn log_range(v: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
+    let (lo, hi) = v
+        .filter(|x| x.is_finite() && *x > 0.0)
+        .fold((f64::INFINITY, 0.0f64), |(l, h), x| (l.min(x), h.max(x)));
+    if lo > hi {
+        (1.0, 10.0)
+    } else {
+        (lo / pad, hi * pad)
+    }
+}
+
+/// Image error against hardware queries/s, one series per metric, points labelled
+/// bits/k: `rows` are the points to show (one scene, one photon count).
+pub fn pareto(path: &Path, rows: &[&Row], title: &str) -> Result<()> {
+    let pts: Vec<(Metric, bool, f64, f64, String)> = rows
+        .iter()
+        .filter_map(|r| {
+            let q = r.hw.as_ref()?.queries_per_s?;
+            let label = format!("{}/{}", r.bits, r.k);
+            Some([
+                (r.metric, false, q, 100.0 * r.err_float, label.clone()),
+                (r.metric, true, q, 100.0 * r.err_float_host, label),
+            ])
+        })
+        .flatten()
+        .collect();
+    let (x0, x1) = log_range(pts.iter().map(|p| p.2), 1.3);
+    let (y0, y1) = log_range(pts.iter().map(|p| p.3), 1.5);
+    png(path, 1000, 700, |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, (FONT, 20))
+            .margin(15)
+            .x_label_area_size(50)
+            .y_label_area_size(70)
+            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
+        chart
+            .configure_mesh()
+            .x_desc("hardware queries/s per core (simulated reads/cycle x clock, see STUDY.md)")
+            .y_desc("image rel. RMSE vs float render (%)")
+            .axis_desc_style((FONT, 15))
+            .label_style((FONT, 13))
+            .draw()?;
+        let series = [
+            (Metric::L1, false),
+            (Metric::L2, false),
+            (Metric::L1, true),
+            (Metric::L2, true),
+        ];
+        for (i, (metric, host)) in series.into_iter().enumerate() {
+            let color = COLORS[i];
+            let series: Vec<_> = pts
+                .iter()
+                .filter(|p| p.0 == metric && p.1 == host)
+                .collect();
+            if series.is_empty() {
+                continue;
+            }
+            let what = if host {
+                "radius on the host"
+            } else {
+                "core's grid radius"
+            };
+            chart
+                .draw_series(series.iter().map(|p| {
+                    EmptyElement::at((p.2, p.3))
+                        + Circle::new((0, 0), 4, color.filled())
+                        + Text::new(p.4.clone(), (5, -12), (FONT, 10))
+                }))?
+                .label(format!("{metric}, {what} (labels: bits/k)"))
+                .legend(move |(x, y)| Circle::new((x, y), 5, color.filled()));
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::LowerRight)
+            .label_font((FONT, 14))
+            .background_style(WHITE.mix(0.9))
+            .border_style(BLACK)
+            .draw()?;
+        Ok(())
+    })
+}
+
+/// One panel: `series` of (name, points) against x.
+fn line_panel(
+    area: &Area,
+    title: &str,
+    x_desc: &str,
+    y_desc: &str,
+    series: &[(&str, Vec<(f64, f64)>)],
+) -> Drawn {
+    let xs = series.iter().flat_map(|s| s.1.iter().map(|p| p.0));
+    let x1 = xs.clone().fold(0.0f64, f64::max) * 1.05;
+    let y1 = series
+        .iter()
+        .flat_map(|s| s.1.iter().map(|p| p.1))
+        .fold(0.0f64, f64::max)
+        * 1.15;
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, (FONT, 16))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.0..x1.max(1e-9), 0.0..y1.max(1e-12))?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .axis_desc_style((FONT, 13))
+        .label_style((FONT, 12))
+        .draw()?;
+    for (i, (name, pts)) in series.iter().enumerate() {
+        let c = COLORS[i % COLORS.len()];
+        chart
+            .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))?
+            .label(*name)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2)));
+        chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, c.filled())))?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .label_font((FONT, 12))
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .draw()?;
+    Ok(())
+}
+
+/// Figs. 3–5: time (software measured, core from simulated reads/cycle) and photon
+/// reads per query against `x_desc`.
+pub fn time_and_reads(path: &Path, title: &str, x_desc: &str, pts: &[FigPoint]) -> Result<()> {
+    let sw: Vec<(f64, f64)> = pts.iter().map(|p| (p.x, p.seconds)).collect();
+    let hw: Vec<(f64, f64)> = pts
+        .iter()
+        .filter_map(|p| Some((p.x, p.hw_seconds?)))
+        .collect();
+    let reads: Vec<(f64, f64)> = pts.iter().map(|p| (p.x, p.reads_per_query)).collect();
+    png(path, 1200, 500, |root| {
+        let (l, r) = root.split_horizontally(600);
+        let mut time = vec![("software search, 1 thread (measured)", sw)];
+        if !hw.is_empty() {
+            time.push(("one core (simulated reads/cycle x clock)", hw));
+        }
+        line_panel(&l, &format!("{title}: time"), x_desc, "seconds", &time)?;
+        line_panel(
+            &r,
+            &format!("{title}: photons read per query"),
+            x_desc,
+            "photon reads / query (software = core)",
+            &[("reads per query", reads)],
+        )
+    })
+}
+
+/// One stacked-bar panel: per k, the parts of `values`; `total` marks measured totals.
+fn bars(
+    area: &Area,
+    title: &str,
+    y_desc: &str,
+    ks: &[usize],
+    parts: &[&str],
+    values: &[[f64; 4]],
+    total: Option<&[f64]>,
+) -> Drawn {
+    let top = values
+        .iter()
+        .map(|v| v.iter().sum::<f64>())
+        .chain(total.into_iter().flatten().copied())
+        .fold(0.0f64, f64::max)
+        * 1.3;
+    let n = ks.len();
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, (FONT, 16))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d(-0.5f64..n as f64 - 0.5, 0.0..top.max(1e-9))?;
+    chart
+        .configure_mesh()
+        .x_labels(n)
+        .x_label_formatter(&|x| {
+            let i = x.round() as usize;
+            if (x - x.round()).abs() < 0.01 && i < ks.len() {
+                format!("k = {}", ks[i])
+            } else {
+                String::new()
+            }
+        })
+        .y_desc(y_desc)
+        .axis_desc_style((FONT, 13))
+        .label_style((FONT, 12))
+        .draw()?;
+    for (p, name) in parts.iter().enumerate() {
+        let c = COLORS[p % COLORS.len()];
+        chart
+            .draw_series(values.iter().enumerate().map(|(i, v)| {
+                let below: f64 = v[..p].iter().sum();
+                let x = i as f64;
+                Rectangle::new([(x - 0.3, below), (x + 0.3, below + v[p])], c.filled())
+            }))?
+            .label(*name)
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], c.filled()));
+    }
+    if let Some(t) = total {
+        chart
+            .draw_series(
+                t.iter()
+                    .enumerate()
+                    .map(|(i, &v)| Cross::new((i as f64, v), 6, BLACK.stroke_width(2))),
+            )?
+            .label("measured whole search")
+            .legend(|(x, y)| Cross::new((x + 6, y), 5, BLACK.stroke_width(2)));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .label_font((FONT, 12))
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .draw()?;
+    Ok(())
+}
+
+/// Fig. 6: the search's breakdown per query against k, software and core.
+pub fn breakdown(path: &Path, b: &[Breakdown]) -> Result<()> {
+    let ks: Vec<usize> = b.iter().map(|x| x.k).collect();
+    let sw: Vec<[f64; 4]> = b.iter().map(|x| x.sw_ns).collect();
+    let measured: Vec<f64> = b.iter().map(|x| x.sw_measured_ns).collect();
+    let hw_rows: Vec<&Breakdown> = b.iter().filter(|x| x.hw_cycles.is_some()).collect();
+    let hw_ks: Vec<usize> = hw_rows.iter().map(|x| x.k).collect();
+    let hw: Vec<[f64; 4]> = hw_rows.iter().filter_map(|x| x.hw_cycles).collect();
+    png(path, 1200, 520, |root| {
+        let (l, r) = root.split_horizontally(600);
+        bars(
+            &l,
+            "Fig. 6, software: ns per query (counts x unit cost)",
+            "ns per query",
+            &ks,
+            &SW_PARTS,
+            &sw,
+            Some(&measured),
+        )?;
+        bars(
+            &r,
+            "Fig. 6, core: QueryModule cycles per query (model)",
+            "cycles per query",
+            &hw_ks,
+            &HW_PARTS,
+            &hw,
+            None,
+        )
+    })
+}
+
+/// Figs. 3–6 into `dir`.
+pub fn figures(dir: &Path, f: &Figures) -> Result<()> {
+    let t = |n: u32, what: &str| format!("Fig. {n} ({}, L1, 10-bit{what})", f.scene);
+    time_and_reads(&dir.join("fig3.png"), &t(3, ", k = 10"), "queries", &f.fig3)?;
+    time_and_reads(
+        &dir.join("fig4.png"),
+        &t(4, ", k = 10"),
+        "emitted photons",
+        &f.fig4,
+    )?;
+    time_and_reads(
+        &dir.join("fig5.png"),
+        &t(5, ""),
+        "k (photons searched)",
+        &f.fig5,
+    )?;
+    breakdown(&dir.join("fig6.png"), &f.fig6)
+}

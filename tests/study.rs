@@ -1,0 +1,282 @@
+//! `photon-fpga study` (issue 12) through the binary: `--quick` writes the table,
+//! the CSV and the plots, and the table keeps its invariants; the error measures
+//! against independent computations; bad input refused before any work.
+
+use assert_cmd::Command;
+use photon_fpga::host::gather::{FloatBackend, GatherBackend, GatherParams, Gathered, Neighbour};
+use photon_fpga::host::study::hwcost::{cost, parse_report};
+use photon_fpga::host::study::metrics::{host_radius, radius_rel_error, recall, rel_rmse};
+use photon_fpga::hw::metric::Metric;
+use rand::{Rng, SeedableRng};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+fn bin() -> Command {
+    Command::cargo_bin("photon-fpga").unwrap()
+}
+
+/// Columns that hold text (names, sources) rather than numbers.
+const TEXT: [&str; 8] = [
+    "scene",
+    "metric",
+    "hw_capable",
+    "hw_reads_source",
+    "fmax_source",
+    "luts",
+    "ffs",
+    "area_source",
+];
+
+fn run_quick(out: &Path, threads: &str) -> Vec<BTreeMap<String, String>> {
+    bin()
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args(["study", "--quick", "--threads", threads, "--out"])
+        .arg(out)
+        .assert()
+        .success();
+    let mut r = csv::Reader::from_path(out.join("study.csv")).unwrap();
+    let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
+    r.records()
+        .map(|rec| {
+            let rec = rec.unwrap();
+            header
+                .iter()
+                .cloned()
+                .zip(rec.iter().map(String::from))
+                .collect()
+        })
+        .collect()
+}
+
+fn num(row: &BTreeMap<String, String>, col: &str) -> f64 {
+    row[col]
+        .parse()
+        .unwrap_or_else(|_| panic!("{col} = {:?}", row[col]))
+}
+
+#[test]
+fn quick_study_writes_a_complete_table_whose_error_falls_with_bits() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("study");
+    let rows = run_quick(&out, "2");
+    assert!(!rows.is_empty());
+    // Every number present: finite, or an explicit "n/a: why".
+    for row in &rows {
+        for (col, v) in row {
+            assert!(!v.is_empty(), "empty {col} in {row:?}");
+            if !TEXT.contains(&col.as_str()) && !v.starts_with("n/a") {
+                let x: f64 = v.parse().unwrap_or_else(|_| panic!("{col} = {v:?}"));
+                assert!(x.is_finite(), "{col} = {v}");
+            }
+        }
+    }
+    // Per scene, photons, metric and k: error against float falls (non-strictly,
+    // 2% noise allowed) as bits grow, and 16 bits is within 0.1% of float.
+    let mut groups: BTreeMap<Vec<String>, Vec<(u32, f64)>> = BTreeMap::new();
+    for row in &rows {
+        let key: Vec<String> = ["scene", "emitted", "metric", "k"]
+            .iter()
+            .map(|c| row[*c].clone())
+            .collect();
+        groups
+            .entry(key)
+            .or_default()
+            .push((num(row, "bits") as u32, num(row, "rel_rmse_vs_float")));
+    }
+    for (key, mut v) in groups {
+        v.sort_by_key(|p| p.0);
+        for w in v.windows(2) {
+            assert!(w[1].1 <= w[0].1 * 1.02 + 1e-5, "{key:?}: error rises {w:?}");
+        }
+        let (bits, err) = *v.last().unwrap();
+        assert_eq!(bits, 16);
+        assert!(err <= 1e-3, "{key:?}: 16 bits at {err} of float");
+        assert!(v[0].1 > err, "{key:?}: 6 bits no worse than 16?");
+    }
+    // The core's columns: simulated where it can run, labelled n/a where it cannot.
+    for row in &rows {
+        if row["bits"] == "16" {
+            assert!(row["hw_reads_per_cycle"].starts_with("n/a"), "{row:?}");
+        } else {
+            let rpc = num(row, "hw_reads_per_cycle");
+            assert!(
+                rpc > 0.0 && rpc <= 2.0,
+                "two ports read at most 2 per cycle: {rpc}"
+            );
+            assert!(row["hw_reads_source"].starts_with("simulated"));
+        }
+        assert!(num(row, "recall_at_k") <= 1.0);
+    }
+    let md = std::fs::read_to_string(out.join("STUDY.md")).unwrap();
+    assert!(
+        md.contains("| l1 | 10 | 10 |") && md.contains("[P&R]"),
+        "{md}"
+    );
+    for png in ["pareto.png", "fig3.png", "fig4.png", "fig5.png", "fig6.png"] {
+        let img = image::open(out.join(png)).unwrap_or_else(|e| panic!("{png}: {e}"));
+        assert!(img.width() >= 800 && img.height() >= 400, "{png}");
+    }
+    // Same seed, same table whatever the thread count (the measured software
+    // queries/s, the last column, aside).
+    let again = run_quick(&dir.path().join("again"), "1");
+    let strip = |rows: &[BTreeMap<String, String>]| -> Vec<BTreeMap<String, String>> {
+        rows.iter()
+            .map(|r| {
+                let mut r = r.clone();
+                r.remove("sw_queries_per_s_measured");
+                r
+            })
+            .collect()
+    };
+    assert_eq!(strip(&rows), strip(&again));
+}
+
+#[test]
+fn study_refuses_bad_input_before_any_work_and_leaves_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("file");
+    std::fs::write(&file, "x").unwrap();
+    let listing = || {
+        let mut v: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    let before = listing();
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec!["--out".into(), file.display().to_string()],
+            "is not a directory",
+        ),
+        (
+            vec![
+                "--scene".into(),
+                dir.path().join("none.toml").display().to_string(),
+                "--out".into(),
+                dir.path().join("o").display().to_string(),
+            ],
+            "none.toml",
+        ),
+        (
+            vec![
+                "--report".into(),
+                dir.path().join("R.md").display().to_string(),
+                "--out".into(),
+                dir.path().join("o").display().to_string(),
+            ],
+            "R.md: cannot read the synthesis report",
+        ),
+        (
+            vec![
+                "--out".into(),
+                dir.path().join("no/such/dir").display().to_string(),
+            ],
+            "no/such/dir",
+        ),
+    ];
+    for (args, msg) in cases {
+        let a = bin()
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .arg("study")
+            .arg("--quick")
+            .args(&args)
+            .assert()
+            .code(2);
+        let stderr = String::from_utf8_lossy(&a.get_output().stderr).to_string();
+        assert!(stderr.contains(msg), "{args:?}: {stderr}");
+        assert_eq!(listing(), before, "{args:?} left files behind");
+    }
+}
+
+fn gathered(ids: &[(u32, f64)]) -> Gathered {
+    Gathered {
+        neighbours: ids
+            .iter()
+            .map(|&(photon, distance)| Neighbour { photon, distance })
+            .collect(),
+        visited: 0,
+    }
+}
+
+#[test]
+fn error_measures_against_hand_and_brute_force() {
+    // rel. RMSE by hand: error (3, 4) on a reference of norm 10 is 0.5.
+    let want = [[6.0, 8.0, 0.0]];
+    assert_eq!(rel_rmse(&[[9.0, 12.0, 0.0]], &want), 0.5);
+    assert_eq!(rel_rmse(&want, &want), 0.0);
+    // Recall and radius error by hand.
+    let truth = [gathered(&[(1, 1.0), (2, 2.0)]), gathered(&[(5, 4.0)])];
+    let got = [gathered(&[(2, 1.5), (7, 3.0)]), gathered(&[(5, 5.0)])];
+    assert_eq!(recall(&got, &truth), 0.75);
+    assert_eq!(radius_rel_error(&got, &truth), (0.5 + 0.25) / 2.0);
+    // Recall of the float search against brute force on random points is 1.
+    let mut r = rand_pcg::Pcg64Mcg::seed_from_u64(3);
+    let pts: Vec<[f64; 3]> = (0..2000).map(|_| [r.gen(), r.gen(), r.gen()]).collect();
+    let qs: Vec<[f64; 3]> = (0..50).map(|_| [r.gen(), r.gen(), r.gen()]).collect();
+    let params = GatherParams {
+        k: 12,
+        metric: Metric::L1,
+        ..GatherParams::default()
+    };
+    let float = FloatBackend::new(&pts, &params)
+        .unwrap()
+        .gather(&qs)
+        .unwrap();
+    let brute: Vec<Gathered> = qs
+        .iter()
+        .map(|&q| {
+            let d = |p: &[f64; 3]| (0..3).map(|a| (p[a] - q[a]).abs()).sum::<f64>();
+            let mut all: Vec<(u32, f64)> = pts
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (i as u32, d(p)))
+                .collect();
+            all.sort_by(|a, b| a.1.total_cmp(&b.1));
+            all.truncate(12);
+            gathered(&all)
+        })
+        .collect();
+    assert_eq!(recall(&float, &brute), 1.0);
+    assert!(radius_rel_error(&float, &brute) < 1e-12);
+    // The host's radius from float positions is the float search's own.
+    let host = host_radius(&float, &qs, &pts, Metric::L1);
+    for (h, f) in host.iter().zip(&float) {
+        assert_eq!(h.neighbours.len(), f.neighbours.len());
+        for (a, b) in h.neighbours.iter().zip(&f.neighbours) {
+            assert!((a.distance - b.distance).abs() < 1e-12, "{a:?} {b:?}");
+        }
+    }
+}
+
+#[test]
+fn report_rows_give_clocks_and_areas_with_their_source() {
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("synth/REPORT.md"))
+            .unwrap();
+    let rows = parse_report(&text);
+    // The paper core's K = 10, 10-bit, L1 rows are there; the variants are not.
+    assert!(rows
+        .iter()
+        .all(|r| !r.name.contains("re-read") && !r.name.contains("Table 2")));
+    let c = cost(&rows, 10, 10, Metric::L1);
+    if let Some(f) = c.fmax_mhz {
+        assert!(c.fmax_source.starts_with("placed-and-routed"), "{c:?}");
+        assert!(text.contains(&format!("{f:.1}")));
+    }
+    // A configuration REPORT.md lacks is never given its own numbers.
+    let other = cost(&rows, 32, 13, Metric::L2);
+    assert_eq!(other.luts, "not in REPORT.md");
+    assert!(other.fmax_mhz.is_none() || other.fmax_source.starts_with("assumed"));
+    // A synthetic report: a matching row with a clock, parsed exactly.
+    let synthetic =
+        "| configuration | T | LUTs | FFs | ECP5 fmax MHz (seeds) |\n|---|---|---|---|---|\n\
+                     | squared L2 | 1 | 1,234 | 567 | 40.5 (40.5, 39.0) |\n";
+    let rows = parse_report(synthetic);
+    let c = cost(&rows, 10, 10, Metric::L2);
+    assert_eq!(
+        (c.fmax_mhz, c.luts.as_str(), c.ffs.as_str()),
+        (Some(40.5), "1,234", "567")
+    );
+}
