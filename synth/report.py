@@ -32,6 +32,10 @@ CONFIGS = [
     ("12-bit coordinates", ["--k", "10", "--bits", "12", "--address-bits", "10", "--metric", "l1"], 1),
     ("squared L2", ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l2"], 1),
     ("half Q (2x11)", ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l1", "--queries-per-port", "11"], 1),
+    # The study's cheapest configuration within 1 % image error of float (issue 12,
+    # docs/STUDY.md): the Cornell map's H = 19 tree, Q as the study fitted it.
+    ("study ≤1 % (K=32, 14-bit, L2, 2x19, H=19)",
+     ["--k", "32", "--bits", "14", "--address-bits", "19", "--metric", "l2", "--queries-per-port", "19"], 1),
     ("T=2 trees", PAPER + ["--trees", "2"], 2),
     ("T=4 trees", PAPER + ["--trees", "4"], 4),
 ]
