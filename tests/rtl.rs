@@ -5,6 +5,13 @@
 use assert_cmd::Command;
 use rand::{Rng, SeedableRng};
 
+/// Points as CSV lines `x,y,z`.
+fn csv(pts: &[[i32; 3]]) -> String {
+    pts.iter()
+        .map(|p| format!("{},{},{}\n", p[0], p[1], p[2]))
+        .collect()
+}
+
 fn bin() -> Command {
     Command::cargo_bin("photon-fpga").unwrap()
 }
@@ -63,11 +70,6 @@ fn rtl_gather_returns_the_exact_k_nearest() {
         })
         .chain([[5, 5, 5], [0, 0, 0]])
         .collect();
-    let csv = |pts: &[[i32; 3]]| {
-        pts.iter()
-            .map(|p| format!("{},{},{}\n", p[0], p[1], p[2]))
-            .collect::<String>()
-    };
     let dir = tempfile::tempdir().unwrap();
     let (pp, qp) = (dir.path().join("p.csv"), dir.path().join("q.csv"));
     std::fs::write(&pp, csv(&photons)).unwrap();
@@ -191,11 +193,6 @@ fn verilator_gather_equals_rtl_on_hard_cases() {
         [30, 30, 10],
         [100, -5, 7],
     ];
-    let csv = |pts: &[[i32; 3]]| {
-        pts.iter()
-            .map(|p| format!("{},{},{}\n", p[0], p[1], p[2]))
-            .collect::<String>()
-    };
     let dir = tempfile::tempdir().unwrap();
     let (pp, qp) = (dir.path().join("p.csv"), dir.path().join("q.csv"));
     std::fs::write(&pp, csv(&photons)).unwrap();
