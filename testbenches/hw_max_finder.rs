@@ -58,11 +58,6 @@ impl<const S: usize> Bench<S> {
             busy_cycles,
         )
     }
-    fn read(&mut self, slot: usize) -> u64 {
-        self.uut.read_slot.next = (1u64 << slot).into();
-        self.settle();
-        self.uut.read_dist.val().to_u64()
-    }
 }
 
 /// Independent model: the maximum, every slot holding it, the lowest such slot.
@@ -80,9 +75,6 @@ fn model(list: &[u64]) -> (u64, u64, u64) {
 fn check_list<const S: usize>(b: &mut Bench<S>, list: &[u64]) {
     for (s, &d) in list.iter().enumerate() {
         b.write(s, d);
-    }
-    for (s, &d) in list.iter().enumerate() {
-        assert_eq!(b.read(s), d, "column read-out of slot {s}");
     }
     let candidates = u64::MAX >> (64 - list.len());
     let (max, filter, slot, cycles) = b.find(candidates);
@@ -167,7 +159,6 @@ fn only_the_configured_slots_exist() {
         b.write(s, d);
     }
     b.write(7, 255);
-    assert_eq!(b.read(7), 0);
     let (max, filter, slot, _) = b.find(0xFF);
     assert_eq!((max, filter, slot), (50, 1 << 4, 1 << 4));
 }

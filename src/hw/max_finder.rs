@@ -1,15 +1,23 @@
 //! MaxFinder (paper §4.4): the found-distance list stored bit-transposed, and the
 //! search for its maximum in one cycle per distance bit, independent of K.
 //!
-//! Row n holds bit n of every list entry (one bit per slot). Starting from a filter
+//! Row n is bit n of every list entry (one bit per slot). Starting from a filter
 //! with a one for every candidate slot, each row from the MSB down is ANDed with the
 //! filter; if the AND is non-zero it becomes the filter and bit n of the maximum is 1
 //! (the OR of the AND). After the last row the filter marks the slots holding the
 //! maximum and a priority encoder picks the LOWEST of them: the replacement rule of
 //! the software search (knn.rs, "the lowest list slot among ties").
 //!
-//! Slots are addressed one-hot throughout (write slot, read slot, max slot), which is
-//! what the filter naturally is.
+//! Where the bits live (issue 11): the K × B bits are the paper's, but each slot's
+//! entry is one register and a row is gathered across them (the row selection is the
+//! same one-hot AND-OR either way). Stored as rows, a write touches bit s of every
+//! row, a LUT per bit (keep, set or clear); stored as slots, a write is the clock
+//! enable of one slot's register with the distance on its D inputs, no LUT at all.
+//! The list is not read out here: the QueryModule keeps a LUT-RAM copy of the
+//! distances for its result stream, which costs less than a K-way read-out mux.
+//!
+//! Slots are addressed one-hot throughout (write slot, max slot), which is what the
+//! filter naturally is.
 //!
 //! `S` is the width of the slot masks (32 or 64, see `CoreConfig::slot_bits`): a
 //! const generic because rust-hdl's `Bits` width must be a constant.
@@ -28,9 +36,6 @@ pub struct MaxFinder<const S: usize> {
     /// (the rows are read from the next cycle on).
     pub start: Signal<In, bool>,
     pub candidates: Signal<In, SlotMask<S>>,
-    /// Column read-out of one slot (one-hot), combinational.
-    pub read_slot: Signal<In, SlotMask<S>>,
-    pub read_dist: Signal<Out, Dist>,
     /// High from the cycle after `start` for one cycle per distance bit.
     pub busy: Signal<Out, bool>,
     /// Valid when not busy after a search: the maximum, the slots holding it and the
@@ -38,8 +43,8 @@ pub struct MaxFinder<const S: usize> {
     pub max_dist: Signal<Out, Dist>,
     pub filter: Signal<Out, SlotMask<S>>,
     pub max_slot: Signal<Out, SlotMask<S>>,
-    /// rows[n] = bit n of every slot's distance.
-    rows: Vec<DFF<SlotMask<S>>>,
+    /// slots[s] = the distance in slot s (K of them; row n is bit n of each).
+    slots: Vec<DFF<Dist>>,
     filter_reg: DFF<SlotMask<S>>,
     /// One-hot: the row being examined, which is also its weight in the maximum.
     row_select: DFF<Dist>,
@@ -49,7 +54,8 @@ pub struct MaxFinder<const S: usize> {
     /// The K slots that exist: the other row bits are constant zero, so synthesis
     /// drops them (the slot masks are S bits wide).
     slot_mask: Constant<SlotMask<S>>,
-    slot_write: Signal<Local, SlotMask<S>>,
+    /// The distance bits: the others of each slot are constant zero.
+    dist_mask: Constant<Dist>,
     current_row: Signal<Local, SlotMask<S>>,
     row_and_filter: Signal<Local, SlotMask<S>>,
 }
@@ -66,20 +72,18 @@ impl<const S: usize> MaxFinder<S> {
             write_dist: Default::default(),
             start: Default::default(),
             candidates: Default::default(),
-            read_slot: Default::default(),
-            read_dist: Default::default(),
             busy: Default::default(),
             max_dist: Default::default(),
             filter: Default::default(),
             max_slot: Default::default(),
-            rows: (0..dist_bits).map(|_| DFF::default()).collect(),
+            slots: (0..slots).map(|_| DFF::default()).collect(),
             filter_reg: Default::default(),
             row_select: Default::default(),
             max_reg: Default::default(),
             busy_reg: Default::default(),
             top_row: Constant::new(Dist::from(1u64 << (dist_bits - 1))),
             slot_mask: Constant::new(SlotMask::<S>::from(u64::MAX >> (64 - slots))),
-            slot_write: Default::default(),
+            dist_mask: Constant::new(Dist::from(u64::MAX >> (64 - dist_bits))),
             current_row: Default::default(),
             row_and_filter: Default::default(),
         }
@@ -90,30 +94,24 @@ impl<const S: usize> Logic for MaxFinder<S> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, filter_reg, row_select, max_reg, busy_reg);
-        for n in 0..self.rows.len() {
-            self.rows[n].clock.next = self.clock.val();
-            self.rows[n].d.next = self.rows[n].q.val();
-        }
-        // Write one slot: bit n of the distance goes to row n.
-        self.slot_write.next = self.write_slot.val() & self.slot_mask.val();
-        if self.write_enable.val() {
-            for n in 0..self.rows.len() {
-                if self.write_dist.val().get_bit(n) {
-                    self.rows[n].d.next = self.rows[n].q.val() | self.slot_write.val();
-                } else {
-                    self.rows[n].d.next = self.rows[n].q.val() & (!self.slot_write.val());
-                }
+        // Write one slot: its register's clock enable.
+        for s in 0..self.slots.len() {
+            self.slots[s].clock.next = self.clock.val();
+            self.slots[s].d.next = self.slots[s].q.val();
+            if self.write_enable.val() && self.write_slot.val().get_bit(s) {
+                self.slots[s].d.next = self.write_dist.val() & self.dist_mask.val();
             }
         }
-        // The row under examination, and its AND with the filter.
-        // (Gated by busy: the mux output is only used while busy; this also keeps
-        // the Rust simulation from evaluating it in idle QueryModules.)
+        // The row under examination: bit `row_select` (one-hot) of every slot.
+        // (Gated by busy: the row is only used while busy; this also keeps the Rust
+        // simulation from evaluating it in idle QueryModules.)
         self.current_row.next = 0.into();
         if self.busy_reg.q.val() {
-            for n in 0..self.rows.len() {
-                if self.row_select.q.val().get_bit(n) {
-                    self.current_row.next = self.current_row.val() | self.rows[n].q.val();
-                }
+            for s in 0..self.slots.len() {
+                self.current_row.next = self
+                    .current_row
+                    .val()
+                    .replace_bit(s, (self.slots[s].q.val() & self.row_select.q.val()).any());
             }
         }
         self.row_and_filter.next = self.current_row.val() & self.filter_reg.q.val();
@@ -137,15 +135,5 @@ impl<const S: usize> Logic for MaxFinder<S> {
         self.filter.next = self.filter_reg.q.val();
         // Priority encoder: isolate the lowest set bit of the filter.
         self.max_slot.next = self.filter_reg.q.val() & ((!self.filter_reg.q.val()) + 1);
-        // Column read-out.
-        self.read_dist.next = 0.into();
-        if self.read_slot.val().any() {
-            for n in 0..self.rows.len() {
-                self.read_dist.next = self
-                    .read_dist
-                    .val()
-                    .replace_bit(n, (self.rows[n].q.val() & self.read_slot.val()).any());
-            }
-        }
     }
 }

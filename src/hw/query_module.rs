@@ -1,5 +1,4 @@
-//! QueryModule (paper §4.2): the controller of one query. It holds the query, the
-//! radius R, the full flag, the count, the traversal state, the found-index list and
+//! QueryModule (paper §4.2): the controller of one query. It holds the radius R, the full flag, the count, the traversal state, the found-index list and
 //! (inside its MaxFinder, bit-transposed) the found-distance list, K entries each.
 //!
 //! Per photon: request a read (READY), wait for the SearchModule's answer (WAIT),
@@ -7,6 +6,11 @@
 //! the MaxFinder and set R = max, remembering the max slot; once full, a photon in
 //! range (d < R) overwrites the max slot and the MaxFinder runs again (MAX_FIND).
 //! This is knn.rs's `FoundList` step for step, so slots and read counts match.
+//!
+//! The query's coordinates and id are not here (issue 11): only the SearchModule
+//! needs the coordinates and only the read-out the id, so the port keeps them once,
+//! in LUT-RAM indexed by QueryModule (`SearchModule`, `SearchPort`), instead of
+//! Q sets of registers and an OR tree over Q modules.
 //!
 //! The ascent (`CoreConfig::traversal`, see `hw::traversal`):
 //! * `Reread` (the paper's): an "up" result is just the next read, of the parent.
@@ -16,16 +20,17 @@
 //!   pending far child within R is read next (the sibling of the node we came
 //!   from); otherwise climb on, until the root ends the search.
 //!
-//! Where the lists live (issue 11): the found-index list (K × H bits) and the path
-//! memory ((H − 1) × distance bits) are each written one entry per cycle and read
-//! one entry at a time by this module alone, so each is a small LUT-RAM of its own
+//! Where the lists live (issue 11): the found-index list (K × H bits), a copy of the
+//! found distances for the read-out (K × distance bits) and the path memory
+//! ((H − 1) × distance bits) are each written one entry per cycle and read one
+//! entry at a time by this module alone, so each is a small LUT-RAM of its own
 //! ([`LutRam`]: no flip-flop per bit, no read multiplexer); a memory shared by the
 //! port would need Q ports. The pending bits and the one-hot level stay registers
-//! (all bits are tested at once), as do the MaxFinder's bit-transposed rows.
+//! (all bits are tested at once), as do the MaxFinder's distances (a row across all
+//! slots is read per cycle, which no RAM port gives).
 
 use crate::hw::config::{
-    low_mask, Addr, Coord, CoreConfig, Count, Dist, LevelMask, ModuleIndex, QueryId, ReadCount,
-    SlotMask,
+    low_mask, Addr, CoreConfig, Count, Dist, LevelMask, ModuleIndex, ReadCount, SlotMask,
 };
 use crate::hw::lut_ram::{LutRam, RamIndex};
 use crate::hw::max_finder::MaxFinder;
@@ -71,7 +76,6 @@ pub struct QueryModule<const S: usize> {
     pub out_enable: Signal<In, bool>,
     /// The slot being read out (one-hot; zero while not read out).
     pub out_slot: Signal<In, SlotMask<S>>,
-    pub out_id: Signal<Out, QueryId>,
     pub out_count: Signal<Out, Count>,
     pub out_visited: Signal<Out, ReadCount>,
     pub out_address: Signal<Out, Addr>,
@@ -86,22 +90,13 @@ pub struct QueryModule<const S: usize> {
     pending_mask: Constant<LevelMask>,
     /// The widths the configuration needs (issue 11): every register is loaded
     /// through its mask, so synthesis drops the bits above (a flip-flop whose input
-    /// is constant or itself). Query id (`CoreConfig::id_bits`), coordinates per
-    /// axis, heap address (H bits), counts (0..=K), photon reads (H + 1 bits), the
-    /// K slots that exist.
-    id_mask: Constant<QueryId>,
-    coord_mask_x: Constant<Coord>,
-    coord_mask_y: Constant<Coord>,
-    coord_mask_z: Constant<Coord>,
+    /// is constant or itself). Heap address (H bits), counts (0..=K), photon reads
+    /// (H + 1 bits), the K slots that exist.
     addr_mask: Constant<Addr>,
     count_mask: Constant<Count>,
     visited_mask: Constant<ReadCount>,
     slot_mask: Constant<SlotMask<S>>,
     state: DFF<QueryState>,
-    query_id: DFF<QueryId>,
-    qx: DFF<Coord>,
-    qy: DFF<Coord>,
-    qz: DFF<Coord>,
     radius_reg: DFF<Dist>,
     full_reg: DFF<bool>,
     k_reg: DFF<Count>,
@@ -128,6 +123,9 @@ pub struct QueryModule<const S: usize> {
     path: LutRam,
     /// The found-index list: K heap addresses, in LUT-RAM.
     found: LutRam,
+    /// The found distances again, for the read-out only (the MaxFinder's copy is
+    /// read a row at a time).
+    found_dist: LutRam,
     /// Entry index of each slot / level, to turn a one-hot mask into a RAM index.
     slot_index: Vec<Constant<RamIndex>>,
     level_index: Vec<Constant<RamIndex>>,
@@ -164,7 +162,6 @@ impl<const S: usize> QueryModule<S> {
             result_taken: Default::default(),
             out_enable: Default::default(),
             out_slot: Default::default(),
-            out_id: Default::default(),
             out_count: Default::default(),
             out_visited: Default::default(),
             out_address: Default::default(),
@@ -174,19 +171,11 @@ impl<const S: usize> QueryModule<S> {
             dist_mask: Constant::new(Dist::from((1u64 << cfg.dist_bits()) - 1)),
             level_mask: Constant::new(LevelMask::from((1u64 << cfg.address_bits) - 1)),
             pending_mask: Constant::new(LevelMask::from((1u64 << cfg.path_levels()) - 1)),
-            id_mask: Constant::new(QueryId::from(low_mask(cfg.id_bits()))),
-            coord_mask_x: Constant::new(Coord::from(cfg.layout.coord_max(0) as u64)),
-            coord_mask_y: Constant::new(Coord::from(cfg.layout.coord_max(1) as u64)),
-            coord_mask_z: Constant::new(Coord::from(cfg.layout.coord_max(2) as u64)),
             addr_mask: Constant::new(Addr::from(low_mask(cfg.address_bits))),
             count_mask: Constant::new(Count::from(low_mask(cfg.count_bits()))),
             visited_mask: Constant::new(ReadCount::from(low_mask(cfg.visited_bits()))),
             slot_mask: Constant::new(SlotMask::<S>::from(low_mask(cfg.k as u32))),
             state: Default::default(),
-            query_id: Default::default(),
-            qx: Default::default(),
-            qy: Default::default(),
-            qz: Default::default(),
             radius_reg: Default::default(),
             full_reg: Default::default(),
             k_reg: Default::default(),
@@ -204,6 +193,7 @@ impl<const S: usize> QueryModule<S> {
             ascending: Default::default(),
             path: LutRam::new(cfg.path_levels().max(1), cfg.dist_bits()),
             found: LutRam::new(cfg.k, cfg.address_bits),
+            found_dist: LutRam::new(cfg.k, cfg.dist_bits()),
             slot_index: (0..cfg.k)
                 .map(|i| Constant::new(RamIndex::from(i as u64)))
                 .collect(),
@@ -233,10 +223,6 @@ impl<const S: usize> Logic for QueryModule<S> {
             self,
             clock,
             state,
-            query_id,
-            qx,
-            qy,
-            qz,
             radius_reg,
             full_reg,
             k_reg,
@@ -254,6 +240,7 @@ impl<const S: usize> Logic for QueryModule<S> {
             ascending
         );
         self.found.clock.next = self.clock.val();
+        self.found_dist.clock.next = self.clock.val();
         self.path.clock.next = self.clock.val();
         // One-hot masks to RAM indices.
         self.level_at.next = 0.into();
@@ -280,7 +267,6 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.max_finder.start.next = false;
         self.max_finder.candidates.next = self.occupied.q.val();
         self.max_finder.write_dist.next = self.result.val().distance;
-        self.max_finder.read_slot.next = self.out_slot.val();
 
         self.result_mine.next =
             self.result_valid.val() && (self.result.val().query_module == self.my_index.val());
@@ -311,6 +297,10 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.found.write_data.next =
             bit_cast::<32, 24>(self.result.val().address & self.addr_mask.val());
         self.found.read_index.next = self.out_index.val();
+        self.found_dist.write_enable.next = self.insert.val();
+        self.found_dist.write_index.next = self.insert_index.val();
+        self.found_dist.write_data.next = self.result.val().distance & self.dist_mask.val();
+        self.found_dist.read_index.next = self.out_index.val();
         // The path memory takes each down visit's axis distance at its level.
         self.path.write_enable.next = false;
         self.path.write_index.next = self.level_at.val();
@@ -319,10 +309,6 @@ impl<const S: usize> Logic for QueryModule<S> {
         match self.state.q.val() {
             QueryState::Idle => {
                 if self.load.val() {
-                    self.query_id.d.next = self.load_query.val().id & self.id_mask.val();
-                    self.qx.d.next = self.load_query.val().x & self.coord_mask_x.val();
-                    self.qy.d.next = self.load_query.val().y & self.coord_mask_y.val();
-                    self.qz.d.next = self.load_query.val().z & self.coord_mask_z.val();
                     // A radius beyond every possible distance is the largest one:
                     // the same photons are within it, in a register of distance bits.
                     if (self.load_query.val().radius & (!self.dist_mask.val())).any() {
@@ -454,6 +440,7 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.read.next.address = 0.into();
         self.read.next.up = false;
         self.read.next.came_from_right = false;
+        // (x, y, z: the SearchModule looks them up by `query_module`.)
         self.read.next.x = 0.into();
         self.read.next.y = 0.into();
         self.read.next.z = 0.into();
@@ -464,27 +451,23 @@ impl<const S: usize> Logic for QueryModule<S> {
             self.read.next.address = self.address.q.val();
             self.read.next.up = self.up.q.val();
             self.read.next.came_from_right = self.came_from_right.q.val();
-            self.read.next.x = self.qx.q.val();
-            self.read.next.y = self.qy.q.val();
-            self.read.next.z = self.qz.q.val();
             self.read.next.radius = self.radius_reg.q.val();
             self.read.next.full = self.full_reg.q.val();
         }
         // Read-out: zero unless this module is selected, so that the port merges
         // its modules with an OR tree instead of a chain of multiplexers (issue
         // 11: the read-out was the critical path).
-        self.out_id.next = 0.into();
         self.out_count.next = 0.into();
         self.out_visited.next = 0.into();
         if self.out_enable.val() {
-            self.out_id.next = self.query_id.q.val();
             self.out_count.next = self.count.q.val();
             self.out_visited.next = self.visited.q.val();
         }
-        self.out_dist.next = self.max_finder.read_dist.val();
         self.out_address.next = 0.into();
+        self.out_dist.next = 0.into();
         if self.out_slot.val().any() {
             self.out_address.next = bit_cast::<24, 32>(self.found.read_data.val());
+            self.out_dist.next = self.found_dist.read_data.val() & self.dist_mask.val();
         }
     }
 }

@@ -4,6 +4,12 @@
 //! state) travels with the data (§4.5: the
 //! SearchModule carries the id so several QueryModules can share it).
 //!
+//! The queries' coordinates live here (issue 11), one LUT-RAM entry per QueryModule
+//! of the port, written when the module is loaded and read with the id the request
+//! carries: a QueryModule holds no coordinates and the port's request selection no
+//! longer ORs Q copies of them. The lookup is in stage 0, from registers, so it
+//! costs the distance stage nothing.
+//!
 //! Timing, with the read granted in cycle t:
 //! * t:   request latched (stage 0) while the TreeModule reads the word;
 //! * t+1: (pipelined core) word and request registered (stage W);
@@ -13,10 +19,11 @@
 //!   t+3 (t+4).
 
 use crate::hw::axis_dist::AxisDistModule;
-use crate::hw::config::{Addr, Coord, CoreConfig, Dist, Word};
+use crate::hw::config::{Addr, Coord, CoreConfig, Dist, ModuleIndex, Word};
 use crate::hw::dist_module::DistModule;
+use crate::hw::lut_ram::LutRam;
 use crate::hw::next_index::NextIndexModule;
-use crate::hw::stream::{ReadRequest, ReadResult};
+use crate::hw::stream::{QueryBeat, ReadRequest, ReadResult};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
@@ -30,9 +37,19 @@ pub struct SearchModule<const W: usize> {
     /// The TreeModule's word, one cycle after the request.
     pub word: Signal<In, Word<W>>,
     pub photon_count: Signal<In, Addr>,
+    /// A query loaded into QueryModule `query_module` this cycle: its coordinates.
+    pub query_write: Signal<In, bool>,
+    pub query_module: Signal<In, ModuleIndex>,
+    pub query: Signal<In, QueryBeat>,
     /// The result, broadcast to the port's QueryModules.
     pub result_valid: Signal<Out, bool>,
     pub result: Signal<Out, ReadResult>,
+    /// The coordinates of each QueryModule's query (Q entries per axis).
+    query_x: LutRam,
+    query_y: LutRam,
+    query_z: LutRam,
+    /// Stage 0's request with its query's coordinates.
+    looked_up: Signal<Local, ReadRequest>,
     axis_dist: AxisDistModule,
     dist_module: DistModule,
     next_index: NextIndexModule,
@@ -86,6 +103,13 @@ impl<const W: usize> SearchModule<W> {
             request: Default::default(),
             word: Default::default(),
             photon_count: Default::default(),
+            query_write: Default::default(),
+            query_module: Default::default(),
+            query: Default::default(),
+            query_x: LutRam::new(cfg.queries_per_port, l.bits[0]),
+            query_y: LutRam::new(cfg.queries_per_port, l.bits[1]),
+            query_z: LutRam::new(cfg.queries_per_port, l.bits[2]),
+            looked_up: Default::default(),
             result_valid: Default::default(),
             result: Default::default(),
             axis_dist: AxisDistModule::with_widths(cfg.metric, cfg.axis_dist_bits()),
@@ -146,10 +170,31 @@ impl<const W: usize> Logic for SearchModule<W> {
         self.s0_valid.d.next = self.request_valid.val();
         self.s0.d.next = self.request.val();
 
+        // The query store: written at the load, read by stage 0's module index.
+        self.query_x.clock.next = self.clock.val();
+        self.query_y.clock.next = self.clock.val();
+        self.query_z.clock.next = self.clock.val();
+        self.query_x.write_enable.next = self.query_write.val();
+        self.query_y.write_enable.next = self.query_write.val();
+        self.query_z.write_enable.next = self.query_write.val();
+        self.query_x.write_index.next = self.query_module.val();
+        self.query_y.write_index.next = self.query_module.val();
+        self.query_z.write_index.next = self.query_module.val();
+        self.query_x.write_data.next = bit_cast::<32, 16>(self.query.val().x);
+        self.query_y.write_data.next = bit_cast::<32, 16>(self.query.val().y);
+        self.query_z.write_data.next = bit_cast::<32, 16>(self.query.val().z);
+        self.query_x.read_index.next = self.s0.q.val().query_module;
+        self.query_y.read_index.next = self.s0.q.val().query_module;
+        self.query_z.read_index.next = self.s0.q.val().query_module;
+        self.looked_up.next = self.s0.q.val();
+        self.looked_up.next.x = bit_cast::<16, 32>(self.query_x.read_data.val());
+        self.looked_up.next.y = bit_cast::<16, 32>(self.query_y.read_data.val());
+        self.looked_up.next.z = bit_cast::<16, 32>(self.query_z.read_data.val());
+
         // Stage W: register the word with its request (wires when not pipelined).
         self.w_word.d.next = self.word.val();
         self.w_valid.d.next = self.s0_valid.q.val();
-        self.w.d.next = self.s0.q.val();
+        self.w.d.next = self.looked_up.val();
         if self.word_stage.val() {
             self.in_word.next = self.w_word.q.val();
             self.in_valid.next = self.w_valid.q.val();
@@ -157,7 +202,7 @@ impl<const W: usize> Logic for SearchModule<W> {
         } else {
             self.in_word.next = self.word.val();
             self.in_valid.next = self.s0_valid.q.val();
-            self.in_request.next = self.s0.q.val();
+            self.in_request.next = self.looked_up.val();
         }
 
         // Stage 1: unpack the photon word, distances in parallel.

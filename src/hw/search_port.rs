@@ -11,12 +11,24 @@
 //! still free when it is used; the module loaded in this cycle is left out of the
 //! next pick. Cost: a module freed in cycle t can take a query in t + 1, not t.
 //!
+//! Query ids (issue 11): only the read-out needs a query's id, so the port keeps
+//! them in one LUT-RAM indexed by QueryModule (written at the load, read by the
+//! module being read out) rather than in Q registers ORed together; the
+//! coordinates are kept the same way by the SearchModule.
+//!
 //! Result stream, one beat per cycle when valid & ready: a header beat, then `count`
-//! entry beats in found-list slot order ([`ResultBeat`]). The beats pass
+//! entry beats in found-list slot order ([`ResultBeat`]). The read-out takes the
+//! selected module's count and photon reads into registers one cycle before its
+//! header (issue 11: the module's count through the port's OR tree into `last` and
+//! the sequencer was the critical path of the 2 × 11 core on the ECP5, 64.9 MHz), so
+//! `last` and every sequencer decision come from flip-flops. The beats pass
 //! through a [`ResultRegister`], so with `CoreConfig::pipelined` every result
 //! output is a flip-flop and a result leaves one cycle after it is read out.
 
-use crate::hw::config::{Addr, CoreConfig, Count, ModuleMask, SlotMask, Word};
+use crate::hw::config::{
+    Addr, CoreConfig, Count, ModuleIndex, ModuleMask, ReadCount, SlotMask, Word,
+};
+use crate::hw::lut_ram::LutRam;
 use crate::hw::port_arbiter::PortArbiter;
 use crate::hw::query_module::QueryModule;
 use crate::hw::register_slice::ResultRegister;
@@ -50,8 +62,18 @@ pub struct SearchPort<const S: usize, const W: usize> {
     free_mask: Signal<Local, ModuleMask>,
     /// Free modules not loaded in this cycle: the candidates for the next pick.
     still_free: Signal<Local, ModuleMask>,
-    /// The module the next query goes to (one-hot; zero: none free).
+    /// The module the next query goes to (one-hot; zero: none free), and its index.
     load_pick: DFF<ModuleMask>,
+    load_pick_index: DFF<ModuleIndex>,
+    next_pick: Signal<Local, ModuleMask>,
+    next_pick_index: Signal<Local, ModuleIndex>,
+    /// The lowest finished module (one-hot) and its index.
+    finished_pick: Signal<Local, ModuleMask>,
+    finished_pick_index: Signal<Local, ModuleIndex>,
+    /// Index of each QueryModule, to turn a one-hot mask into a RAM index.
+    module_index: Vec<Constant<ModuleIndex>>,
+    /// The query id of each QueryModule's query.
+    ids: LutRam,
     query_fire: Signal<Local, bool>,
     finished_mask: Signal<Local, ModuleMask>,
     result_fire: Signal<Local, bool>,
@@ -62,9 +84,22 @@ pub struct SearchPort<const S: usize, const W: usize> {
     beat: Signal<Local, ResultBeat>,
     out_active: DFF<bool>,
     out_select: DFF<ModuleMask>,
+    /// Index of `out_select`'s module.
+    out_index: DFF<ModuleIndex>,
     out_header: DFF<bool>,
     out_slot: DFF<SlotMask<S>>,
     out_left: DFF<Count>,
+    /// The cycle after the selection: the module's header is being fetched.
+    out_fetch: DFF<bool>,
+    /// The selected module's count and photon reads, and `last` of the header
+    /// (count = 0) and of the entry beat now (one entry left).
+    hdr_count: DFF<Count>,
+    hdr_visited: DFF<ReadCount>,
+    hdr_last: DFF<bool>,
+    out_last: DFF<bool>,
+    /// The selected module's count and reads (an OR over the zero-gated modules).
+    module_count: Signal<Local, Count>,
+    module_visited: Signal<Local, ReadCount>,
 }
 
 impl<const S: usize, const W: usize> SearchPort<S, W> {
@@ -90,6 +125,15 @@ impl<const S: usize, const W: usize> SearchPort<S, W> {
             free_mask: Default::default(),
             still_free: Default::default(),
             load_pick: Default::default(),
+            load_pick_index: Default::default(),
+            next_pick: Default::default(),
+            next_pick_index: Default::default(),
+            finished_pick: Default::default(),
+            finished_pick_index: Default::default(),
+            module_index: (0..q)
+                .map(|i| Constant::new(ModuleIndex::from(i as u64)))
+                .collect(),
+            ids: LutRam::new(q, cfg.id_bits()),
             query_fire: Default::default(),
             finished_mask: Default::default(),
             result_fire: Default::default(),
@@ -98,9 +142,17 @@ impl<const S: usize, const W: usize> SearchPort<S, W> {
             beat: Default::default(),
             out_active: Default::default(),
             out_select: Default::default(),
+            out_index: Default::default(),
             out_header: Default::default(),
             out_slot: Default::default(),
             out_left: Default::default(),
+            out_fetch: Default::default(),
+            hdr_count: Default::default(),
+            hdr_visited: Default::default(),
+            hdr_last: Default::default(),
+            out_last: Default::default(),
+            module_count: Default::default(),
+            module_visited: Default::default(),
         }
     }
 }
@@ -108,7 +160,23 @@ impl<const S: usize, const W: usize> SearchPort<S, W> {
 impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, load_pick, out_active, out_select, out_header, out_slot, out_left);
+        dff_setup!(
+            self,
+            clock,
+            load_pick,
+            load_pick_index,
+            out_active,
+            out_select,
+            out_index,
+            out_header,
+            out_slot,
+            out_left,
+            out_fetch,
+            hdr_count,
+            hdr_visited,
+            hdr_last,
+            out_last
+        );
         self.arbiter.clock.next = self.clock.val();
         self.search.clock.next = self.clock.val();
         self.search.reset.next = self.reset.val();
@@ -146,17 +214,47 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
             self.still_free.next =
                 self.free_mask.val() & self.all_modules.val() & !self.load_pick.q.val();
         }
-        self.load_pick.d.next = self.still_free.val() & ((!self.still_free.val()) + 1);
+        self.next_pick.next = self.still_free.val() & ((!self.still_free.val()) + 1);
+        self.finished_pick.next = self.finished_mask.val() & ((!self.finished_mask.val()) + 1);
+        self.next_pick_index.next = 0.into();
+        self.finished_pick_index.next = 0.into();
+        for i in 0..self.module_index.len() {
+            if self.next_pick.val().get_bit(i) {
+                self.next_pick_index.next = self.next_pick_index.val() | self.module_index[i].val();
+            }
+            if self.finished_pick.val().get_bit(i) {
+                self.finished_pick_index.next =
+                    self.finished_pick_index.val() | self.module_index[i].val();
+            }
+        }
+        self.load_pick.d.next = self.next_pick.val();
+        self.load_pick_index.d.next = self.next_pick_index.val();
         if self.reset.val() {
             self.load_pick.d.next = 0.into();
         }
+        // The loaded query's id and coordinates go to the picked module's entries.
+        self.ids.clock.next = self.clock.val();
+        self.ids.write_enable.next = self.query_fire.val();
+        self.ids.write_index.next = self.load_pick_index.q.val();
+        self.ids.write_data.next = self.query.data.val().id;
+        self.ids.read_index.next = self.out_index.q.val();
+        self.search.query_write.next = self.query_fire.val();
+        self.search.query_module.next = self.load_pick_index.q.val();
+        self.search.query.next = self.query.data.val();
 
         // Read-out sequencer signals (registered state, see below).
-        self.result_fire.next = self.out_active.q.val() && self.result_register.inbound.ready.val();
+        self.result_fire.next = self.out_active.q.val()
+            && (!self.out_fetch.q.val())
+            && self.result_register.inbound.ready.val();
         self.beat.next.header = self.out_header.q.val();
         self.beat.next.id = 0.into();
-        self.beat.next.count = 0.into();
-        self.beat.next.visited = 0.into();
+        if self.out_active.q.val() {
+            self.beat.next.id = self.ids.read_data.val();
+        }
+        self.beat.next.count = self.hdr_count.q.val();
+        self.beat.next.visited = self.hdr_visited.q.val();
+        self.module_count.next = 0.into();
+        self.module_visited.next = 0.into();
         self.beat.next.address = 0.into();
         self.beat.next.distance = 0.into();
 
@@ -168,6 +266,7 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
         self.granted_read.next.address = 0.into();
         self.granted_read.next.up = false;
         self.granted_read.next.came_from_right = false;
+        // (x, y, z: the SearchModule looks them up.)
         self.granted_read.next.x = 0.into();
         self.granted_read.next.y = 0.into();
         self.granted_read.next.z = 0.into();
@@ -185,9 +284,6 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
             self.granted_read.next.up = self.granted_read.val().up || self.read_pick.val().up;
             self.granted_read.next.came_from_right =
                 self.granted_read.val().came_from_right || self.read_pick.val().came_from_right;
-            self.granted_read.next.x = self.granted_read.val().x | self.read_pick.val().x;
-            self.granted_read.next.y = self.granted_read.val().y | self.read_pick.val().y;
-            self.granted_read.next.z = self.granted_read.val().z | self.read_pick.val().z;
             self.granted_read.next.radius =
                 self.granted_read.val().radius | self.read_pick.val().radius;
             self.granted_read.next.full = self.granted_read.val().full || self.read_pick.val().full;
@@ -204,18 +300,18 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
             if self.out_select.q.val().get_bit(i) {
                 self.modules[i].out_slot.next = self.out_slot.q.val();
             }
-            self.beat.next.id = self.beat.val().id | self.modules[i].out_id.val();
-            self.beat.next.count = self.beat.val().count | self.modules[i].out_count.val();
-            self.beat.next.visited = self.beat.val().visited | self.modules[i].out_visited.val();
+            self.module_count.next = self.module_count.val() | self.modules[i].out_count.val();
+            self.module_visited.next =
+                self.module_visited.val() | self.modules[i].out_visited.val();
             self.beat.next.address = self.beat.val().address | self.modules[i].out_address.val();
             self.beat.next.distance = self.beat.val().distance | self.modules[i].out_dist.val();
         }
         self.search.request.next = self.granted_read.val();
         self.ram_address.next = self.granted_read.val().address;
         if self.out_header.q.val() {
-            self.beat.next.last = self.beat.val().count == 0;
+            self.beat.next.last = self.hdr_last.q.val();
         } else {
-            self.beat.next.last = self.out_left.q.val() == 1;
+            self.beat.next.last = self.out_last.q.val();
         }
         // The last beat frees the selected module.
         for i in 0..self.modules.len() {
@@ -226,38 +322,51 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
         // The beat leaves through the ResultRegister.
         self.result_register.clock.next = self.clock.val();
         self.result_register.reset.next = self.reset.val();
-        self.result_register.inbound.valid.next = self.out_active.q.val();
+        self.result_register.inbound.valid.next =
+            self.out_active.q.val() && (!self.out_fetch.q.val());
         self.result_register.inbound.data.next = self.beat.val();
         self.result_register.outbound.ready.next = self.result.ready.val();
         self.result.valid.next = self.result_register.outbound.valid.val();
         self.result.data.next = self.result_register.outbound.data.val();
 
-        // Read-out sequencer: pick a finished module, stream header then entries.
+        // Read-out sequencer: pick a finished module, fetch its header, stream the
+        // header then the entries.
         if !self.out_active.q.val() {
             if self.finished_mask.val().any() {
                 self.out_active.d.next = true;
-                self.out_header.d.next = true;
-                self.out_select.d.next =
-                    self.finished_mask.val() & ((!self.finished_mask.val()) + 1);
+                self.out_fetch.d.next = true;
+                self.out_select.d.next = self.finished_pick.val();
+                self.out_index.d.next = self.finished_pick_index.val();
             }
+        } else if self.out_fetch.q.val() {
+            self.out_fetch.d.next = false;
+            self.out_header.d.next = true;
+            self.hdr_count.d.next = self.module_count.val();
+            self.hdr_visited.d.next = self.module_visited.val();
+            self.hdr_last.d.next = self.module_count.val() == 0;
         } else if self.result_fire.val() {
             if self.out_header.q.val() {
                 self.out_header.d.next = false;
                 self.out_slot.d.next = 1.into();
-                self.out_left.d.next = self.beat.val().count;
+                self.out_left.d.next = self.hdr_count.q.val();
+                self.out_last.d.next = self.hdr_count.q.val() == 1;
             } else {
                 self.out_slot.d.next = self.out_slot.q.val() << 1;
                 self.out_left.d.next = self.out_left.q.val() - 1;
+                self.out_last.d.next = self.out_left.q.val() == 2;
             }
             if self.beat.val().last {
                 self.out_active.d.next = false;
                 self.out_select.d.next = 0.into();
+                self.out_index.d.next = 0.into();
                 self.out_slot.d.next = 0.into();
             }
         }
         if self.reset.val() {
             self.out_active.d.next = false;
+            self.out_fetch.d.next = false;
             self.out_select.d.next = 0.into();
+            self.out_index.d.next = 0.into();
         }
 
         self.reading.next = self.arbiter.granted.val();
