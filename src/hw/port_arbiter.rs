@@ -27,16 +27,18 @@ pub struct PortArbiter {
     pub grant: Signal<Out, ModuleMask>,
     pub granted: Signal<Out, bool>,
     last_grant: DFF<ModuleMask>,
-    at_or_below_last: Signal<Local, ModuleMask>,
+    /// Every bit at or below the last grant, kept in a register beside it so that
+    /// the grant starts from flip-flops, not from a subtraction (issue 11: the
+    /// arbiter → read address path limits a port's clock).
+    at_or_below_last: DFF<ModuleMask>,
     above_last: Signal<Local, ModuleMask>,
 }
 
 impl Logic for PortArbiter {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, last_grant);
-        self.at_or_below_last.next = (self.last_grant.q.val() << 1) - 1;
-        self.above_last.next = self.requests.val() & (!self.at_or_below_last.val());
+        dff_setup!(self, clock, last_grant, at_or_below_last);
+        self.above_last.next = self.requests.val() & (!self.at_or_below_last.q.val());
         if self.hold.val() {
             self.grant.next = self.last_grant.q.val();
         } else if self.above_last.val().any() {
@@ -47,6 +49,7 @@ impl Logic for PortArbiter {
         self.granted.next = self.requests.val().any();
         if self.advance.val() {
             self.last_grant.d.next = self.grant.val();
+            self.at_or_below_last.d.next = (self.grant.val() << 1) - 1;
         }
     }
 }

@@ -8,6 +8,13 @@
 //! and Vivado/ISE infer as RAMB36E1/RAMB18E1, with the exact word width and depth of
 //! the configuration (the ports are `W` = 32 or 64 bits, the memory only as wide as
 //! the layout's word).
+//!
+//! The memory carries yosys' `no_rw_check`: port B never reads while port A writes
+//! (the core loads a map only while every QueryModule is free, `core.rs`), so what a
+//! read returns when both ports hit one address in one cycle does not matter.
+//! Without it yosys builds the Verilog's read-first collision rule out of an address
+//! comparator and a bypass multiplexer on port B, which put port B's read address on
+//! the critical path of the 2 × 11 core on the ECP5 (75.4 MHz, issue 11).
 
 use crate::hw::config::{Addr, Word};
 use rust_hdl::prelude::*;
@@ -86,7 +93,9 @@ impl<const W: usize> Logic for TreeModule<W> {
         let h = self._address_bits;
         Verilog::Custom(format!(
             "\
-// {depth} photon words of {w} bits: BlockRAM, one always block per port.
+// {depth} photon words of {w} bits: BlockRAM, one always block per port. Port B
+// never reads while port A writes (loads wait for an idle core): no collision logic.
+(* no_rw_check *)
 reg [{wm}:0] mem[0:{last}];
 
 always @(posedge clock) begin

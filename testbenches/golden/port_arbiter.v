@@ -14,9 +14,11 @@ module top(clock,requests,advance,hold,grant,granted);
     reg  [31:0] last_grant$d;
     wire  [31:0] last_grant$q;
     reg  last_grant$clock;
+    reg  [31:0] at_or_below_last$d;
+    wire  [31:0] at_or_below_last$q;
+    reg  at_or_below_last$clock;
     
     // Local signals
-    reg  [31:0] at_or_below_last;
     reg  [31:0] above_last;
     
     // Sub module instances
@@ -25,13 +27,19 @@ module top(clock,requests,advance,hold,grant,granted);
         .q(last_grant$q),
         .clock(last_grant$clock)
     );
+    top$at_or_below_last at_or_below_last(
+        .d(at_or_below_last$d),
+        .q(at_or_below_last$q),
+        .clock(at_or_below_last$clock)
+    );
     
     // Update code
     always @(*) begin
         last_grant$clock = clock;
+        at_or_below_last$clock = clock;
         last_grant$d = last_grant$q;
-        at_or_below_last = (last_grant$q << 32'h1) - 32'h1;
-        above_last = requests & (~at_or_below_last);
+        at_or_below_last$d = at_or_below_last$q;
+        above_last = requests & (~at_or_below_last$q);
         if (hold) begin
             grant = last_grant$q;
         end
@@ -44,10 +52,30 @@ module top(clock,requests,advance,hold,grant,granted);
         granted = |requests;
         if (advance) begin
             last_grant$d = grant;
+            at_or_below_last$d = (grant << 32'h1) - 32'h1;
         end
     end
     
 endmodule // top
+
+
+module top$at_or_below_last(d,q,clock);
+    
+    // Module arguments
+    input wire  [31:0] d;
+    output reg  [31:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 32'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // top$at_or_below_last
 
 
 module top$last_grant(d,q,clock);

@@ -14,9 +14,11 @@ module top(clock,requests,advance,hold,grant,granted);
     reg  [31:0] last_grant$d;
     wire  [31:0] last_grant$q;
     reg  last_grant$clock;
+    reg  [31:0] at_or_below_last$d;
+    wire  [31:0] at_or_below_last$q;
+    reg  at_or_below_last$clock;
     
     // Local signals
-    reg  [31:0] at_or_below_last;
     reg  [31:0] above_last;
     
     // Sub module instances
@@ -25,19 +27,26 @@ module top(clock,requests,advance,hold,grant,granted);
         .q(last_grant$q),
         .clock(last_grant$clock)
     );
+    top$at_or_below_last at_or_below_last(
+        .d(at_or_below_last$d),
+        .q(at_or_below_last$q),
+        .clock(at_or_below_last$clock)
+    );
     
     // Update code
     reg last_grant$clock__xs;
+    reg at_or_below_last$clock__xs;
     reg [31:0] last_grant$d__xs;
-    reg [31:0] at_or_below_last__xs;
+    reg [31:0] at_or_below_last$d__xs;
     reg [31:0] above_last__xs;
     reg [31:0] grant__xs;
     reg granted__xs;
     always @(*) begin
         last_grant$clock__xs = clock;
+        at_or_below_last$clock__xs = clock;
         last_grant$d__xs = last_grant$q;
-        at_or_below_last__xs = (last_grant$q << 32'h1) - 32'h1;
-        above_last__xs = requests & (~at_or_below_last__xs);
+        at_or_below_last$d__xs = at_or_below_last$q;
+        above_last__xs = requests & (~at_or_below_last$q);
         if (hold) begin
             grant__xs = last_grant$q;
         end
@@ -50,16 +59,37 @@ module top(clock,requests,advance,hold,grant,granted);
         granted__xs = |requests;
         if (advance) begin
             last_grant$d__xs = grant__xs;
+            at_or_below_last$d__xs = (grant__xs << 32'h1) - 32'h1;
         end
         last_grant$clock = last_grant$clock__xs;
+        at_or_below_last$clock = at_or_below_last$clock__xs;
         last_grant$d = last_grant$d__xs;
-        at_or_below_last = at_or_below_last__xs;
+        at_or_below_last$d = at_or_below_last$d__xs;
         above_last = above_last__xs;
         grant = grant__xs;
         granted = granted__xs;
     end
     
 endmodule // top
+
+
+module top$at_or_below_last(d,q,clock);
+    
+    // Module arguments
+    input wire  [31:0] d;
+    output reg  [31:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 32'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // top$at_or_below_last
 
 
 module top$last_grant(d,q,clock);
