@@ -123,7 +123,7 @@ pub struct CoreConfig {
 impl CoreConfig {
     /// The paper's core (§4, §5): 10-bit coordinates in a 32-bit word, K = 10, two
     /// ports. The metric is L1, the paper's 12-bit "absolute distance": with a 12-bit
-    /// distance one QueryModule issues a read every `6 + 12 = 18` cycles here, 17
+    /// distance one QueryModule issues a read every `7 + 12 = 19` cycles here, 17
     /// unpipelined (the paper's Verilog needed 21), and Q = 21 per port as in the paper keeps every
     /// port busy with slack. H = 10 holds the paper's 1023-photon map.
     pub fn paper() -> Self {
@@ -177,11 +177,11 @@ impl CoreConfig {
     }
 
     /// Cycles between two reads of one QueryModule in the worst case (an insertion
-    /// that runs the MaxFinder): grant, BlockRAM read, (pipelined: the read-data
-    /// register,) two SearchModule stages, the insertion cycle, one MaxFinder cycle
-    /// per distance bit, the update of R.
+    /// that runs the MaxFinder): (pipelined: the registered grant,) grant, BlockRAM
+    /// read, (pipelined: the read-data register,) two SearchModule stages, the
+    /// insertion cycle, one MaxFinder cycle per distance bit, the update of R.
     pub fn issue_interval(&self) -> usize {
-        5 + self.pipelined as usize + self.dist_bits() as usize
+        5 + 2 * self.pipelined as usize + self.dist_bits() as usize
     }
 
     /// A QueryModule's mean cycles per photon read on a query stream whose software

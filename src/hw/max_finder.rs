@@ -16,6 +16,11 @@
 //! The list is not read out here: the QueryModule keeps a LUT-RAM copy of the
 //! distances for its result stream, which costs less than a K-way read-out mux.
 //!
+//! The row under examination is gathered a cycle ahead into a register (issue 11:
+//! gathering it, ANDing it with the filter, testing for any bit and updating the
+//! filter was one long path): the top row at `start` (with the slot written in the
+//! same cycle taken from the write port), then each cycle the row below.
+//!
 //! Slots are addressed one-hot throughout (write slot, max slot), which is what the
 //! filter naturally is.
 //!
@@ -56,7 +61,11 @@ pub struct MaxFinder<const S: usize> {
     slot_mask: Constant<SlotMask<S>>,
     /// The distance bits: the others of each slot are constant zero.
     dist_mask: Constant<Dist>,
-    current_row: Signal<Local, SlotMask<S>>,
+    /// The row examined in this busy cycle, gathered in the cycle before.
+    row_reg: DFF<SlotMask<S>>,
+    /// The row selection of the next busy cycle.
+    next_select: Signal<Local, Dist>,
+    gathered: Signal<Local, SlotMask<S>>,
     row_and_filter: Signal<Local, SlotMask<S>>,
 }
 
@@ -84,7 +93,9 @@ impl<const S: usize> MaxFinder<S> {
             top_row: Constant::new(Dist::from(1u64 << (dist_bits - 1))),
             slot_mask: Constant::new(SlotMask::<S>::from(u64::MAX >> (64 - slots))),
             dist_mask: Constant::new(Dist::from(u64::MAX >> (64 - dist_bits))),
-            current_row: Default::default(),
+            row_reg: Default::default(),
+            next_select: Default::default(),
+            gathered: Default::default(),
             row_and_filter: Default::default(),
         }
     }
@@ -93,7 +104,7 @@ impl<const S: usize> MaxFinder<S> {
 impl<const S: usize> Logic for MaxFinder<S> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, filter_reg, row_select, max_reg, busy_reg);
+        dff_setup!(self, clock, filter_reg, row_select, max_reg, busy_reg, row_reg);
         // Write one slot: its register's clock enable.
         for s in 0..self.slots.len() {
             self.slots[s].clock.next = self.clock.val();
@@ -102,19 +113,32 @@ impl<const S: usize> Logic for MaxFinder<S> {
                 self.slots[s].d.next = self.write_dist.val() & self.dist_mask.val();
             }
         }
-        // The row under examination: bit `row_select` (one-hot) of every slot.
-        // (Gated by busy: the row is only used while busy; this also keeps the Rust
-        // simulation from evaluating it in idle QueryModules.)
-        self.current_row.next = 0.into();
-        if self.busy_reg.q.val() {
-            for s in 0..self.slots.len() {
-                self.current_row.next = self
-                    .current_row
-                    .val()
-                    .replace_bit(s, (self.slots[s].q.val() & self.row_select.q.val()).any());
-            }
+        // Gather the row of the next busy cycle: the top row when a search starts
+        // (a slot written now gives its new bit), else the row below this one.
+        // (Only while searching: this also keeps the Rust simulation from
+        // evaluating it in idle QueryModules.)
+        self.next_select.next = self.row_select.q.val() >> 1;
+        if self.start.val() {
+            self.next_select.next = self.top_row.val();
         }
-        self.row_and_filter.next = self.current_row.val() & self.filter_reg.q.val();
+        self.gathered.next = 0.into();
+        if self.start.val() || self.busy_reg.q.val() {
+            for s in 0..self.slots.len() {
+                if self.start.val() && self.write_enable.val() && self.write_slot.val().get_bit(s) {
+                    self.gathered.next = self
+                        .gathered
+                        .val()
+                        .replace_bit(s, (self.write_dist.val() & self.top_row.val()).any());
+                } else {
+                    self.gathered.next = self
+                        .gathered
+                        .val()
+                        .replace_bit(s, (self.slots[s].q.val() & self.next_select.val()).any());
+                }
+            }
+            self.row_reg.d.next = self.gathered.val();
+        }
+        self.row_and_filter.next = self.row_reg.q.val() & self.filter_reg.q.val();
         if self.start.val() {
             self.filter_reg.d.next = self.candidates.val() & self.slot_mask.val();
             self.row_select.d.next = self.top_row.val();

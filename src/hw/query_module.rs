@@ -30,7 +30,7 @@
 //! slots is read per cycle, which no RAM port gives).
 
 use crate::hw::config::{
-    low_mask, Addr, CoreConfig, Count, Dist, LevelMask, ModuleIndex, ReadCount, SlotMask,
+    bits_for, low_mask, Addr, CoreConfig, Count, Dist, LevelMask, ModuleIndex, ReadCount, SlotMask,
 };
 use crate::hw::lut_ram::{LutRam, RamIndex};
 use crate::hw::max_finder::MaxFinder;
@@ -66,7 +66,8 @@ pub struct QueryModule<const S: usize> {
     pub read_request: Signal<Out, bool>,
     pub read_grant: Signal<In, bool>,
     pub read: Signal<Out, ReadRequest>,
-    // The SearchModule's result, broadcast to every QueryModule of the port.
+    // The SearchModule's result, broadcast to every QueryModule of the port;
+    // `result_valid` only for the module it is for (the SearchModule decodes it).
     pub result_valid: Signal<In, bool>,
     pub result: Signal<In, ReadResult>,
     // Result read-out.
@@ -126,13 +127,16 @@ pub struct QueryModule<const S: usize> {
     /// The found distances again, for the read-out only (the MaxFinder's copy is
     /// read a row at a time).
     found_dist: LutRam,
-    /// Entry index of each slot / level, to turn a one-hot mask into a RAM index.
+    /// Entry index of each slot, to turn a one-hot mask into a RAM index.
     slot_index: Vec<Constant<RamIndex>>,
-    level_index: Vec<Constant<RamIndex>>,
     insert_index: Signal<Local, RamIndex>,
     out_index: Signal<Local, RamIndex>,
-    level_at: Signal<Local, RamIndex>,
-    parent_at: Signal<Local, RamIndex>,
+    /// The path memory's entries of `level` and of its parent level, kept in
+    /// registers beside the one-hot level (issue 11: so that ASCEND's read of the
+    /// parent's entry starts from flip-flops, not from a one-hot encoder).
+    level_at: DFF<RamIndex>,
+    parent_at: DFF<RamIndex>,
+    level_index_mask: Constant<RamIndex>,
     max_finder: MaxFinder<S>,
     result_mine: Signal<Local, bool>,
     insert: Signal<Local, bool>,
@@ -197,13 +201,13 @@ impl<const S: usize> QueryModule<S> {
             slot_index: (0..cfg.k)
                 .map(|i| Constant::new(RamIndex::from(i as u64)))
                 .collect(),
-            level_index: (0..cfg.address_bits as usize)
-                .map(|i| Constant::new(RamIndex::from(i as u64)))
-                .collect(),
             insert_index: Default::default(),
             out_index: Default::default(),
             level_at: Default::default(),
             parent_at: Default::default(),
+            level_index_mask: Constant::new(RamIndex::from(low_mask(bits_for(
+                cfg.address_bits as u64,
+            )))),
             max_finder: MaxFinder::new(cfg.dist_bits(), cfg.k),
             result_mine: Default::default(),
             insert: Default::default(),
@@ -237,25 +241,16 @@ impl<const S: usize> Logic for QueryModule<S> {
             visited,
             level,
             pending,
-            ascending
+            ascending,
+            level_at,
+            parent_at
         );
         self.found.clock.next = self.clock.val();
         self.found_dist.clock.next = self.clock.val();
         self.path.clock.next = self.clock.val();
-        // One-hot masks to RAM indices.
-        self.level_at.next = 0.into();
-        self.parent_at.next = 0.into();
-        for i in 0..self.level_index.len() {
-            if self.level.q.val().get_bit(i) {
-                self.level_at.next = self.level_at.val() | self.level_index[i].val();
-            }
-            if self.level.q.val().get_bit(i + 1) {
-                self.parent_at.next = self.parent_at.val() | self.level_index[i].val();
-            }
-        }
         // ASCEND's view of the parent level's entry.
         self.parent_level.next = self.level.q.val() >> 1;
-        self.path.read_index.next = self.parent_at.val();
+        self.path.read_index.next = self.parent_at.q.val();
         self.parent_dist.next = self.path.read_data.val();
         self.parent_pending.next = (self.pending.q.val() & self.parent_level.val()).any();
         if self.full_reg.q.val() {
@@ -268,8 +263,7 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.max_finder.candidates.next = self.occupied.q.val();
         self.max_finder.write_dist.next = self.result.val().distance;
 
-        self.result_mine.next =
-            self.result_valid.val() && (self.result.val().query_module == self.my_index.val());
+        self.result_mine.next = self.result_valid.val();
         // A photon enters the list: appended while not full, else into the max slot.
         self.insert.next = false;
         if self.state.q.val() == QueryState::Wait {
@@ -303,7 +297,7 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.found_dist.read_index.next = self.out_index.val();
         // The path memory takes each down visit's axis distance at its level.
         self.path.write_enable.next = false;
-        self.path.write_index.next = self.level_at.val();
+        self.path.write_index.next = self.level_at.q.val();
         self.path.write_data.next = self.result.val().axis_dist & self.dist_mask.val();
 
         match self.state.q.val() {
@@ -329,6 +323,8 @@ impl<const S: usize> Logic for QueryModule<S> {
                     self.visited.d.next = 0.into();
                     if self.remember.val() {
                         self.level.d.next = 1.into();
+                        self.level_at.d.next = 0.into();
+                        self.parent_at.d.next = 0.into();
                     }
                     self.pending.d.next = 0.into();
                     self.ascending.d.next = false;
@@ -360,6 +356,9 @@ impl<const S: usize> Logic for QueryModule<S> {
                             self.address.d.next =
                                 self.result.val().next_address & self.addr_mask.val();
                             self.level.d.next = (self.level.q.val() << 1) & self.level_mask.val();
+                            self.parent_at.d.next = self.level_at.q.val();
+                            self.level_at.d.next =
+                                (self.level_at.q.val() + 1) & self.level_index_mask.val();
                         }
                     } else {
                         self.address.d.next = self.result.val().next_address & self.addr_mask.val();
@@ -420,6 +419,10 @@ impl<const S: usize> Logic for QueryModule<S> {
                 } else {
                     self.address.d.next = (self.address.q.val() >> 1) & self.addr_mask.val();
                     self.level.d.next = self.parent_level.val();
+                    self.level_at.d.next = self.parent_at.q.val();
+                    if self.parent_at.q.val().any() {
+                        self.parent_at.d.next = self.parent_at.q.val() - 1;
+                    }
                 }
             }
             QueryState::Done => {

@@ -19,7 +19,7 @@
 //!   t+3 (t+4).
 
 use crate::hw::axis_dist::AxisDistModule;
-use crate::hw::config::{Addr, Coord, CoreConfig, Dist, ModuleIndex, Word};
+use crate::hw::config::{Addr, Coord, CoreConfig, Dist, ModuleIndex, ModuleMask, Word};
 use crate::hw::dist_module::DistModule;
 use crate::hw::lut_ram::LutRam;
 use crate::hw::next_index::NextIndexModule;
@@ -43,6 +43,10 @@ pub struct SearchModule<const W: usize> {
     pub query: Signal<In, QueryBeat>,
     /// The result, broadcast to the port's QueryModules.
     pub result_valid: Signal<Out, bool>,
+    /// Which QueryModule the result is for, one-hot (zero when none): decoded a
+    /// stage early so that a module's "mine" is one flip-flop, not a comparison
+    /// behind the broadcast's fan-out (issue 11).
+    pub result_for: Signal<Out, ModuleMask>,
     pub result: Signal<Out, ReadResult>,
     /// The coordinates of each QueryModule's query (Q entries per axis).
     query_x: LutRam,
@@ -89,6 +93,8 @@ pub struct SearchModule<const W: usize> {
     // Stage 2: the result.
     s2_valid: DFF<bool>,
     s2: DFF<ReadResult>,
+    s2_for: DFF<ModuleMask>,
+    one: Constant<ModuleMask>,
 }
 
 impl<const W: usize> SearchModule<W> {
@@ -111,6 +117,7 @@ impl<const W: usize> SearchModule<W> {
             query_z: LutRam::new(cfg.queries_per_port, l.bits[2]),
             looked_up: Default::default(),
             result_valid: Default::default(),
+            result_for: Default::default(),
             result: Default::default(),
             axis_dist: AxisDistModule::with_widths(cfg.metric, cfg.axis_dist_bits()),
             dist_module: DistModule::with_widths(cfg.metric, l.bits, cfg.dist_bits()),
@@ -142,6 +149,8 @@ impl<const W: usize> SearchModule<W> {
             s1_in_range: Default::default(),
             s2_valid: Default::default(),
             s2: Default::default(),
+            s2_for: Default::default(),
+            one: Constant::new(ModuleMask::from(1u64)),
         }
     }
 }
@@ -164,7 +173,8 @@ impl<const W: usize> Logic for SearchModule<W> {
             s1_dist,
             s1_in_range,
             s2_valid,
-            s2
+            s2,
+            s2_for
         );
         // Stage 0: latch the request while the BlockRAM reads.
         self.s0_valid.d.next = self.request_valid.val();
@@ -247,6 +257,10 @@ impl<const W: usize> Logic for SearchModule<W> {
         self.next_index.full.next = self.s1.q.val().full;
         self.next_index.photon_count.next = self.photon_count.val();
         self.s2_valid.d.next = self.s1_valid.q.val();
+        self.s2_for.d.next = 0.into();
+        if self.s1_valid.q.val() {
+            self.s2_for.d.next = self.one.val() << self.s1.q.val().query_module;
+        }
         self.s2.d.next.query_module = self.s1.q.val().query_module;
         self.s2.d.next.address = self.s1.q.val().address;
         // Only a first (downward) visit tests the photon against the found list.
@@ -264,9 +278,11 @@ impl<const W: usize> Logic for SearchModule<W> {
             self.w_valid.d.next = false;
             self.s1_valid.d.next = false;
             self.s2_valid.d.next = false;
+            self.s2_for.d.next = 0.into();
         }
 
         self.result_valid.next = self.s2_valid.q.val();
+        self.result_for.next = self.s2_for.q.val();
         self.result.next = self.s2.q.val();
     }
 }

@@ -11,6 +11,15 @@
 //! still free when it is used; the module loaded in this cycle is left out of the
 //! next pick. Cost: a module freed in cycle t can take a query in t + 1, not t.
 //!
+//! Read grant (issue 11): with `CoreConfig::pipelined` the arbiter's grant is a
+//! register. The grant for cycle t + 1 is decided in cycle t among the modules
+//! requesting then, less the one granted in t (it leaves READY at that edge), so the
+//! granted module's read reaches the TreeModule from flip-flops through the OR of
+//! the modules' addresses only. Combinationally (a module's state → the round-robin
+//! arbiter's priority chain → the grant → the OR tree → the BlockRAM address) this
+//! was the ECP5 critical path of the 2 × 11 core (81.1 MHz, 8 nets). Cost: one cycle
+//! more per read round trip (`CoreConfig::issue_interval`).
+//!
 //! Query ids (issue 11): only the read-out needs a query's id, so the port keeps
 //! them in one LUT-RAM indexed by QueryModule (written at the load, read by the
 //! module being read out) rather than in Q registers ORed together; the
@@ -54,6 +63,13 @@ pub struct SearchPort<const S: usize, const W: usize> {
     pub idle: Signal<Out, bool>,
     modules: Vec<QueryModule<S>>,
     arbiter: PortArbiter,
+    /// `CoreConfig::pipelined`: the grant is registered.
+    grant_stage: Constant<bool>,
+    grant_reg: DFF<ModuleMask>,
+    granted_reg: DFF<bool>,
+    /// The grant in force this cycle (one-hot) and whether there is one.
+    grant: Signal<Local, ModuleMask>,
+    granted: Signal<Local, bool>,
     search: SearchModule<W>,
     result_register: ResultRegister,
     /// One bit per QueryModule of this port.
@@ -118,6 +134,11 @@ impl<const S: usize, const W: usize> SearchPort<S, W> {
             idle: Default::default(),
             modules: (0..q).map(|i| QueryModule::new(cfg, i)).collect(),
             arbiter: Default::default(),
+            grant_stage: Constant::new(cfg.pipelined),
+            grant_reg: Default::default(),
+            granted_reg: Default::default(),
+            grant: Default::default(),
+            granted: Default::default(),
             search: SearchModule::new(cfg),
             result_register: ResultRegister::new(!cfg.pipelined),
             all_modules: Constant::new(ModuleMask::from(((1u64 << q) - 1) & 0xFFFF_FFFF)),
@@ -165,6 +186,8 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
             clock,
             load_pick,
             load_pick_index,
+            grant_reg,
+            granted_reg,
             out_active,
             out_select,
             out_index,
@@ -201,10 +224,25 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
                 .val()
                 .replace_bit(i, self.modules[i].finished.val());
         }
-        self.arbiter.requests.next = self.requests.val();
         // One read per cycle: every grant is used.
         self.arbiter.hold.next = false;
         self.arbiter.advance.next = self.arbiter.granted.val();
+        self.grant_reg.d.next = self.arbiter.grant.val();
+        self.granted_reg.d.next = self.arbiter.granted.val();
+        if self.grant_stage.val() {
+            // Decide the next cycle's grant; the module granted now is leaving READY.
+            self.arbiter.requests.next = self.requests.val() & (!self.grant_reg.q.val());
+            self.grant.next = self.grant_reg.q.val();
+            self.granted.next = self.granted_reg.q.val();
+        } else {
+            self.arbiter.requests.next = self.requests.val();
+            self.grant.next = self.arbiter.grant.val();
+            self.granted.next = self.arbiter.granted.val();
+        }
+        if self.reset.val() {
+            self.grant_reg.d.next = 0.into();
+            self.granted_reg.d.next = false;
+        }
         // Hand a query to the registered pick; pick the lowest free module, other
         // than the one loaded now, for the next cycle.
         self.query.ready.next = self.load_pick.q.val().any();
@@ -259,7 +297,7 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
         self.beat.next.distance = 0.into();
 
         // The granted read goes to the TreeModule and, with its context, the SearchModule.
-        self.search.request_valid.next = self.arbiter.granted.val();
+        self.search.request_valid.next = self.granted.val();
         // The granted module's read: every module drives zeros unless granted, so
         // the selection is an OR over modules, not a chain of multiplexers.
         self.granted_read.next.query_module = 0.into();
@@ -275,7 +313,7 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
         for i in 0..self.modules.len() {
             self.modules[i].clock.next = self.clock.val();
             self.modules[i].reset.next = self.reset.val();
-            self.modules[i].read_grant.next = self.arbiter.grant.val().get_bit(i);
+            self.modules[i].read_grant.next = self.grant.val().get_bit(i);
             self.read_pick.next = self.modules[i].read.val();
             self.granted_read.next.query_module =
                 self.granted_read.val().query_module | self.read_pick.val().query_module;
@@ -288,7 +326,7 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
                 self.granted_read.val().radius | self.read_pick.val().radius;
             self.granted_read.next.full = self.granted_read.val().full || self.read_pick.val().full;
             // SearchModule result broadcast.
-            self.modules[i].result_valid.next = self.search.result_valid.val();
+            self.modules[i].result_valid.next = self.search.result_for.val().get_bit(i);
             self.modules[i].result.next = self.search.result.val();
             // Query hand-out broadcast; only the picked module loads.
             self.modules[i].load.next = self.query.valid.val() && self.load_pick.q.val().get_bit(i);
@@ -369,7 +407,7 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
             self.out_index.d.next = 0.into();
         }
 
-        self.reading.next = self.arbiter.granted.val();
+        self.reading.next = self.granted.val();
         self.all_busy.next = (self.free_mask.val() & self.all_modules.val()) == 0;
         self.idle.next = (self.free_mask.val() & self.all_modules.val()) == self.all_modules.val();
     }
