@@ -21,15 +21,15 @@ SIM_QUERIES = 3000
 # PHOTON_FPGA_STEPS=sim: only the simulations (minutes), then the report.
 SIM_ONLY = os.environ.get("PHOTON_FPGA_STEPS") == "sim"
 # The paper's core (K = 10, 10-bit coordinates, L1, H = 10) with Q fitted to the paper
-# workload (issue 11: `CoreConfig::fit_queries_per_port` gives 11 per port for uniform
+# workload (issue 11: `CoreConfig::fit_queries_per_port` gives 12 per port for uniform
 # L1 10-NN queries, testbenches/hw_throughput.rs), and with the worst case Q = 21 of
 # the paper's Verilog (the issue interval).
 PAPER_BASE = ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l1"]
-PAPER = PAPER_BASE + ["--queries-per-port", "11"]
+PAPER = PAPER_BASE + ["--queries-per-port", "12"]
 PAPER21 = PAPER_BASE + ["--queries-per-port", "21"]
 # name, export-verilog/bench-core options, replicated trees T (a PhotonSearchArray)
 CONFIGS = [
-    ("paper (K=10, 10-bit, L1, 2x11: Q fitted)", PAPER, 1),
+    ("paper (K=10, 10-bit, L1, 2x12: Q fitted)", PAPER, 1),
     ("paper, worst-case Q (2x21)", PAPER21, 1),
     # Before the path memory: the paper's ascent, every parent read again on the way up.
     ("paper, re-read ascent (before; 2x21)", PAPER21 + ["--traversal", "reread"], 1),

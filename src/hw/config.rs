@@ -123,7 +123,7 @@ pub struct CoreConfig {
 impl CoreConfig {
     /// The paper's core (§4, §5): 10-bit coordinates in a 32-bit word, K = 10, two
     /// ports. The metric is L1, the paper's 12-bit "absolute distance": with a 12-bit
-    /// distance one QueryModule issues a read every `7 + 12 = 19` cycles here, 17
+    /// distance one QueryModule issues a read every `8 + 12 = 20` cycles here, 18
     /// unpipelined (the paper's Verilog needed 21), and Q = 21 per port as in the paper keeps every
     /// port busy with slack. H = 10 holds the paper's 1023-photon map.
     pub fn paper() -> Self {
@@ -179,9 +179,10 @@ impl CoreConfig {
     /// Cycles between two reads of one QueryModule in the worst case (an insertion
     /// that runs the MaxFinder): (pipelined: the registered grant,) grant, BlockRAM
     /// read, (pipelined: the read-data register,) two SearchModule stages, the
-    /// insertion cycle, one MaxFinder cycle per distance bit, the update of R.
+    /// insertion cycle, the MaxFinder's priming cycle and one cycle per distance
+    /// bit, the update of R.
     pub fn issue_interval(&self) -> usize {
-        5 + 2 * self.pipelined as usize + self.dist_bits() as usize
+        6 + 2 * self.pipelined as usize + self.dist_bits() as usize
     }
 
     /// A QueryModule's mean cycles per photon read on a query stream whose software
@@ -190,10 +191,10 @@ impl CoreConfig {
     /// insertion cycle: the issue interval without the MaxFinder), plus one cycle
     /// per distance bit and one for R per MaxFinder run, plus one per level climbed.
     pub fn mean_read_interval(&self, profile: &ReadProfile) -> f64 {
-        let round_trip = (self.issue_interval() - self.dist_bits() as usize) as f64;
+        let round_trip = (self.issue_interval() - self.dist_bits() as usize - 1) as f64;
         let reads = profile.reads.max(1) as f64;
         round_trip
-            + (profile.max_finds as f64 * (self.dist_bits() + 1) as f64 + profile.climbs as f64)
+            + (profile.max_finds as f64 * (self.dist_bits() + 2) as f64 + profile.climbs as f64)
                 / reads
     }
 

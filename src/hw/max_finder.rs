@@ -16,10 +16,14 @@
 //! The list is not read out here: the QueryModule keeps a LUT-RAM copy of the
 //! distances for its result stream, which costs less than a K-way read-out mux.
 //!
-//! The row under examination is gathered a cycle ahead into a register (issue 11:
-//! gathering it, ANDing it with the filter, testing for any bit and updating the
-//! filter was one long path): the top row at `start` (with the slot written in the
-//! same cycle taken from the write port), then each cycle the row below.
+//! The row under examination is gathered into a register the cycle before it is
+//! examined (issue 11: gathering a row, ANDing it with the filter, testing for any
+//! bit and updating the filter was one long path). The search therefore starts with
+//! one priming cycle that gathers the top row, from the slots as they are after the
+//! write that may coincide with `start`: `busy` lasts one cycle per distance bit
+//! plus one. (Gathering the top row in the `start` cycle itself, with the written
+//! slot's bit taken from the write port, costs a third more LUTs per QueryModule in
+//! yosys xc6v: the select of every slot's row multiplexer then depends on `start`.)
 //!
 //! Slots are addressed one-hot throughout (write slot, max slot), which is what the
 //! filter naturally is.
@@ -41,7 +45,7 @@ pub struct MaxFinder<const S: usize> {
     /// (the rows are read from the next cycle on).
     pub start: Signal<In, bool>,
     pub candidates: Signal<In, SlotMask<S>>,
-    /// High from the cycle after `start` for one cycle per distance bit.
+    /// High from the cycle after `start` for one cycle per distance bit, plus one.
     pub busy: Signal<Out, bool>,
     /// Valid when not busy after a search: the maximum, the slots holding it and the
     /// lowest of them (one-hot).
@@ -51,8 +55,13 @@ pub struct MaxFinder<const S: usize> {
     /// slots[s] = the distance in slot s (K of them; row n is bit n of each).
     slots: Vec<DFF<Dist>>,
     filter_reg: DFF<SlotMask<S>>,
-    /// One-hot: the row being examined, which is also its weight in the maximum.
-    row_select: DFF<Dist>,
+    /// One-hot: the row gathered in this cycle (examined in the next).
+    gather_select: DFF<Dist>,
+    /// The row examined in this cycle and its weight in the maximum (one-hot).
+    row_reg: DFF<SlotMask<S>>,
+    weight: DFF<Dist>,
+    /// The priming cycle after `start`: a row is gathered, none examined.
+    priming: DFF<bool>,
     max_reg: DFF<Dist>,
     busy_reg: DFF<bool>,
     top_row: Constant<Dist>,
@@ -61,10 +70,6 @@ pub struct MaxFinder<const S: usize> {
     slot_mask: Constant<SlotMask<S>>,
     /// The distance bits: the others of each slot are constant zero.
     dist_mask: Constant<Dist>,
-    /// The row examined in this busy cycle, gathered in the cycle before.
-    row_reg: DFF<SlotMask<S>>,
-    /// The row selection of the next busy cycle.
-    next_select: Signal<Local, Dist>,
     gathered: Signal<Local, SlotMask<S>>,
     row_and_filter: Signal<Local, SlotMask<S>>,
 }
@@ -87,14 +92,15 @@ impl<const S: usize> MaxFinder<S> {
             max_slot: Default::default(),
             slots: (0..slots).map(|_| DFF::default()).collect(),
             filter_reg: Default::default(),
-            row_select: Default::default(),
+            gather_select: Default::default(),
+            row_reg: Default::default(),
+            weight: Default::default(),
+            priming: Default::default(),
             max_reg: Default::default(),
             busy_reg: Default::default(),
             top_row: Constant::new(Dist::from(1u64 << (dist_bits - 1))),
             slot_mask: Constant::new(SlotMask::<S>::from(u64::MAX >> (64 - slots))),
             dist_mask: Constant::new(Dist::from(u64::MAX >> (64 - dist_bits))),
-            row_reg: Default::default(),
-            next_select: Default::default(),
             gathered: Default::default(),
             row_and_filter: Default::default(),
         }
@@ -104,7 +110,17 @@ impl<const S: usize> MaxFinder<S> {
 impl<const S: usize> Logic for MaxFinder<S> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, filter_reg, row_select, max_reg, busy_reg, row_reg);
+        dff_setup!(
+            self,
+            clock,
+            filter_reg,
+            gather_select,
+            row_reg,
+            weight,
+            priming,
+            max_reg,
+            busy_reg
+        );
         // Write one slot: its register's clock enable.
         for s in 0..self.slots.len() {
             self.slots[s].clock.next = self.clock.val();
@@ -113,45 +129,40 @@ impl<const S: usize> Logic for MaxFinder<S> {
                 self.slots[s].d.next = self.write_dist.val() & self.dist_mask.val();
             }
         }
-        // Gather the row of the next busy cycle: the top row when a search starts
-        // (a slot written now gives its new bit), else the row below this one.
-        // (Only while searching: this also keeps the Rust simulation from
-        // evaluating it in idle QueryModules.)
-        self.next_select.next = self.row_select.q.val() >> 1;
-        if self.start.val() {
-            self.next_select.next = self.top_row.val();
-        }
+        // Gather the row `gather_select` (one-hot) across the slots. (Only while
+        // busy: this also keeps the Rust simulation from evaluating it in idle
+        // QueryModules.)
         self.gathered.next = 0.into();
-        if self.start.val() || self.busy_reg.q.val() {
+        if self.busy_reg.q.val() {
             for s in 0..self.slots.len() {
-                if self.start.val() && self.write_enable.val() && self.write_slot.val().get_bit(s) {
-                    self.gathered.next = self
-                        .gathered
-                        .val()
-                        .replace_bit(s, (self.write_dist.val() & self.top_row.val()).any());
-                } else {
-                    self.gathered.next = self
-                        .gathered
-                        .val()
-                        .replace_bit(s, (self.slots[s].q.val() & self.next_select.val()).any());
-                }
+                self.gathered.next = self.gathered.val().replace_bit(
+                    s,
+                    (self.slots[s].q.val() & self.gather_select.q.val()).any(),
+                );
             }
-            self.row_reg.d.next = self.gathered.val();
         }
         self.row_and_filter.next = self.row_reg.q.val() & self.filter_reg.q.val();
         if self.start.val() {
             self.filter_reg.d.next = self.candidates.val() & self.slot_mask.val();
-            self.row_select.d.next = self.top_row.val();
+            self.gather_select.d.next = self.top_row.val();
+            self.weight.d.next = 0.into();
+            self.priming.d.next = true;
             self.max_reg.d.next = 0.into();
             self.busy_reg.d.next = true;
         } else if self.busy_reg.q.val() {
-            if self.row_and_filter.val().any() {
-                self.filter_reg.d.next = self.row_and_filter.val();
-                self.max_reg.d.next = self.max_reg.q.val() | self.row_select.q.val();
-            }
-            self.row_select.d.next = self.row_select.q.val() >> 1;
-            if self.row_select.q.val().get_bit(0) {
-                self.busy_reg.d.next = false;
+            // The gathered row is examined in the next cycle.
+            self.row_reg.d.next = self.gathered.val();
+            self.weight.d.next = self.gather_select.q.val();
+            self.gather_select.d.next = self.gather_select.q.val() >> 1;
+            self.priming.d.next = false;
+            if !self.priming.q.val() {
+                if self.row_and_filter.val().any() {
+                    self.filter_reg.d.next = self.row_and_filter.val();
+                    self.max_reg.d.next = self.max_reg.q.val() | self.weight.q.val();
+                }
+                if self.weight.q.val().get_bit(0) {
+                    self.busy_reg.d.next = false;
+                }
             }
         }
         self.busy.next = self.busy_reg.q.val();

@@ -21,9 +21,9 @@
 //! ```
 //!
 //! A QueryModule issues a read at most every `CoreConfig::issue_interval()` =
-//! 7 + distance-bits cycles (the registered grant, grant, BlockRAM, its read-data
-//! register, two SearchModule stages, insertion, one MaxFinder cycle per distance
-//! bit, the R update; 5 + distance bits unpipelined); with Q >= that interval a
+//! 8 + distance-bits cycles (the registered grant, grant, BlockRAM, its read-data
+//! register, two SearchModule stages, insertion, the MaxFinder's priming cycle and
+//! one cycle per distance bit, the R update; 6 + distance bits unpipelined); with Q >= that interval a
 //! port reads a photon every cycle while all its QueryModules are busy. Results are
 //! bit-identical to `host::map::knn::search_with` (same slots, same number of reads) for
 //! the configured [`traversal::Traversal`]: by default a QueryModule remembers each

@@ -197,12 +197,13 @@ pub fn run(plan: &Plan, hw_reads_per_s: &dyn Fn(usize) -> Option<f64>) -> Result
             let cfg = CoreConfig::for_map(mm.tree.image(), k, FIG_METRIC)?;
             // CoreConfig::mean_read_interval's parts: the read's round trip (one of
             // its cycles is the port slot itself), a MaxFinder run of one cycle per
-            // distance bit plus the update of R, one cycle per level climbed.
-            let round_trip = (cfg.issue_interval() - cfg.dist_bits() as usize) as f64;
+            // distance bit plus its priming cycle and the update of R, one cycle
+            // per level climbed.
+            let round_trip = (cfg.issue_interval() - cfg.dist_bits() as usize - 1) as f64;
             Some([
                 reads,
                 (round_trip - 1.0) * reads,
-                max_finds * (cfg.dist_bits() + 1) as f64,
+                max_finds * (cfg.dist_bits() + 2) as f64,
                 climbs,
             ])
         } else {
