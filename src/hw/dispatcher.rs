@@ -28,7 +28,7 @@ impl<T: Synth> Dispatcher<T> {
             inbound: Default::default(),
             hold: Default::default(),
             sinks: (0..n).map(|_| Default::default()).collect(),
-            arbiter: Default::default(),
+            arbiter: PortArbiter::new(n),
             ready_mask: Default::default(),
             fire: Default::default(),
         }

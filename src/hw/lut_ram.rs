@@ -8,6 +8,12 @@
 //! distance rows stay registers: they are read bit-transposed, a row across all
 //! slots per cycle, which no RAM port gives.)
 //!
+//! The memory has a power-of-two number of entries, so a read needs no range check
+//! (an index past `depth` reads an entry that is never written, zero): the check
+//! was a comparator in front of every read, on the ECP5 critical path of the 2 × 12
+//! core through a QueryModule's path memory (77.5 MHz, issue 11). Writes past
+//! `depth` are dropped, as before.
+//!
 //! rust-hdl has no such primitive, so this is a custom block like the TreeModule:
 //! `update()` is the simulation model, `hdl()` the template yosys maps to LUT-RAM.
 //! The memory starts at zero in both.
@@ -29,6 +35,7 @@ pub struct LutRam {
     /// The entry at `read_index`, combinationally (a write shows after its edge).
     pub read_data: Signal<Out, RamWord>,
     _mem: Vec<u32>,
+    _depth: usize,
     _width: u32,
 }
 
@@ -43,7 +50,8 @@ impl LutRam {
             write_data: Default::default(),
             read_index: Default::default(),
             read_data: Default::default(),
-            _mem: vec![0; depth],
+            _mem: vec![0; depth.next_power_of_two()],
+            _depth: depth,
             _width: width,
         }
     }
@@ -56,8 +64,9 @@ impl LutRam {
         }
     }
 
+    /// Address bits of the power-of-two memory (at least one).
     fn index_bits(&self) -> u32 {
-        (usize::BITS - (self._mem.len() - 1).leading_zeros()).max(1)
+        self._mem.len().trailing_zeros().max(1)
     }
 }
 
@@ -65,11 +74,11 @@ impl Logic for LutRam {
     fn update(&mut self) {
         if self.clock.pos_edge() && self.write_enable.val() {
             let i = self.write_index.val().to_u64() as usize;
-            if i < self._mem.len() {
+            if i < self._depth {
                 self._mem[i] = self.write_data.val().to_u64() as u32 & self.mask();
             }
         }
-        let r = self.read_index.val().to_u64() as usize;
+        let r = self.read_index.val().to_u64() as usize & ((1 << self.index_bits()) - 1);
         let v = self._mem.get(r).copied().unwrap_or(0);
         self.read_data.next = (v as u64).into();
     }
@@ -79,15 +88,17 @@ impl Logic for LutRam {
     }
 
     fn hdl(&self) -> Verilog {
-        let depth = self._mem.len();
+        let depth = self._depth;
+        let entries = 1usize << self.index_bits();
         let w = self._width;
         let a = self.index_bits();
         Verilog::Custom(format!(
             "\
-// {depth} entries of {w} bits: distributed RAM, synchronous write, asynchronous read.
+// {depth} entries of {w} bits in a memory of {entries}: distributed RAM, synchronous
+// write, asynchronous read without a range check.
 reg [{wm}:0] mem[0:{last}];
 integer init_index;
-initial for (init_index = 0; init_index < {depth}; init_index = init_index + 1) mem[init_index] = 0;
+initial for (init_index = 0; init_index < {entries}; init_index = init_index + 1) mem[init_index] = 0;
 
 always @(posedge clock) begin
    if (write_enable && (write_index < {depth})) begin
@@ -95,10 +106,10 @@ always @(posedge clock) begin
    end
 end
 
-always @(*) read_data = (read_index < {depth}) ? {{{pad}mem[read_index[{am}:0]]}} : 32'd0;
+always @(*) read_data = {{{pad}mem[read_index[{am}:0]]}};
 ",
             wm = w - 1,
-            last = depth - 1,
+            last = entries - 1,
             am = a - 1,
             pad = if w < 32 {
                 format!("{}'d0, ", 32 - w)

@@ -153,7 +153,7 @@ impl<const S: usize> Logic for MaxFinder<S> {
             // The gathered row is examined in the next cycle.
             self.row_reg.d.next = self.gathered.val();
             self.weight.d.next = self.gather_select.q.val();
-            self.gather_select.d.next = self.gather_select.q.val() >> 1;
+            self.gather_select.d.next = (self.gather_select.q.val() >> 1) & self.dist_mask.val();
             self.priming.d.next = false;
             if !self.priming.q.val() {
                 if self.row_and_filter.val().any() {

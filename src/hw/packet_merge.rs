@@ -31,7 +31,7 @@ impl PacketMerge {
             reset: Default::default(),
             sources: (0..n).map(|_| Default::default()).collect(),
             merged: Default::default(),
-            arbiter: Default::default(),
+            arbiter: PortArbiter::new(n),
             locked: Default::default(),
             valid_mask: Default::default(),
             fire: Default::default(),

@@ -14,7 +14,7 @@
 use crate::hw::config::ModuleMask;
 use rust_hdl::prelude::*;
 
-#[derive(LogicBlock, Default)]
+#[derive(LogicBlock)]
 pub struct PortArbiter {
     pub clock: Signal<In, Clock>,
     /// Bit i: QueryModule i requests a read.
@@ -32,6 +32,35 @@ pub struct PortArbiter {
     /// arbiter → read address path limits a port's clock).
     at_or_below_last: DFF<ModuleMask>,
     above_last: Signal<Local, ModuleMask>,
+    /// The `n` requesters that exist: the registers' other bits are constant zero,
+    /// which synthesis sees only through this mask.
+    mask: Constant<ModuleMask>,
+}
+
+impl PortArbiter {
+    /// An arbiter among `n` (1..=32) requesters.
+    pub fn new(n: usize) -> Self {
+        assert!((1..=32).contains(&n));
+        PortArbiter {
+            clock: Default::default(),
+            requests: Default::default(),
+            advance: Default::default(),
+            hold: Default::default(),
+            grant: Default::default(),
+            granted: Default::default(),
+            last_grant: Default::default(),
+            at_or_below_last: Default::default(),
+            above_last: Default::default(),
+            mask: Constant::new(ModuleMask::from(u64::MAX >> (64 - n))),
+        }
+    }
+}
+
+impl Default for PortArbiter {
+    /// Among 32 requesters, the widest.
+    fn default() -> Self {
+        Self::new(32)
+    }
 }
 
 impl Logic for PortArbiter {
@@ -48,8 +77,8 @@ impl Logic for PortArbiter {
         }
         self.granted.next = self.requests.val().any();
         if self.advance.val() {
-            self.last_grant.d.next = self.grant.val();
-            self.at_or_below_last.d.next = (self.grant.val() << 1) - 1;
+            self.last_grant.d.next = self.grant.val() & self.mask.val();
+            self.at_or_below_last.d.next = ((self.grant.val() << 1) - 1) & self.mask.val();
         }
     }
 }

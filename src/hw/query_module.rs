@@ -407,7 +407,8 @@ impl<const S: usize> Logic for QueryModule<S> {
             }
             QueryState::Ascend => {
                 // One level per cycle, with R as it is now (after every insertion).
-                if self.address.q.val() == 1 {
+                // At the root (level 0: one flip-flop, not an address comparison).
+                if self.level.q.val().get_bit(0) {
                     self.search_done.d.next = true;
                     self.state.d.next = QueryState::Done;
                 } else if self.parent_pending.val() && self.parent_within.val() {
@@ -418,7 +419,7 @@ impl<const S: usize> Logic for QueryModule<S> {
                     self.state.d.next = QueryState::Ready;
                 } else {
                     self.address.d.next = (self.address.q.val() >> 1) & self.addr_mask.val();
-                    self.level.d.next = self.parent_level.val();
+                    self.level.d.next = self.parent_level.val() & self.level_mask.val();
                     self.level_at.d.next = self.parent_at.q.val();
                     if self.parent_at.q.val().any() {
                         self.parent_at.d.next = self.parent_at.q.val() - 1;

@@ -19,7 +19,7 @@
 //!   t+3 (t+4).
 
 use crate::hw::axis_dist::AxisDistModule;
-use crate::hw::config::{Addr, Coord, CoreConfig, Dist, ModuleIndex, ModuleMask, Word};
+use crate::hw::config::{low_mask, Addr, Coord, CoreConfig, Dist, ModuleIndex, ModuleMask, Word};
 use crate::hw::dist_module::DistModule;
 use crate::hw::lut_ram::LutRam;
 use crate::hw::next_index::NextIndexModule;
@@ -95,6 +95,8 @@ pub struct SearchModule<const W: usize> {
     s2: DFF<ReadResult>,
     s2_for: DFF<ModuleMask>,
     one: Constant<ModuleMask>,
+    /// One bit per QueryModule of the port.
+    module_mask: Constant<ModuleMask>,
 }
 
 impl<const W: usize> SearchModule<W> {
@@ -151,6 +153,7 @@ impl<const W: usize> SearchModule<W> {
             s2: Default::default(),
             s2_for: Default::default(),
             one: Constant::new(ModuleMask::from(1u64)),
+            module_mask: Constant::new(ModuleMask::from(low_mask(cfg.queries_per_port as u32))),
         }
     }
 }
@@ -259,7 +262,8 @@ impl<const W: usize> Logic for SearchModule<W> {
         self.s2_valid.d.next = self.s1_valid.q.val();
         self.s2_for.d.next = 0.into();
         if self.s1_valid.q.val() {
-            self.s2_for.d.next = self.one.val() << self.s1.q.val().query_module;
+            self.s2_for.d.next =
+                (self.one.val() << self.s1.q.val().query_module) & self.module_mask.val();
         }
         self.s2.d.next.query_module = self.s1.q.val().query_module;
         self.s2.d.next.address = self.s1.q.val().address;

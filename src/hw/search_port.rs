@@ -133,7 +133,7 @@ impl<const S: usize, const W: usize> SearchPort<S, W> {
             all_busy: Default::default(),
             idle: Default::default(),
             modules: (0..q).map(|i| QueryModule::new(cfg, i)).collect(),
-            arbiter: Default::default(),
+            arbiter: PortArbiter::new(q),
             grant_stage: Constant::new(cfg.pipelined),
             grant_reg: Default::default(),
             granted_reg: Default::default(),
@@ -227,7 +227,7 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
         // One read per cycle: every grant is used.
         self.arbiter.hold.next = false;
         self.arbiter.advance.next = self.arbiter.granted.val();
-        self.grant_reg.d.next = self.arbiter.grant.val();
+        self.grant_reg.d.next = self.arbiter.grant.val() & self.all_modules.val();
         self.granted_reg.d.next = self.arbiter.granted.val();
         if self.grant_stage.val() {
             // Decide the next cycle's grant; the module granted now is leaving READY.

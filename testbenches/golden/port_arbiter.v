@@ -10,6 +10,9 @@ module top(clock,requests,advance,hold,grant,granted);
     output reg  [31:0] grant;
     output reg  granted;
     
+    // Constant declarations
+    localparam  mask = 32'hffffffff;
+    
     // Stub signals
     reg  [31:0] last_grant$d;
     wire  [31:0] last_grant$q;
@@ -51,8 +54,8 @@ module top(clock,requests,advance,hold,grant,granted);
         end
         granted = |requests;
         if (advance) begin
-            last_grant$d = grant;
-            at_or_below_last$d = (grant << 32'h1) - 32'h1;
+            last_grant$d = grant & mask;
+            at_or_below_last$d = ((grant << 32'h1) - 32'h1) & mask;
         end
     end
     

@@ -10,6 +10,9 @@ module top(clock,requests,advance,hold,grant,granted);
     output reg  [31:0] grant;
     output reg  granted;
     
+    // Constant declarations
+    localparam  mask = 32'hffffffff;
+    
     // Stub signals
     reg  [31:0] last_grant$d;
     wire  [31:0] last_grant$q;
@@ -58,8 +61,8 @@ module top(clock,requests,advance,hold,grant,granted);
         end
         granted__xs = |requests;
         if (advance) begin
-            last_grant$d__xs = grant__xs;
-            at_or_below_last$d__xs = (grant__xs << 32'h1) - 32'h1;
+            last_grant$d__xs = grant__xs & mask;
+            at_or_below_last$d__xs = ((grant__xs << 32'h1) - 32'h1) & mask;
         end
         last_grant$clock = last_grant$clock__xs;
         at_or_below_last$clock = at_or_below_last$clock__xs;
