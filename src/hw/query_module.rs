@@ -302,34 +302,7 @@ impl<const S: usize> Logic for QueryModule<S> {
 
         match self.state.q.val() {
             QueryState::Idle => {
-                if self.load.val() {
-                    // A radius beyond every possible distance is the largest one:
-                    // the same photons are within it, in a register of distance bits.
-                    if (self.load_query.val().radius & (!self.dist_mask.val())).any() {
-                        self.radius_reg.d.next = self.dist_mask.val();
-                    } else {
-                        self.radius_reg.d.next =
-                            self.load_query.val().radius & self.dist_mask.val();
-                    }
-                    self.k_reg.d.next = self.load_query.val().k & self.count_mask.val();
-                    self.full_reg.d.next = false;
-                    self.count.d.next = 0.into();
-                    self.append_slot.d.next = 1.into();
-                    self.occupied.d.next = 0.into();
-                    self.address.d.next = 1.into();
-                    self.up.d.next = false;
-                    self.came_from_right.d.next = false;
-                    self.search_done.d.next = false;
-                    self.visited.d.next = 0.into();
-                    if self.remember.val() {
-                        self.level.d.next = 1.into();
-                        self.level_at.d.next = 0.into();
-                        self.parent_at.d.next = 0.into();
-                    }
-                    self.pending.d.next = 0.into();
-                    self.ascending.d.next = false;
-                    self.state.d.next = QueryState::Ready;
-                }
+                // A free module waits for `load` (below).
             }
             QueryState::Ready => {
                 if self.read_grant.val() {
@@ -431,6 +404,38 @@ impl<const S: usize> Logic for QueryModule<S> {
                     self.state.d.next = QueryState::Idle;
                 }
             }
+        }
+        // Load a query. The port loads only a free module (its registered pick,
+        // `SearchPort`), so `load` implies IDLE and is tested alone: the clear of
+        // every register is then one net per module, where `load && IDLE` made
+        // yosys build a gate per flip-flop for its synchronous reset (105 LUTs of a
+        // 2 × 12 core's QueryModule, issue 11).
+        if self.load.val() {
+            // A radius beyond every possible distance is the largest one:
+            // the same photons are within it, in a register of distance bits.
+            if (self.load_query.val().radius & (!self.dist_mask.val())).any() {
+                self.radius_reg.d.next = self.dist_mask.val();
+            } else {
+                self.radius_reg.d.next = self.load_query.val().radius & self.dist_mask.val();
+            }
+            self.k_reg.d.next = self.load_query.val().k & self.count_mask.val();
+            self.full_reg.d.next = false;
+            self.count.d.next = 0.into();
+            self.append_slot.d.next = 1.into();
+            self.occupied.d.next = 0.into();
+            self.address.d.next = 1.into();
+            self.up.d.next = false;
+            self.came_from_right.d.next = false;
+            self.search_done.d.next = false;
+            self.visited.d.next = 0.into();
+            if self.remember.val() {
+                self.level.d.next = 1.into();
+                self.level_at.d.next = 0.into();
+                self.parent_at.d.next = 0.into();
+            }
+            self.pending.d.next = 0.into();
+            self.ascending.d.next = false;
+            self.state.d.next = QueryState::Ready;
         }
         if self.reset.val() {
             self.state.d.next = QueryState::Idle;
