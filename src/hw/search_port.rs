@@ -63,7 +63,9 @@ pub struct SearchPort<const S: usize, const W: usize> {
     pub idle: Signal<Out, bool>,
     modules: Vec<QueryModule<S>>,
     arbiter: PortArbiter,
-    /// `CoreConfig::pipelined`: the grant is registered.
+    /// `CoreConfig::pipelined`: the grant is registered, and whether there is one
+    /// (`granted_reg` equals `grant_reg.any()`, kept so that the SearchModule's
+    /// `request_valid` is a flip-flop, not an OR over Q bits).
     grant_stage: Constant<bool>,
     grant_reg: DFF<ModuleMask>,
     granted_reg: DFF<bool>,
