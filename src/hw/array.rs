@@ -5,10 +5,19 @@
 //!
 //! * load: broadcast. A beat moves only when every tree is ready, into all of them,
 //!   so the trees always hold the same map.
-//! * query: dispatched to one tree with a free QueryModule, round-robin (the core's
-//!   [`Dispatcher`]). A pending load blocks queries, as in the core.
+//! * query: dispatched round-robin (the core's [`Dispatcher`]) into a one-beat stage
+//!   per tree, which hands it to its tree once the tree has a free QueryModule. A
+//!   pending load blocks queries, as in the core, and waits for the stages to empty
+//!   (a staged query belongs to the map it was sent against).
 //! * result: the trees' result streams merged round-robin between packets (the
 //!   core's [`PacketMerge`]).
+//!
+//! Why a stage per tree (issue 11): without it the dispatch is one combinational
+//! path from one tree's free-module registers through its ready, the array's round
+//! robin and into another tree's query stage — across the die on the ECP5-85k, the
+//! T = 4 array's critical path (57.1 MHz, 17.5 ns, 15 of them routing). With the
+//! stage, the array's round robin sees only the stages' own valid flip-flops, and a
+//! tree's ready reaches only its own stage.
 //!
 //! Photon reads per cycle scale with T (2T BlockRAM ports) for T times the area and
 //! BlockRAM; the ports and their meaning are those of the core, so the host driver,
@@ -47,6 +56,10 @@ pub struct PhotonSearchArray<const S: usize, const W: usize> {
     pub trees: Vec<PhotonSearchCore<S, W>>,
     dispatch: Dispatcher<QueryBeat>,
     merge: PacketMerge,
+    /// The query stages in front of the trees (bit / entry t = tree t).
+    stage_valid: Vec<DFF<bool>>,
+    stage_data: Vec<DFF<QueryBeat>>,
+    stages_empty: Signal<Local, bool>,
     load_ready_all: Signal<Local, bool>,
     any_reading_a: Signal<Local, bool>,
     any_reading_b: Signal<Local, bool>,
@@ -71,6 +84,9 @@ impl<const S: usize, const W: usize> PhotonSearchArray<S, W> {
             trees: (0..cfg.trees).map(|_| PhotonSearchCore::new(cfg)).collect(),
             dispatch: Dispatcher::new(cfg.trees),
             merge: PacketMerge::new(cfg.trees),
+            stage_valid: (0..cfg.trees).map(|_| Default::default()).collect(),
+            stage_data: (0..cfg.trees).map(|_| Default::default()).collect(),
+            stages_empty: Default::default(),
             load_ready_all: Default::default(),
             any_reading_a: Default::default(),
             any_reading_b: Default::default(),
@@ -88,6 +104,7 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchArray<S, W> {
 
         // Collect the trees' load handshake and status bits.
         self.load_ready_all.next = true;
+        self.stages_empty.next = true;
         self.any_reading_a.next = false;
         self.any_reading_b.next = false;
         self.every_busy.next = true;
@@ -108,12 +125,15 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchArray<S, W> {
                 .val()
                 .replace_bit(i, self.trees[i].all_busy.val());
             self.load_ready_all.next = self.load_ready_all.val() && self.trees[i].load.ready.val();
+            self.stages_empty.next = self.stages_empty.val() && !self.stage_valid[i].q.val();
             self.any_reading_a.next =
                 self.any_reading_a.val() || self.trees[i].port_a_reading.val();
             self.any_reading_b.next =
                 self.any_reading_b.val() || self.trees[i].port_b_reading.val();
             self.every_busy.next = self.every_busy.val() && self.trees[i].all_busy.val();
         }
+        // A load waits for the stages: their queries were sent against the old map.
+        self.load_ready_all.next = self.load_ready_all.val() && self.stages_empty.val();
         self.load.ready.next = self.load_ready_all.val();
 
         // Queries to one tree; a pending load goes first.
@@ -132,9 +152,24 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchArray<S, W> {
             self.trees[i].load.address.next = self.load.address.val();
             self.trees[i].load.word.next = self.load.word.val();
             self.trees[i].load.last.next = self.load.last.val();
-            self.trees[i].query.valid.next = self.dispatch.sinks[i].valid.val();
-            self.trees[i].query.data.next = self.dispatch.sinks[i].data.val();
-            self.dispatch.sinks[i].ready.next = self.trees[i].query.ready.val();
+            // Stage i: takes a query while empty, hands it on when tree i takes it.
+            self.stage_valid[i].clock.next = self.clock.val();
+            self.stage_data[i].clock.next = self.clock.val();
+            self.stage_valid[i].d.next = self.stage_valid[i].q.val();
+            self.stage_data[i].d.next = self.stage_data[i].q.val();
+            self.dispatch.sinks[i].ready.next = !self.stage_valid[i].q.val();
+            self.trees[i].query.valid.next = self.stage_valid[i].q.val();
+            self.trees[i].query.data.next = self.stage_data[i].q.val();
+            if self.stage_valid[i].q.val() && self.trees[i].query.ready.val() {
+                self.stage_valid[i].d.next = false;
+            }
+            if self.dispatch.sinks[i].valid.val() && !self.stage_valid[i].q.val() {
+                self.stage_valid[i].d.next = true;
+                self.stage_data[i].d.next = self.dispatch.sinks[i].data.val();
+            }
+            if self.reset.val() {
+                self.stage_valid[i].d.next = false;
+            }
             self.merge.sources[i].valid.next = self.trees[i].result.valid.val();
             self.merge.sources[i].data.next = self.trees[i].result.data.val();
             self.trees[i].result.ready.next = self.merge.sources[i].ready.val();
