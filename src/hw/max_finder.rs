@@ -9,8 +9,10 @@
 //! the software search (knn.rs, "the lowest list slot among ties").
 //!
 //! Where the bits live (issue 11): the K × B bits are the paper's, but each slot's
-//! entry is one register and a row is gathered across them (the row selection is the
-//! same one-hot AND-OR either way). Stored as rows, a write touches bit s of every
+//! entry is one register and a row is gathered across them: bit `gather_bit` of
+//! every slot, a B-to-1 multiplexer per slot with a binary select (as a one-hot
+//! AND-OR over the B bits it took 79 of a QueryModule's 424 LUTs in yosys xc6v, as
+//! a multiplexer 41). Stored as rows, a write touches bit s of every
 //! row, a LUT per bit (keep, set or clear); stored as slots, a write is the clock
 //! enable of one slot's register with the distance on its D inputs, no LUT at all.
 //! The list is not read out here: the QueryModule keeps a LUT-RAM copy of the
@@ -32,6 +34,9 @@
 //! const generic because rust-hdl's `Bits` width must be a constant.
 
 use crate::hw::config::{Dist, SlotMask};
+
+/// Index of a row (a distance bit).
+pub type RowIndex = Bits<5>;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
@@ -55,8 +60,8 @@ pub struct MaxFinder<const S: usize> {
     /// slots[s] = the distance in slot s (K of them; row n is bit n of each).
     slots: Vec<DFF<Dist>>,
     filter_reg: DFF<SlotMask<S>>,
-    /// One-hot: the row gathered in this cycle (examined in the next).
-    gather_select: DFF<Dist>,
+    /// The row gathered in this cycle (examined in the next), as a bit index.
+    gather_bit: DFF<RowIndex>,
     /// The row examined in this cycle and its weight in the maximum (one-hot).
     row_reg: DFF<SlotMask<S>>,
     weight: DFF<Dist>,
@@ -65,6 +70,9 @@ pub struct MaxFinder<const S: usize> {
     max_reg: DFF<Dist>,
     busy_reg: DFF<bool>,
     top_row: Constant<Dist>,
+    top_bit: Constant<RowIndex>,
+    /// The bits a row index needs: the others stay constant zero.
+    row_index_mask: Constant<RowIndex>,
     /// The K slots that exist: the other row bits are constant zero, so synthesis
     /// drops them (the slot masks are S bits wide).
     slot_mask: Constant<SlotMask<S>>,
@@ -72,6 +80,8 @@ pub struct MaxFinder<const S: usize> {
     dist_mask: Constant<Dist>,
     gathered: Signal<Local, SlotMask<S>>,
     row_and_filter: Signal<Local, SlotMask<S>>,
+    /// The top row's weight in the priming cycle, else zero.
+    priming_weight: Signal<Local, Dist>,
 }
 
 impl<const S: usize> MaxFinder<S> {
@@ -92,17 +102,22 @@ impl<const S: usize> MaxFinder<S> {
             max_slot: Default::default(),
             slots: (0..slots).map(|_| DFF::default()).collect(),
             filter_reg: Default::default(),
-            gather_select: Default::default(),
+            gather_bit: Default::default(),
             row_reg: Default::default(),
             weight: Default::default(),
             priming: Default::default(),
             max_reg: Default::default(),
             busy_reg: Default::default(),
             top_row: Constant::new(Dist::from(1u64 << (dist_bits - 1))),
+            top_bit: Constant::new(RowIndex::from((dist_bits - 1) as u64)),
+            row_index_mask: Constant::new(RowIndex::from(
+                (1u64 << (32 - (dist_bits - 1).leading_zeros()).max(1)) - 1,
+            )),
             slot_mask: Constant::new(SlotMask::<S>::from(u64::MAX >> (64 - slots))),
             dist_mask: Constant::new(Dist::from(u64::MAX >> (64 - dist_bits))),
             gathered: Default::default(),
             row_and_filter: Default::default(),
+            priming_weight: Default::default(),
         }
     }
 }
@@ -111,15 +126,7 @@ impl<const S: usize> Logic for MaxFinder<S> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self,
-            clock,
-            filter_reg,
-            gather_select,
-            row_reg,
-            weight,
-            priming,
-            max_reg,
-            busy_reg
+            self, clock, filter_reg, gather_bit, row_reg, weight, priming, max_reg, busy_reg
         );
         // Write one slot: its register's clock enable.
         for s in 0..self.slots.len() {
@@ -129,22 +136,30 @@ impl<const S: usize> Logic for MaxFinder<S> {
                 self.slots[s].d.next = self.write_dist.val() & self.dist_mask.val();
             }
         }
-        // Gather the row `gather_select` (one-hot) across the slots. (Only while
-        // busy: this also keeps the Rust simulation from evaluating it in idle
-        // QueryModules.)
+        // Gather row `gather_bit` across the slots: a multiplexer per slot with a
+        // binary select (issue 11: a one-hot AND-OR over the distance bits took
+        // twice the LUTs). (Only while busy: this also keeps the Rust simulation
+        // from evaluating it in idle QueryModules.)
         self.gathered.next = 0.into();
         if self.busy_reg.q.val() {
             for s in 0..self.slots.len() {
                 self.gathered.next = self.gathered.val().replace_bit(
                     s,
-                    (self.slots[s].q.val() & self.gather_select.q.val()).any(),
+                    self.slots[s]
+                        .q
+                        .val()
+                        .get_bit(self.gather_bit.q.val().index()),
                 );
             }
         }
         self.row_and_filter.next = self.row_reg.q.val() & self.filter_reg.q.val();
+        self.priming_weight.next = 0.into();
+        if self.priming.q.val() {
+            self.priming_weight.next = self.top_row.val();
+        }
         if self.start.val() {
             self.filter_reg.d.next = self.candidates.val() & self.slot_mask.val();
-            self.gather_select.d.next = self.top_row.val();
+            self.gather_bit.d.next = self.top_bit.val();
             self.weight.d.next = 0.into();
             self.priming.d.next = true;
             self.max_reg.d.next = 0.into();
@@ -152,8 +167,11 @@ impl<const S: usize> Logic for MaxFinder<S> {
         } else if self.busy_reg.q.val() {
             // The gathered row is examined in the next cycle.
             self.row_reg.d.next = self.gathered.val();
-            self.weight.d.next = self.gather_select.q.val();
-            self.gather_select.d.next = (self.gather_select.q.val() >> 1) & self.dist_mask.val();
+            // The weight of the row gathered now, one-hot, from the top row down:
+            // a shift whose top bit comes from `priming` (the weight is zero then),
+            // so no multiplexer.
+            self.weight.d.next = (self.weight.q.val() >> 1) | self.priming_weight.val();
+            self.gather_bit.d.next = (self.gather_bit.q.val() - 1) & self.row_index_mask.val();
             self.priming.d.next = false;
             if !self.priming.q.val() {
                 if self.row_and_filter.val().any() {

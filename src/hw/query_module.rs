@@ -136,16 +136,32 @@ pub struct QueryModule<const S: usize> {
     /// parent's entry starts from flip-flops, not from a one-hot encoder).
     level_at: DFF<RamIndex>,
     parent_at: DFF<RamIndex>,
+    /// The entry above `parent_at` (saturating at the root's): the parent's entry
+    /// of the next cycle while climbing.
+    grand_at: DFF<RamIndex>,
+    /// ASCEND's pruning test, registered (issue 11): whether the parent's remembered
+    /// axis distance is within R, compared a cycle ahead for the parent the module
+    /// will be at and the R it will have. Compared in the same cycle it was the
+    /// 2 × 12 core's ECP5 critical path (path-memory index → LUT-RAM read → radius
+    /// comparison → next state, 10 nets, 82.8 MHz).
+    parent_within: DFF<bool>,
+    /// The next append fills the list (`count + 1 = k`), registered for the same
+    /// reason: the comparison before the insertion's next state was the other
+    /// critical path (11 nets).
+    one_left: DFF<bool>,
     level_index_mask: Constant<RamIndex>,
     max_finder: MaxFinder<S>,
     result_mine: Signal<Local, bool>,
     insert: Signal<Local, bool>,
     insert_slot: Signal<Local, SlotMask<S>>,
-    /// ASCEND: the parent's level, its remembered entry and the pruning test.
+    /// ASCEND: the parent's level and pending bit.
     parent_level: Signal<Local, LevelMask>,
-    parent_dist: Signal<Local, Dist>,
     parent_pending: Signal<Local, bool>,
-    parent_within: Signal<Local, bool>,
+    /// For the registered pruning test: the entry the parent will have next cycle
+    /// (read from the path memory), the R and the full flag it will be tested with.
+    ahead_dist: Signal<Local, Dist>,
+    ahead_radius: Signal<Local, Dist>,
+    ahead_full: Signal<Local, bool>,
 }
 
 impl<const S: usize> QueryModule<S> {
@@ -205,6 +221,9 @@ impl<const S: usize> QueryModule<S> {
             out_index: Default::default(),
             level_at: Default::default(),
             parent_at: Default::default(),
+            grand_at: Default::default(),
+            parent_within: Default::default(),
+            one_left: Default::default(),
             level_index_mask: Constant::new(RamIndex::from(low_mask(bits_for(
                 cfg.address_bits as u64,
             )))),
@@ -213,9 +232,10 @@ impl<const S: usize> QueryModule<S> {
             insert: Default::default(),
             insert_slot: Default::default(),
             parent_level: Default::default(),
-            parent_dist: Default::default(),
             parent_pending: Default::default(),
-            parent_within: Default::default(),
+            ahead_dist: Default::default(),
+            ahead_radius: Default::default(),
+            ahead_full: Default::default(),
         }
     }
 }
@@ -243,20 +263,40 @@ impl<const S: usize> Logic for QueryModule<S> {
             pending,
             ascending,
             level_at,
-            parent_at
+            parent_at,
+            grand_at,
+            parent_within,
+            one_left
         );
         self.found.clock.next = self.clock.val();
         self.found_dist.clock.next = self.clock.val();
         self.path.clock.next = self.clock.val();
-        // ASCEND's view of the parent level's entry.
+        // ASCEND's view of the parent level.
         self.parent_level.next = self.level.q.val() >> 1;
-        self.path.read_index.next = self.parent_at.q.val();
-        self.parent_dist.next = self.path.read_data.val();
         self.parent_pending.next = (self.pending.q.val() & self.parent_level.val()).any();
-        if self.full_reg.q.val() {
-            self.parent_within.next = self.parent_dist.val() < self.radius_reg.q.val();
+        // The pruning test a cycle ahead. ASCEND is entered from WAIT (R and the
+        // parent unchanged: an insertion that changes R goes through MAX_FIND) or
+        // from MAX_FIND (the parent unchanged, R = the MaxFinder's maximum, full);
+        // while climbing, the next parent is the entry above (`grand_at`) and R
+        // stays. In any other cycle the value is not used. No entry is written in
+        // the cycle it is read: WAIT writes the current level, not its parent.
+        if self.state.q.val() == QueryState::Ascend {
+            self.path.read_index.next = self.grand_at.q.val();
         } else {
-            self.parent_within.next = self.parent_dist.val() <= self.radius_reg.q.val();
+            self.path.read_index.next = self.parent_at.q.val();
+        }
+        self.ahead_dist.next = self.path.read_data.val();
+        if self.state.q.val() == QueryState::MaxFind {
+            self.ahead_radius.next = self.max_finder.max_dist.val() & self.dist_mask.val();
+            self.ahead_full.next = true;
+        } else {
+            self.ahead_radius.next = self.radius_reg.q.val();
+            self.ahead_full.next = self.full_reg.q.val();
+        }
+        if self.ahead_full.val() {
+            self.parent_within.d.next = self.ahead_dist.val() < self.ahead_radius.val();
+        } else {
+            self.parent_within.d.next = self.ahead_dist.val() <= self.ahead_radius.val();
         }
         self.max_finder.clock.next = self.clock.val();
         self.max_finder.start.next = false;
@@ -329,6 +369,7 @@ impl<const S: usize> Logic for QueryModule<S> {
                             self.address.d.next =
                                 self.result.val().next_address & self.addr_mask.val();
                             self.level.d.next = (self.level.q.val() << 1) & self.level_mask.val();
+                            self.grand_at.d.next = self.parent_at.q.val();
                             self.parent_at.d.next = self.level_at.q.val();
                             self.level_at.d.next =
                                 (self.level_at.q.val() + 1) & self.level_index_mask.val();
@@ -354,7 +395,8 @@ impl<const S: usize> Logic for QueryModule<S> {
                             self.occupied.d.next = self.occupied.q.val() | self.append_slot.q.val();
                             self.append_slot.d.next =
                                 (self.append_slot.q.val() << 1) & self.slot_mask.val();
-                            if (self.count.q.val() + 1) == self.k_reg.q.val() {
+                            self.one_left.d.next = (self.count.q.val() + 2) == self.k_reg.q.val();
+                            if self.one_left.q.val() {
                                 self.max_finder.start.next = true;
                                 self.max_finder.candidates.next =
                                     self.occupied.q.val() | self.append_slot.q.val();
@@ -384,7 +426,7 @@ impl<const S: usize> Logic for QueryModule<S> {
                 if self.level.q.val().get_bit(0) {
                     self.search_done.d.next = true;
                     self.state.d.next = QueryState::Done;
-                } else if self.parent_pending.val() && self.parent_within.val() {
+                } else if self.parent_pending.val() && self.parent_within.q.val() {
                     // Enter the far child: the sibling of the node we came from.
                     self.address.d.next = (self.address.q.val() ^ 1) & self.addr_mask.val();
                     self.pending.d.next = self.pending.q.val() & (!self.parent_level.val());
@@ -394,8 +436,10 @@ impl<const S: usize> Logic for QueryModule<S> {
                     self.address.d.next = (self.address.q.val() >> 1) & self.addr_mask.val();
                     self.level.d.next = self.parent_level.val() & self.level_mask.val();
                     self.level_at.d.next = self.parent_at.q.val();
-                    if self.parent_at.q.val().any() {
-                        self.parent_at.d.next = self.parent_at.q.val() - 1;
+                    self.parent_at.d.next = self.grand_at.q.val();
+                    if self.grand_at.q.val().any() {
+                        self.grand_at.d.next =
+                            (self.grand_at.q.val() - 1) & self.level_index_mask.val();
                     }
                 }
             }
@@ -419,6 +463,7 @@ impl<const S: usize> Logic for QueryModule<S> {
                 self.radius_reg.d.next = self.load_query.val().radius & self.dist_mask.val();
             }
             self.k_reg.d.next = self.load_query.val().k & self.count_mask.val();
+            self.one_left.d.next = (self.load_query.val().k & self.count_mask.val()) == 1;
             self.full_reg.d.next = false;
             self.count.d.next = 0.into();
             self.append_slot.d.next = 1.into();
@@ -432,6 +477,7 @@ impl<const S: usize> Logic for QueryModule<S> {
                 self.level.d.next = 1.into();
                 self.level_at.d.next = 0.into();
                 self.parent_at.d.next = 0.into();
+                self.grand_at.d.next = 0.into();
             }
             self.pending.d.next = 0.into();
             self.ascending.d.next = false;
