@@ -1,8 +1,10 @@
 //! Unit benches of the SearchModule's parts and the TreeModule: AxisDist / Dist at
 //! the coordinate extremes in both metrics (no overflow), NextIndex against the
-//! traversal rule of knn.rs, TreeModule read-after-write on both ports.
+//! traversal rule of knn.rs, TreeModule read-after-write on both ports, CellBound's
+//! far-cell distances against offsets summed afresh.
 
 use photon_fpga::hw::axis_dist::AxisDistModule;
+use photon_fpga::hw::cell_bound::CellBound;
 use photon_fpga::hw::dist_module::DistModule;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::next_index::NextIndexModule;
@@ -225,4 +227,87 @@ fn tree_module_read_after_write_on_both_ports() {
 fn tree_module_wide_word() {
     tree_module_against_model::<64>(38, 11);
     tree_module_against_model::<64>(47, 12);
+}
+
+fn clock_cell(uut: &mut CellBound) {
+    settle(uut);
+    uut.clock.next = true.into();
+    settle(uut);
+    uut.clock.next = false.into();
+    settle(uut);
+}
+
+/// CellBound on random root-to-leaf walks: down visits, ascent steps that enter a
+/// far child or pass a level, and reloads. The model keeps the three offsets and a
+/// record per level and sums the offsets afresh at every visit, where the block
+/// adds incrementally (`cell_dist - off[axis] + axis_dist`).
+#[test]
+fn cell_bound_sums_the_offsets_of_the_cell() {
+    let (levels, bits) = (9usize, 12u32);
+    let mut uut = CellBound::new(levels, bits);
+    uut.connect_all();
+    check_all(&uut).unwrap();
+    let mut r = crate::common::rng(21);
+    // (axis, offset before, axis distance, far cell distance) per level.
+    let mut rec = vec![(0usize, 0u64, 0u64, 0u64); levels];
+    let mut off = [0u64; 3];
+    let mut level = 0usize;
+    let mut checked = 0;
+    let idle = |uut: &mut CellBound| {
+        uut.load.next = false;
+        uut.visit.next = false;
+        uut.step.next = false;
+        uut.enter.next = false;
+    };
+    idle(&mut uut);
+    uut.load.next = true;
+    clock_cell(&mut uut);
+    for _ in 0..3000 {
+        idle(&mut uut);
+        // A down visit at `level`: the split is inside the cell, so its axis
+        // distance is at least the offset along its axis.
+        let a = r.gen_range(0..3usize);
+        let d = off[a] + r.gen_range(0..200u64);
+        uut.visit.next = true;
+        uut.axis.next = (a as u64).into();
+        uut.axis_dist.next = d.into();
+        uut.write_index.next = (level as u64).into();
+        settle(&mut uut);
+        let want = off.iter().sum::<u64>() - off[a] + d;
+        assert_eq!(uut.far_cell_dist.val().to_u64(), want, "level {level}");
+        checked += 1;
+        rec[level] = (a, off[a], d, want);
+        clock_cell(&mut uut);
+        idle(&mut uut);
+        if level + 1 < levels && r.gen_bool(0.6) {
+            level += 1; // near child: the cell's offsets stay
+            continue;
+        }
+        // Climb: pass levels until one is entered, or reload at the root.
+        loop {
+            if level == 0 || r.gen_bool(0.05) {
+                uut.load.next = true;
+                clock_cell(&mut uut);
+                off = [0; 3];
+                level = 0;
+                break;
+            }
+            let p = level - 1;
+            let (pa, old, far, bound) = rec[p];
+            let enter = r.gen_bool(0.4);
+            uut.step.next = true;
+            uut.enter.next = enter;
+            uut.enter_bound.next = bound.into();
+            uut.read_index.next = (p as u64).into();
+            clock_cell(&mut uut);
+            idle(&mut uut);
+            if enter {
+                off[pa] = far; // the sibling's cell, at the same level
+                break;
+            }
+            off[pa] = old;
+            level = p;
+        }
+    }
+    assert!(checked == 3000);
 }

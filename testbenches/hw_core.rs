@@ -30,8 +30,8 @@ fn run_case(
     queries: &[HwQuery],
 ) {
     let tree = pack(points, layout);
-    // Both ascents: the default path memory and the paper's re-reads.
-    for traversal in [Traversal::Remember, Traversal::Reread] {
+    // Every traversal: the default path memory, the paper's re-reads, the cell bound.
+    for traversal in [Traversal::Remember, Traversal::Reread, Traversal::Cell] {
         let cfg = CoreConfig {
             traversal,
             ..small_core(&tree, k, metric)
@@ -418,7 +418,7 @@ fn pruned_ascent_reads_only_the_descent_path() {
         }
     };
     for metric in [Metric::L1, Metric::L2] {
-        for traversal in [Traversal::Remember, Traversal::Reread] {
+        for traversal in [Traversal::Remember, Traversal::Reread, Traversal::Cell] {
             let cfg = CoreConfig {
                 traversal,
                 ..small_core(&tree, 3, metric)
@@ -429,7 +429,7 @@ fn pruned_ascent_reads_only_the_descent_path() {
                 assert!(res.found.is_empty());
                 let d = depth(q.coords);
                 let want = match traversal {
-                    Traversal::Remember => d,
+                    Traversal::Remember | Traversal::Cell => d,
                     Traversal::Reread => 2 * d - 1,
                 };
                 assert_eq!(res.visited, want, "{traversal} {metric} {q:?}");

@@ -346,6 +346,12 @@ fn small_and_paper(sim: Simulator) {
         cfg.traversal = Traversal::Reread;
         (cfg, cases)
     };
+    // The cell-distance traversal (more QueryModule state, a wider path memory).
+    let cell = {
+        let (mut cfg, cases) = small_cases();
+        cfg.traversal = Traversal::Cell;
+        (cfg, cases)
+    };
     // Two replicated trees (PhotonSearchArray) on the small config's cases.
     let array = {
         let (mut cfg, cases) = small_cases();
@@ -355,6 +361,7 @@ fn small_and_paper(sim: Simulator) {
     for (label, (cfg, cases)) in [
         ("small", small_cases()),
         ("small_unregistered_reread", unregistered),
+        ("small_cell", cell),
         ("array_t2", array),
         ("wide", wide_cases()),
         ("paper", paper_cases()),

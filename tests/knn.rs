@@ -67,6 +67,20 @@ fn check(points: &[[u32; 3]], q: [u32; 3], k: usize, r0: u64, metric: Metric) {
     assert_eq!(paper.tested, found.tested);
     assert!(paper.visited >= found.visited);
 
+    // The cell-distance bound (Arya–Mount) prunes a subtree only if no photon in it
+    // can be nearer than R: the same distances as brute force, never more reads.
+    let cell = search_with(&packed, q, k, r0, metric, Traversal::Cell);
+    assert_eq!(
+        cell.sorted_dists(),
+        truth_d,
+        "cell traversal != brute force: q={q:?} k={k} r0={r0} {metric:?}"
+    );
+    assert_eq!(cell.visited, cell.tested);
+    assert!(
+        cell.visited <= found.visited,
+        "cell read more: q={q:?} k={k}"
+    );
+
     // The float search over the same (integer-valued) positions: exact in f64.
     let fpoints: Vec<[f64; 3]> = points.iter().map(|p| p.map(|c| c as f64)).collect();
     let ftree = KdTree::build(&fpoints);
@@ -83,6 +97,14 @@ fn check(points: &[[u32; 3]], q: [u32; 3], k: usize, r0: u64, metric: Metric) {
         .map(|d| d.get() as u64)
         .collect();
     assert_eq!(fd, truth_d, "float search != brute force");
+    // The float cell bound adds the offsets as the distance adds the axes: never
+    // above a distance, so nothing is pruned that could enter.
+    let fcell = search_with(&ftree, fq, k, fr0, metric, Traversal::Cell);
+    assert_eq!(
+        fcell.sorted_dists(),
+        ffound.sorted_dists(),
+        "float cell traversal"
+    );
 }
 
 fn random_points(n: usize, max: u32, seed: u64) -> Vec<[u32; 3]> {

@@ -153,7 +153,9 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     let st = sim.stats().clone();
     let mut sw_visited = 0u64;
     let mut sw_tested = 0u64;
-    let mut other_visited = 0u64;
+    // Every traversal's reads on the same queries (software search).
+    let traversals = <Traversal as clap::ValueEnum>::value_variants();
+    let mut each_visited = vec![0u64; traversals.len()];
     for (q, r) in queries.iter().zip(&results) {
         let f = search_with(tree, q.coords, cfg.k, max, cfg.metric, cfg.traversal);
         if f.visited != r.visited
@@ -170,11 +172,9 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         }
         sw_visited += f.visited as u64;
         sw_tested += f.tested as u64;
-        let other = match cfg.traversal {
-            Traversal::Remember => Traversal::Reread,
-            Traversal::Reread => Traversal::Remember,
-        };
-        other_visited += search_with(tree, q.coords, cfg.k, max, cfg.metric, other).visited as u64;
+        for (t, v) in traversals.iter().zip(&mut each_visited) {
+            *v += search_with(tree, q.coords, cfg.k, max, cfg.metric, *t).visited as u64;
+        }
     }
     let cycles = st.cycles - load_cycles;
     let reads: u64 = st.reads_per_port.iter().sum();
@@ -212,8 +212,13 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         sw_tested as f64 / queries.len() as f64
     );
     println!(
-        "photon reads per query with the other ascent (software search, same queries): {:.1}",
-        other_visited as f64 / queries.len() as f64
+        "photon reads per query by traversal (software search, same queries): {}",
+        traversals
+            .iter()
+            .zip(&each_visited)
+            .map(|(t, v)| format!("{t} {:.1}", *v as f64 / queries.len() as f64))
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     println!(
         "reads per cycle (all ports of all trees, whole run): {:.3}",

@@ -31,8 +31,9 @@ pub struct CoreArgs {
     /// cycles less latency, longer critical paths. For before/after timing.
     #[arg(long)]
     unpipelined: bool,
-    /// How a QueryModule climbs back up: remember (path memory, no re-reads) or
-    /// reread (the paper's re-read of every parent).
+    /// How a QueryModule climbs back up: remember (path memory, no re-reads),
+    /// reread (the paper's re-read of every parent) or cell (remember, pruning on
+    /// the distance to the far child's cell: fewest reads, more LUTs).
     #[arg(long, default_value_t = Traversal::default())]
     traversal: Traversal,
     /// Replicated trees T (the paper's future work): T copies of the core, each with

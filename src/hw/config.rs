@@ -116,7 +116,8 @@ pub struct CoreConfig {
     /// `PhotonSearchArray` of T cores, each with its own copy of the map.
     pub trees: usize,
     /// How a QueryModule climbs back up the tree: remembering each level's axis
-    /// distance (no reads), or the paper's re-read of every parent.
+    /// distance (no reads), the paper's re-read of every parent, or remembering the
+    /// distance to each level's far cell (`Traversal::Cell`).
     pub traversal: Traversal,
 }
 
@@ -209,11 +210,13 @@ impl CoreConfig {
     }
 
     /// Entries of a QueryModule's path memory: one per level that can have children
-    /// (H - 1 levels below the leaves) with `Traversal::Remember`, none otherwise.
+    /// (H - 1 levels below the leaves) when the traversal remembers the path, none
+    /// with `Traversal::Reread`.
     pub fn path_levels(&self) -> usize {
-        match self.traversal {
-            Traversal::Remember => self.address_bits as usize - 1,
-            Traversal::Reread => 0,
+        if self.traversal.remembers() {
+            self.address_bits as usize - 1
+        } else {
+            0
         }
     }
 

@@ -10,7 +10,8 @@
 //! ├── TreeModule (tree_module.rs)       true dual-port BlockRAM, 2^H words
 //! ├── SearchPort A (search_port.rs)     TreeModule port A (also the load port)
 //! │   ├── QueryModule × Q (query_module.rs)
-//! │   │   └── MaxFinder (max_finder.rs) bit-transposed distance list, §4.4
+//! │   │   ├── MaxFinder (max_finder.rs) bit-transposed distance list, §4.4
+//! │   │   └── CellBound (cell_bound.rs) offsets from the cell, `Traversal::Cell`
 //! │   ├── PortArbiter (port_arbiter.rs) one read per cycle, round robin, §4.5
 //! │   ├── SearchModule (search_module.rs)
 //! │   │   ├── AxisDistModule (axis_dist.rs)
@@ -41,6 +42,7 @@
 
 pub mod array;
 pub mod axis_dist;
+pub mod cell_bound;
 pub mod config;
 pub mod core;
 pub mod dispatcher;

@@ -29,6 +29,7 @@
 //! (all bits are tested at once), as do the MaxFinder's distances (a row across all
 //! slots is read per cycle, which no RAM port gives).
 
+use crate::hw::cell_bound::CellBound;
 use crate::hw::config::{
     bits_for, low_mask, Addr, CoreConfig, Count, Dist, LevelMask, ModuleIndex, ReadCount, SlotMask,
 };
@@ -82,8 +83,10 @@ pub struct QueryModule<const S: usize> {
     pub out_address: Signal<Out, Addr>,
     pub out_dist: Signal<Out, Dist>,
     my_index: Constant<ModuleIndex>,
-    /// `Traversal::Remember`: the ascent from the path memory.
+    /// `Traversal::Remember` or `Cell`: the ascent from the path memory.
     remember: Constant<bool>,
+    /// `Traversal::Cell`: prune on the distance to the far child's cell.
+    cell_bound: Constant<bool>,
     /// The configured widths, so that synthesis drops the path memory's constant
     /// bits: distance bits of the metric, H levels, H - 1 levels that can be pending.
     dist_mask: Constant<Dist>,
@@ -119,9 +122,13 @@ pub struct QueryModule<const S: usize> {
     pending: DFF<LevelMask>,
     /// The last result asked for the ascent (entered once the MaxFinder is done).
     ascending: DFF<bool>,
-    /// The path memory: axis distance of the node read at each level
-    /// (`CoreConfig::path_levels` entries), in LUT-RAM.
+    /// The path memory: the pruning bound of the far child of the node read at each
+    /// level (`CoreConfig::path_levels` entries), in LUT-RAM: its axis distance, or
+    /// with `Traversal::Cell` the distance to its cell.
     path: LutRam,
+    /// `Traversal::Cell`: the query's offsets from its cell, and the rest of each
+    /// level ([`CellBound`]; one-entry memories never written otherwise).
+    cell_state: CellBound,
     /// The found-index list: K heap addresses, in LUT-RAM.
     found: LutRam,
     /// The found distances again, for the read-out only (the MaxFinder's copy is
@@ -145,6 +152,9 @@ pub struct QueryModule<const S: usize> {
     /// 2 × 12 core's ECP5 critical path (path-memory index → LUT-RAM read → radius
     /// comparison → next state, 10 nets, 82.8 MHz).
     parent_within: DFF<bool>,
+    /// The bound `parent_within` was computed from: the far cell's distance,
+    /// `cell_dist` on entering it.
+    parent_bound: DFF<Dist>,
     /// The next append fills the list (`count + 1 = k`), registered for the same
     /// reason: the comparison before the insertion's next state was the other
     /// critical path (11 nets).
@@ -167,6 +177,12 @@ pub struct QueryModule<const S: usize> {
 impl<const S: usize> QueryModule<S> {
     /// QueryModule number `index` of its port.
     pub fn new(cfg: &CoreConfig, index: usize) -> Self {
+        let cell = cfg.traversal == Traversal::Cell;
+        let (cell_levels, cell_bits) = if cell {
+            (cfg.path_levels().max(1), cfg.dist_bits())
+        } else {
+            (1, 1)
+        };
         QueryModule {
             clock: Default::default(),
             reset: Default::default(),
@@ -187,7 +203,8 @@ impl<const S: usize> QueryModule<S> {
             out_address: Default::default(),
             out_dist: Default::default(),
             my_index: Constant::new(ModuleIndex::from(index as u64)),
-            remember: Constant::new(cfg.traversal == Traversal::Remember),
+            remember: Constant::new(cfg.traversal.remembers()),
+            cell_bound: Constant::new(cfg.traversal == Traversal::Cell),
             dist_mask: Constant::new(Dist::from((1u64 << cfg.dist_bits()) - 1)),
             level_mask: Constant::new(LevelMask::from((1u64 << cfg.address_bits) - 1)),
             pending_mask: Constant::new(LevelMask::from((1u64 << cfg.path_levels()) - 1)),
@@ -212,6 +229,7 @@ impl<const S: usize> QueryModule<S> {
             pending: Default::default(),
             ascending: Default::default(),
             path: LutRam::new(cfg.path_levels().max(1), cfg.dist_bits()),
+            cell_state: CellBound::new(cell_levels, cell_bits),
             found: LutRam::new(cfg.k, cfg.address_bits),
             found_dist: LutRam::new(cfg.k, cfg.dist_bits()),
             slot_index: (0..cfg.k)
@@ -223,6 +241,7 @@ impl<const S: usize> QueryModule<S> {
             parent_at: Default::default(),
             grand_at: Default::default(),
             parent_within: Default::default(),
+            parent_bound: Default::default(),
             one_left: Default::default(),
             level_index_mask: Constant::new(RamIndex::from(low_mask(bits_for(
                 cfg.address_bits as u64,
@@ -266,11 +285,13 @@ impl<const S: usize> Logic for QueryModule<S> {
             parent_at,
             grand_at,
             parent_within,
+            parent_bound,
             one_left
         );
         self.found.clock.next = self.clock.val();
         self.found_dist.clock.next = self.clock.val();
         self.path.clock.next = self.clock.val();
+        self.cell_state.clock.next = self.clock.val();
         // ASCEND's view of the parent level.
         self.parent_level.next = self.level.q.val() >> 1;
         self.parent_pending.next = (self.pending.q.val() & self.parent_level.val()).any();
@@ -298,6 +319,20 @@ impl<const S: usize> Logic for QueryModule<S> {
         } else {
             self.parent_within.d.next = self.ahead_dist.val() <= self.ahead_radius.val();
         }
+        self.parent_bound.d.next = self.ahead_dist.val() & self.dist_mask.val();
+        // `Cell`: a down visit's far cell distance is the level's bound; an ASCEND
+        // step below the root enters or passes the parent level (`CellBound`).
+        self.cell_state.load.next = self.load.val();
+        self.cell_state.axis.next = self.result.val().axis;
+        self.cell_state.axis_dist.next = self.result.val().axis_dist;
+        self.cell_state.write_index.next = self.level_at.q.val();
+        self.cell_state.visit.next = false;
+        self.cell_state.read_index.next = self.parent_at.q.val();
+        self.cell_state.step.next = self.cell_bound.val()
+            && (self.state.q.val() == QueryState::Ascend)
+            && !self.level.q.val().get_bit(0);
+        self.cell_state.enter.next = self.parent_pending.val() && self.parent_within.q.val();
+        self.cell_state.enter_bound.next = self.parent_bound.q.val();
         self.max_finder.clock.next = self.clock.val();
         self.max_finder.start.next = false;
         self.max_finder.candidates.next = self.occupied.q.val();
@@ -335,10 +370,14 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.found_dist.write_index.next = self.insert_index.val();
         self.found_dist.write_data.next = self.result.val().distance & self.dist_mask.val();
         self.found_dist.read_index.next = self.out_index.val();
-        // The path memory takes each down visit's axis distance at its level.
+        // The path memory takes each down visit's pruning bound at its level.
         self.path.write_enable.next = false;
         self.path.write_index.next = self.level_at.q.val();
-        self.path.write_data.next = self.result.val().axis_dist & self.dist_mask.val();
+        if self.cell_bound.val() {
+            self.path.write_data.next = self.cell_state.far_cell_dist.val();
+        } else {
+            self.path.write_data.next = self.result.val().axis_dist & self.dist_mask.val();
+        }
 
         match self.state.q.val() {
             QueryState::Idle => {
@@ -357,6 +396,7 @@ impl<const S: usize> Logic for QueryModule<S> {
                     if self.remember.val() {
                         // Remember this level; go down, or climb (after the MaxFinder).
                         self.path.write_enable.next = true;
+                        self.cell_state.visit.next = self.cell_bound.val();
                         if self.result.val().far_pending {
                             self.pending.d.next = (self.pending.q.val() | self.level.q.val())
                                 & self.pending_mask.val();

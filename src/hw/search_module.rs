@@ -88,6 +88,7 @@ pub struct SearchModule<const W: usize> {
     s1: DFF<ReadRequest>,
     s1_axis_dist: DFF<Dist>,
     s1_near_right: DFF<bool>,
+    s1_axis: DFF<Bits<2>>,
     s1_dist: DFF<Dist>,
     s1_in_range: DFF<bool>,
     // Stage 2: the result.
@@ -147,6 +148,7 @@ impl<const W: usize> SearchModule<W> {
             s1: Default::default(),
             s1_axis_dist: Default::default(),
             s1_near_right: Default::default(),
+            s1_axis: Default::default(),
             s1_dist: Default::default(),
             s1_in_range: Default::default(),
             s2_valid: Default::default(),
@@ -173,6 +175,7 @@ impl<const W: usize> Logic for SearchModule<W> {
             s1,
             s1_axis_dist,
             s1_near_right,
+            s1_axis,
             s1_dist,
             s1_in_range,
             s2_valid,
@@ -247,6 +250,7 @@ impl<const W: usize> Logic for SearchModule<W> {
         self.s1.d.next = self.in_request.val();
         self.s1_axis_dist.d.next = self.axis_dist.axis_dist.val();
         self.s1_near_right.d.next = self.axis_dist.near_right.val();
+        self.s1_axis.d.next = self.axis_dist.axis.val();
         self.s1_dist.d.next = self.dist_module.distance.val();
         self.s1_in_range.d.next = self.dist_module.in_range.val();
 
@@ -272,6 +276,7 @@ impl<const W: usize> Logic for SearchModule<W> {
         self.s2.d.next.distance = self.s1_dist.q.val();
         self.s2.d.next.axis_dist = self.s1_axis_dist.q.val();
         self.s2.d.next.far_pending = self.next_index.far_pending.val();
+        self.s2.d.next.axis = self.s1_axis.q.val();
         self.s2.d.next.next_address = self.next_index.next_address.val();
         self.s2.d.next.next_up = self.next_index.next_up.val();
         self.s2.d.next.next_came_from_right = self.next_index.next_came_from_right.val();

@@ -107,4 +107,6 @@ pub struct ReadResult {
     /// whether its far child is still to be visited.
     pub axis_dist: Dist,
     pub far_pending: bool,
+    /// The photon's split axis (`Traversal::Cell`: which offset its far cell changes).
+    pub axis: Bits<2>,
 }

@@ -200,7 +200,8 @@ pub fn search_with<C: Scalar, S: NodeSource<C> + ?Sized>(
 ) -> Found<C::Dist> {
     assert!(k >= 1, "k must be at least 1");
     match traversal {
-        Traversal::Remember => search_remember(tree, q, k, r0, metric),
+        Traversal::Remember => search_remember(tree, q, k, r0, metric, false),
+        Traversal::Cell => search_remember(tree, q, k, r0, metric, true),
         Traversal::Reread => search_reread(tree, q, k, r0, metric),
     }
 }
@@ -245,6 +246,7 @@ impl<D: Ord + Copy> Radius<D> {
 /// and its axis distance.
 struct Read<C: Scalar> {
     p: [C; 3],
+    axis: usize,
     near_bit: usize,
     near: usize,
     far: usize,
@@ -262,6 +264,7 @@ fn read<C: Scalar, S: NodeSource<C> + ?Sized>(
     let near_bit = C::total_cmp(q[ax], p[ax]).is_ge() as usize;
     Read {
         p,
+        axis: ax,
         near_bit,
         near: 2 * addr + near_bit,
         far: 2 * addr + 1 - near_bit,
@@ -269,44 +272,75 @@ fn read<C: Scalar, S: NodeSource<C> + ?Sized>(
     }
 }
 
-/// One level of the current path ([`Traversal::Remember`]): the axis distance of the
-/// node read there, and whether its far child is still to be visited.
+/// One level of the current path ([`Traversal::Remember`], [`Traversal::Cell`]): the
+/// pruning bound of the far child of the node read there (its axis distance, or with
+/// `Cell` the distance to its cell), whether that child is still to be visited, and
+/// for `Cell` the node's axis, the offset along it before and inside the far cell.
 #[derive(Clone, Copy)]
 struct Level<D> {
-    axis_dist: D,
+    bound: D,
     pending: bool,
+    axis: usize,
+    old_off: D,
+    far_off: D,
 }
 
-/// [`Traversal::Remember`]: the ascent reads nothing; see the module docs.
+/// [`Traversal::Remember`] (`cell` false) and [`Traversal::Cell`]: the ascent reads
+/// nothing; see the module docs and `hw::traversal`.
 fn search_remember<C: Scalar, S: NodeSource<C> + ?Sized>(
     tree: &S,
     q: [C; 3],
     k: usize,
     r0: C::Dist,
     metric: Metric,
+    cell: bool,
 ) -> Found<C::Dist> {
     let n = tree.len();
     let mut st = Radius::new(k, r0);
     let mut visited = 0u32;
+    let zero = C::axis_dist(metric, q[0], q[0]);
     // One entry per tree level (the root is level 0): at most 64 levels of `usize`.
     let mut path = [Level {
-        axis_dist: r0,
+        bound: r0,
         pending: false,
+        axis: 0,
+        old_off: zero,
+        far_off: zero,
     }; 64];
+    // `Cell`: the query's offsets from the current node's cell along each axis (zero
+    // at the root: the root's cell is all space).
+    let mut off = [zero; 3];
     let (mut addr, mut level) = (1usize, 0usize);
     let mut climbs = 0u32;
     'descend: loop {
         let rd = read(tree, q, addr, metric);
         visited += 1;
+        let axis = rd.axis;
         // The down step's far test uses R as read with the photon (before its own
         // insertion), as the SearchModule computes it in parallel with the distance.
         let within = st.within(rd.axis_dist);
         st.test(addr, C::dist(metric, q, rd.p));
+        // The far cell is this cell with the offset along `axis` replaced by the
+        // axis distance (never smaller: the split lies inside the cell); its distance
+        // is the sum of the offsets, added in the order `dist` adds the axes (so a
+        // float bound is never above a float distance: rounding is monotonic). The
+        // hardware adds incrementally, `rd - off[a] + axis_dist`: the same integer.
+        let bound = if cell {
+            let mut far = off;
+            far[axis] = rd.axis_dist;
+            C::dist_sum(far)
+        } else {
+            rd.axis_dist
+        };
         path[level] = Level {
-            axis_dist: rd.axis_dist,
+            bound,
             pending: rd.near <= n && rd.far <= n,
+            axis,
+            old_off: off[axis],
+            far_off: rd.axis_dist,
         };
         if rd.near <= n || (rd.far <= n && within) {
+            // (A far child entered here keeps the offsets: a lower bound still.)
             addr = if rd.near <= n { rd.near } else { rd.far };
             level += 1;
             continue;
@@ -318,12 +352,15 @@ fn search_remember<C: Scalar, S: NodeSource<C> + ?Sized>(
             climbs += 1;
             level -= 1;
             let l = path[level];
-            if l.pending && st.within(l.axis_dist) {
+            if l.pending && st.within(l.bound) {
                 path[level].pending = false;
+                off[l.axis] = l.far_off;
                 addr = from ^ 1;
                 level += 1;
                 continue 'descend;
             }
+            // Leaving this level's far (or near) child: its offset as it was.
+            off[l.axis] = l.old_off;
         }
         break;
     }

@@ -18,6 +18,8 @@ pub trait Scalar: Copy + Send + Sync + std::fmt::Debug + 'static {
     fn extent(lo: Self, hi: Self) -> f64;
     fn axis_dist(metric: Metric, a: Self, b: Self) -> Self::Dist;
     fn dist(metric: Metric, a: [Self; 3], b: [Self; 3]) -> Self::Dist;
+    /// The sum of three axis distances, added as `dist` adds them.
+    fn dist_sum(d: [Self::Dist; 3]) -> Self::Dist;
 }
 
 impl Scalar for u32 {
@@ -36,6 +38,10 @@ impl Scalar for u32 {
     #[inline]
     fn dist(metric: Metric, a: [u32; 3], b: [u32; 3]) -> u64 {
         metric.dist(a, b)
+    }
+    #[inline]
+    fn dist_sum(d: [u64; 3]) -> u64 {
+        d[0] + d[1] + d[2]
     }
 }
 
@@ -61,6 +67,10 @@ impl Scalar for i64 {
     #[inline]
     fn dist(metric: Metric, a: [i64; 3], b: [i64; 3]) -> u128 {
         (0..3).map(|i| Self::axis_dist(metric, a[i], b[i])).sum()
+    }
+    #[inline]
+    fn dist_sum(d: [u128; 3]) -> u128 {
+        d[0] + d[1] + d[2]
     }
 }
 
@@ -103,5 +113,9 @@ impl Scalar for f64 {
             Metric::L2 => d[0] * d[0] + d[1] * d[1] + d[2] * d[2],
             Metric::L1 => d[0] + d[1] + d[2],
         })
+    }
+    #[inline]
+    fn dist_sum(d: [FloatDist; 3]) -> FloatDist {
+        FloatDist::new(d[0].get() + d[1].get() + d[2].get())
     }
 }
