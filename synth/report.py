@@ -30,10 +30,14 @@ ECP5_ONLY = os.environ.get("PHOTON_FPGA_STEPS") == "ecp5"
 PAPER_BASE = ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l1"]
 PAPER = PAPER_BASE + ["--queries-per-port", "12"]
 PAPER21 = PAPER_BASE + ["--queries-per-port", "21"]
+PAPER_CELL = PAPER_BASE + ["--queries-per-port", "14", "--traversal", "cell"]
 # name, export-verilog/bench-core options, replicated trees T (a PhotonSearchArray)
 CONFIGS = [
     ("paper (K=10, 10-bit, L1, 2x12: Q fitted)", PAPER, 1),
     ("paper, worst-case Q (2x21)", PAPER21, 1),
+    # The cell-distance traversal (Traversal::Cell): fewer reads per query, more LUTs
+    # per QueryModule; Q fitted to this traversal's read interval (bench-core --fit-q).
+    ("paper, cell traversal (2x14: Q fitted)", PAPER_CELL, 1),
     # Before the path memory: the paper's ascent, every parent read again on the way up.
     ("paper, re-read ascent (before; 2x21)", PAPER21 + ["--traversal", "reread"], 1),
     # Before pipelining: no register on the BlockRAM read data nor on the result streams.
@@ -47,6 +51,7 @@ CONFIGS = [
      ["--k", "32", "--bits", "14", "--address-bits", "19", "--metric", "l2", "--queries-per-port", "19"], 1),
     ("T=2 trees", PAPER + ["--trees", "2"], 2),
     ("T=4 trees", PAPER + ["--trees", "4"], 4),
+    ("T=4 trees, cell traversal", PAPER_CELL + ["--trees", "4"], 4),
 ]
 
 

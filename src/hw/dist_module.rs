@@ -1,9 +1,8 @@
 //! DistModule (paper §4.3): the full query-photon distance in the search metric
-//! (sum of the three axis distances: squared L2 or L1, no square root) and the
-//! in-range test against the radius of the QueryModule that issued the read.
-//! Before the found list is full the initial radius is inclusive (`d <= R`); once
-//! full, R is the list maximum and only a strictly nearer photon enters (`d < R`),
-//! the boundary rules of knn.rs. It runs in parallel with AxisDist/NextIndex.
+//! (sum of the three axis distances: squared L2 or L1, no square root). It runs in
+//! parallel with AxisDist/NextIndex. The in-range test against the radius of the
+//! QueryModule that issued the read is the SearchModule's next stage, on the
+//! registered distance (issue 11: a carry chain fewer in this one).
 
 use crate::hw::config::{low_mask, Coord, Dist};
 use crate::hw::metric::Metric;
@@ -17,11 +16,7 @@ pub struct DistModule {
     pub photon_x: Signal<In, Coord>,
     pub photon_y: Signal<In, Coord>,
     pub photon_z: Signal<In, Coord>,
-    /// The requesting QueryModule's current radius R and its list-full flag.
-    pub radius: Signal<In, Dist>,
-    pub full: Signal<In, bool>,
     pub distance: Signal<Out, Dist>,
-    pub in_range: Signal<Out, bool>,
     metric_is_l2: Constant<bool>,
     /// The configured widths ("only what the scene needs"): each axis's coordinate
     /// bits and the metric's distance bits. The differences and the sum are masked
@@ -58,10 +53,7 @@ impl DistModule {
             photon_x: Default::default(),
             photon_y: Default::default(),
             photon_z: Default::default(),
-            radius: Default::default(),
-            full: Default::default(),
             distance: Default::default(),
-            in_range: Default::default(),
             metric_is_l2: Constant::new(metric == Metric::L2),
             delta_x: Default::default(),
             delta_y: Default::default(),
@@ -103,10 +95,5 @@ impl Logic for DistModule {
         // CoreConfig::validate guarantees the sum fits the distance width.
         self.distance.next =
             (self.term_x.val() + self.term_y.val() + self.term_z.val()) & self.dist_mask.val();
-        if self.full.val() {
-            self.in_range.next = self.distance.val() < self.radius.val();
-        } else {
-            self.in_range.next = self.distance.val() <= self.radius.val();
-        }
     }
 }

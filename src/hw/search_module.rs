@@ -15,8 +15,8 @@
 //! * t+1: (pipelined core) word and request registered (stage W);
 //! * t+1 (t+2 pipelined): word unpacked; AxisDistModule and DistModule in parallel
 //!   -> stage 1;
-//! * t+2 (t+3): NextIndexModule -> result registers, seen by the QueryModules at
-//!   t+3 (t+4).
+//! * t+2 (t+3): NextIndexModule and the in-range test of the registered distance
+//!   -> result registers, seen by the QueryModules at t+3 (t+4).
 
 use crate::hw::axis_dist::AxisDistModule;
 use crate::hw::config::{low_mask, Addr, Coord, CoreConfig, Dist, ModuleIndex, ModuleMask, Word};
@@ -90,7 +90,8 @@ pub struct SearchModule<const W: usize> {
     s1_near_right: DFF<bool>,
     s1_axis: DFF<Bits<2>>,
     s1_dist: DFF<Dist>,
-    s1_in_range: DFF<bool>,
+    /// Stage 2: the registered distance within R.
+    s1_within: Signal<Local, bool>,
     // Stage 2: the result.
     s2_valid: DFF<bool>,
     s2: DFF<ReadResult>,
@@ -150,7 +151,7 @@ impl<const W: usize> SearchModule<W> {
             s1_near_right: Default::default(),
             s1_axis: Default::default(),
             s1_dist: Default::default(),
-            s1_in_range: Default::default(),
+            s1_within: Default::default(),
             s2_valid: Default::default(),
             s2: Default::default(),
             s2_for: Default::default(),
@@ -177,7 +178,6 @@ impl<const W: usize> Logic for SearchModule<W> {
             s1_near_right,
             s1_axis,
             s1_dist,
-            s1_in_range,
             s2_valid,
             s2,
             s2_for
@@ -242,8 +242,6 @@ impl<const W: usize> Logic for SearchModule<W> {
         self.dist_module.photon_x.next = self.photon_x.val();
         self.dist_module.photon_y.next = self.photon_y.val();
         self.dist_module.photon_z.next = self.photon_z.val();
-        self.dist_module.radius.next = self.in_request.val().radius;
-        self.dist_module.full.next = self.in_request.val().full;
         self.s1_valid.d.next = self.in_valid.val();
         // The query's coordinates are not needed past this stage; synthesis drops
         // their stage-1 bits.
@@ -252,7 +250,6 @@ impl<const W: usize> Logic for SearchModule<W> {
         self.s1_near_right.d.next = self.axis_dist.near_right.val();
         self.s1_axis.d.next = self.axis_dist.axis.val();
         self.s1_dist.d.next = self.dist_module.distance.val();
-        self.s1_in_range.d.next = self.dist_module.in_range.val();
 
         // Stage 2: the next traversal step.
         self.next_index.address.next = self.s1.q.val().address;
@@ -271,8 +268,19 @@ impl<const W: usize> Logic for SearchModule<W> {
         }
         self.s2.d.next.query_module = self.s1.q.val().query_module;
         self.s2.d.next.address = self.s1.q.val().address;
+        // The in-range test against the requesting QueryModule's R, on the
+        // registered distance (issue 11: the difference, the sum and this comparison
+        // in one stage were three carry chains in series, the 2 × 12 core's ECP5
+        // critical path at 81.6 MHz once the QueryModule's own paths were
+        // registered). Before the list is full R is inclusive (`d <= R`), once
+        // full only a strictly nearer photon enters (`d < R`): knn.rs's rules.
         // Only a first (downward) visit tests the photon against the found list.
-        self.s2.d.next.in_range = self.s1_in_range.q.val() && (!self.s1.q.val().up);
+        if self.s1.q.val().full {
+            self.s1_within.next = self.s1_dist.q.val() < self.s1.q.val().radius;
+        } else {
+            self.s1_within.next = self.s1_dist.q.val() <= self.s1.q.val().radius;
+        }
+        self.s2.d.next.in_range = self.s1_within.val() && (!self.s1.q.val().up);
         self.s2.d.next.distance = self.s1_dist.q.val();
         self.s2.d.next.axis_dist = self.s1_axis_dist.q.val();
         self.s2.d.next.far_pending = self.next_index.far_pending.val();
