@@ -116,8 +116,9 @@ fn paper_core_reads_every_cycle_with_rereads() {
 /// Right-sized Q (issue 11): Q fitted to a query stream from the software model of
 /// its read intervals (`CoreConfig::fit_queries_per_port`) is below the worst-case
 /// issue interval and still keeps every port reading ≥ 0.98 photons per cycle while
-/// all QueryModules are busy, on the paper workload and on a Cornell-box stream;
-/// every result equals the software search.
+/// all QueryModules are busy, on the paper workload (with the default and the
+/// cell-distance traversal) and on a Cornell-box stream; every result equals the
+/// software search.
 #[test]
 fn fitted_q_keeps_every_port_reading() {
     use photon_fpga::host::workload;
@@ -128,8 +129,13 @@ fn fitted_q_keeps_every_port_reading() {
     let mut cornell_cfg =
         CoreConfig::for_map(cornell.tree.image(), 10, Metric::L1).expect("config");
     cornell_cfg.traversal = Traversal::Remember;
+    let paper_cell = CoreConfig {
+        traversal: Traversal::Cell,
+        ..paper
+    };
     for (name, mut cfg, w) in [
         ("paper", paper, &uniform),
+        ("paper, cell traversal", paper_cell, &uniform),
         ("cornell", cornell_cfg, &cornell),
     ] {
         let max = cfg.max_dist();
