@@ -76,8 +76,13 @@ pub struct QueryModule<const S: usize> {
     pub result_taken: Signal<In, bool>,
     /// This module is the one being read out (its id, count and reads appear).
     pub out_enable: Signal<In, bool>,
-    /// The slot being read out (one-hot; zero while not read out).
-    pub out_slot: Signal<In, SlotMask<S>>,
+    /// The entry being read out (the same for every module of the port) and whether
+    /// this module's entries are being read out (a flip-flop of the port's, so that
+    /// the read-out path is the LUT-RAM read and one gate; issue 11: a one-hot slot
+    /// gated per module and encoded here was the 2 × 12 core's critical path,
+    /// 89.4 MHz).
+    pub out_entry: Signal<In, RamIndex>,
+    pub out_reading: Signal<In, bool>,
     pub out_count: Signal<Out, Count>,
     pub out_visited: Signal<Out, ReadCount>,
     pub out_address: Signal<Out, Addr>,
@@ -137,7 +142,6 @@ pub struct QueryModule<const S: usize> {
     /// Entry index of each slot, to turn a one-hot mask into a RAM index.
     slot_index: Vec<Constant<RamIndex>>,
     insert_index: Signal<Local, RamIndex>,
-    out_index: Signal<Local, RamIndex>,
     /// The path memory's entries of `level` and of its parent level, kept in
     /// registers beside the one-hot level (issue 11: so that ASCEND's read of the
     /// parent's entry starts from flip-flops, not from a one-hot encoder).
@@ -197,7 +201,8 @@ impl<const S: usize> QueryModule<S> {
             finished: Default::default(),
             result_taken: Default::default(),
             out_enable: Default::default(),
-            out_slot: Default::default(),
+            out_entry: Default::default(),
+            out_reading: Default::default(),
             out_count: Default::default(),
             out_visited: Default::default(),
             out_address: Default::default(),
@@ -236,7 +241,6 @@ impl<const S: usize> QueryModule<S> {
                 .map(|i| Constant::new(RamIndex::from(i as u64)))
                 .collect(),
             insert_index: Default::default(),
-            out_index: Default::default(),
             level_at: Default::default(),
             parent_at: Default::default(),
             grand_at: Default::default(),
@@ -352,24 +356,20 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.max_finder.write_enable.next = self.insert.val();
         self.max_finder.write_slot.next = self.insert_slot.val();
         self.insert_index.next = 0.into();
-        self.out_index.next = 0.into();
         for i in 0..self.slot_index.len() {
             if self.insert_slot.val().get_bit(i) {
                 self.insert_index.next = self.insert_index.val() | self.slot_index[i].val();
-            }
-            if self.out_slot.val().get_bit(i) {
-                self.out_index.next = self.out_index.val() | self.slot_index[i].val();
             }
         }
         self.found.write_enable.next = self.insert.val();
         self.found.write_index.next = self.insert_index.val();
         self.found.write_data.next =
             bit_cast::<32, 24>(self.result.val().address & self.addr_mask.val());
-        self.found.read_index.next = self.out_index.val();
+        self.found.read_index.next = self.out_entry.val();
         self.found_dist.write_enable.next = self.insert.val();
         self.found_dist.write_index.next = self.insert_index.val();
         self.found_dist.write_data.next = self.result.val().distance & self.dist_mask.val();
-        self.found_dist.read_index.next = self.out_index.val();
+        self.found_dist.read_index.next = self.out_entry.val();
         // The path memory takes each down visit's pruning bound at its level.
         self.path.write_enable.next = false;
         self.path.write_index.next = self.level_at.q.val();
@@ -560,7 +560,7 @@ impl<const S: usize> Logic for QueryModule<S> {
         }
         self.out_address.next = 0.into();
         self.out_dist.next = 0.into();
-        if self.out_slot.val().any() {
+        if self.out_reading.val() {
             self.out_address.next = bit_cast::<24, 32>(self.found.read_data.val());
             self.out_dist.next = self.found_dist.read_data.val() & self.dist_mask.val();
         }

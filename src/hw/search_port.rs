@@ -35,9 +35,9 @@
 //! output is a flip-flop and a result leaves one cycle after it is read out.
 
 use crate::hw::config::{
-    Addr, CoreConfig, Count, ModuleIndex, ModuleMask, ReadCount, SlotMask, Word,
+    bits_for, low_mask, Addr, CoreConfig, Count, ModuleIndex, ModuleMask, ReadCount, Word,
 };
-use crate::hw::lut_ram::LutRam;
+use crate::hw::lut_ram::{LutRam, RamIndex};
 use crate::hw::port_arbiter::PortArbiter;
 use crate::hw::query_module::QueryModule;
 use crate::hw::register_slice::ResultRegister;
@@ -76,6 +76,8 @@ pub struct SearchPort<const S: usize, const W: usize> {
     result_register: ResultRegister,
     /// One bit per QueryModule of this port.
     all_modules: Constant<ModuleMask>,
+    /// The bits of an entry index (0..K).
+    entry_mask: Constant<RamIndex>,
     requests: Signal<Local, ModuleMask>,
     free_mask: Signal<Local, ModuleMask>,
     /// Free modules not loaded in this cycle: the candidates for the next pick.
@@ -105,7 +107,10 @@ pub struct SearchPort<const S: usize, const W: usize> {
     /// Index of `out_select`'s module.
     out_index: DFF<ModuleIndex>,
     out_header: DFF<bool>,
-    out_slot: DFF<SlotMask<S>>,
+    /// The entry being read out, and the module whose entries are (one-hot: each
+    /// module's gate is one flip-flop).
+    out_entry: DFF<RamIndex>,
+    out_reading: DFF<ModuleMask>,
     out_left: DFF<Count>,
     /// The cycle after the selection: the module's header is being fetched.
     out_fetch: DFF<bool>,
@@ -144,6 +149,9 @@ impl<const S: usize, const W: usize> SearchPort<S, W> {
             search: SearchModule::new(cfg),
             result_register: ResultRegister::new(!cfg.pipelined),
             all_modules: Constant::new(ModuleMask::from(((1u64 << q) - 1) & 0xFFFF_FFFF)),
+            entry_mask: Constant::new(RamIndex::from(low_mask(bits_for(
+                cfg.k.saturating_sub(1) as u64
+            )))),
             requests: Default::default(),
             free_mask: Default::default(),
             still_free: Default::default(),
@@ -167,7 +175,8 @@ impl<const S: usize, const W: usize> SearchPort<S, W> {
             out_select: Default::default(),
             out_index: Default::default(),
             out_header: Default::default(),
-            out_slot: Default::default(),
+            out_entry: Default::default(),
+            out_reading: Default::default(),
             out_left: Default::default(),
             out_fetch: Default::default(),
             hdr_count: Default::default(),
@@ -194,7 +203,8 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
             out_select,
             out_index,
             out_header,
-            out_slot,
+            out_entry,
+            out_reading,
             out_left,
             out_fetch,
             hdr_count,
@@ -336,10 +346,8 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
             // Result read-out: only the selected module sees a slot and drives its
             // outputs (the others give zeros), so the beat is an OR over modules.
             self.modules[i].out_enable.next = self.out_select.q.val().get_bit(i);
-            self.modules[i].out_slot.next = 0.into();
-            if self.out_select.q.val().get_bit(i) {
-                self.modules[i].out_slot.next = self.out_slot.q.val();
-            }
+            self.modules[i].out_entry.next = self.out_entry.q.val();
+            self.modules[i].out_reading.next = self.out_reading.q.val().get_bit(i);
             self.module_count.next = self.module_count.val() | self.modules[i].out_count.val();
             self.module_visited.next =
                 self.module_visited.val() | self.modules[i].out_visited.val();
@@ -387,11 +395,12 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
         } else if self.result_fire.val() {
             if self.out_header.q.val() {
                 self.out_header.d.next = false;
-                self.out_slot.d.next = 1.into();
+                self.out_entry.d.next = 0.into();
+                self.out_reading.d.next = self.out_select.q.val();
                 self.out_left.d.next = self.hdr_count.q.val();
                 self.out_last.d.next = self.hdr_count.q.val() == 1;
             } else {
-                self.out_slot.d.next = self.out_slot.q.val() << 1;
+                self.out_entry.d.next = (self.out_entry.q.val() + 1) & self.entry_mask.val();
                 self.out_left.d.next = self.out_left.q.val() - 1;
                 self.out_last.d.next = self.out_left.q.val() == 2;
             }
@@ -399,7 +408,7 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
                 self.out_active.d.next = false;
                 self.out_select.d.next = 0.into();
                 self.out_index.d.next = 0.into();
-                self.out_slot.d.next = 0.into();
+                self.out_reading.d.next = 0.into();
             }
         }
         if self.reset.val() {
@@ -407,6 +416,7 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
             self.out_fetch.d.next = false;
             self.out_select.d.next = 0.into();
             self.out_index.d.next = 0.into();
+            self.out_reading.d.next = 0.into();
         }
 
         self.reading.next = self.granted.val();
