@@ -33,11 +33,11 @@
 //! `S` is the width of the slot masks (32 or 64, see `CoreConfig::slot_bits`): a
 //! const generic because rust-hdl's `Bits` width must be a constant.
 
-use crate::hw::config::{Dist, SlotMask};
+use crate::hw::config::{bits_for, low_mask, Dist, SlotMask};
+use rust_hdl::prelude::*;
 
 /// Index of a row (a distance bit).
 pub type RowIndex = Bits<5>;
-use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
 pub struct MaxFinder<const S: usize> {
@@ -110,9 +110,9 @@ impl<const S: usize> MaxFinder<S> {
             busy_reg: Default::default(),
             top_row: Constant::new(Dist::from(1u64 << (dist_bits - 1))),
             top_bit: Constant::new(RowIndex::from((dist_bits - 1) as u64)),
-            row_index_mask: Constant::new(RowIndex::from(
-                (1u64 << (32 - (dist_bits - 1).leading_zeros()).max(1)) - 1,
-            )),
+            row_index_mask: Constant::new(RowIndex::from(low_mask(bits_for(
+                (dist_bits - 1) as u64,
+            )))),
             slot_mask: Constant::new(SlotMask::<S>::from(u64::MAX >> (64 - slots))),
             dist_mask: Constant::new(Dist::from(u64::MAX >> (64 - dist_bits))),
             gathered: Default::default(),

@@ -200,8 +200,8 @@ pub fn search_with<C: Scalar, S: NodeSource<C> + ?Sized>(
 ) -> Found<C::Dist> {
     assert!(k >= 1, "k must be at least 1");
     match traversal {
-        Traversal::Remember => search_remember(tree, q, k, r0, metric, false),
-        Traversal::Cell => search_remember(tree, q, k, r0, metric, true),
+        Traversal::Remember => search_remember::<false, C, S>(tree, q, k, r0, metric),
+        Traversal::Cell => search_remember::<true, C, S>(tree, q, k, r0, metric),
         Traversal::Reread => search_reread(tree, q, k, r0, metric),
     }
 }
@@ -285,20 +285,20 @@ struct Level<D> {
     far_off: D,
 }
 
-/// [`Traversal::Remember`] (`cell` false) and [`Traversal::Cell`]: the ascent reads
-/// nothing; see the module docs and `hw::traversal`.
-fn search_remember<C: Scalar, S: NodeSource<C> + ?Sized>(
+/// [`Traversal::Remember`] (`CELL` false) and [`Traversal::Cell`]: the ascent reads
+/// nothing; see the module docs and `hw::traversal`. `CELL` is a constant so that
+/// the default traversal's hot loop carries none of the offset bookkeeping.
+fn search_remember<const CELL: bool, C: Scalar, S: NodeSource<C> + ?Sized>(
     tree: &S,
     q: [C; 3],
     k: usize,
     r0: C::Dist,
     metric: Metric,
-    cell: bool,
 ) -> Found<C::Dist> {
     let n = tree.len();
     let mut st = Radius::new(k, r0);
     let mut visited = 0u32;
-    let zero = C::axis_dist(metric, q[0], q[0]);
+    let zero = C::ZERO_DIST;
     // One entry per tree level (the root is level 0): at most 64 levels of `usize`.
     let mut path = [Level {
         bound: r0,
@@ -325,7 +325,7 @@ fn search_remember<C: Scalar, S: NodeSource<C> + ?Sized>(
         // is the sum of the offsets, added in the order `dist` adds the axes (so a
         // float bound is never above a float distance: rounding is monotonic). The
         // hardware adds incrementally, `rd - off[a] + axis_dist`: the same integer.
-        let bound = if cell {
+        let bound = if CELL {
             let mut far = off;
             far[axis] = rd.axis_dist;
             C::dist_sum(far)
@@ -354,13 +354,17 @@ fn search_remember<C: Scalar, S: NodeSource<C> + ?Sized>(
             let l = path[level];
             if l.pending && st.within(l.bound) {
                 path[level].pending = false;
-                off[l.axis] = l.far_off;
+                if CELL {
+                    off[l.axis] = l.far_off;
+                }
                 addr = from ^ 1;
                 level += 1;
                 continue 'descend;
             }
             // Leaving this level's far (or near) child: its offset as it was.
-            off[l.axis] = l.old_off;
+            if CELL {
+                off[l.axis] = l.old_off;
+            }
         }
         break;
     }

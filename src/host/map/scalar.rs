@@ -13,6 +13,8 @@ pub trait Scalar: Copy + Send + Sync + std::fmt::Debug + 'static {
     type Dist: Copy + Ord + Send + Sync + std::fmt::Debug;
     /// The largest distance (an unbounded radius).
     const MAX_DIST: Self::Dist;
+    /// Distance zero.
+    const ZERO_DIST: Self::Dist;
     fn total_cmp(a: Self, b: Self) -> Ordering;
     /// hi − lo as f64, to pick the split axis.
     fn extent(lo: Self, hi: Self) -> f64;
@@ -25,6 +27,7 @@ pub trait Scalar: Copy + Send + Sync + std::fmt::Debug + 'static {
 impl Scalar for u32 {
     type Dist = u64;
     const MAX_DIST: u64 = u64::MAX;
+    const ZERO_DIST: u64 = 0;
     fn total_cmp(a: u32, b: u32) -> Ordering {
         a.cmp(&b)
     }
@@ -50,6 +53,7 @@ impl Scalar for u32 {
 impl Scalar for i64 {
     type Dist = u128;
     const MAX_DIST: u128 = u128::MAX;
+    const ZERO_DIST: u128 = 0;
     fn total_cmp(a: i64, b: i64) -> Ordering {
         a.cmp(&b)
     }
@@ -92,6 +96,7 @@ impl FloatDist {
 impl Scalar for f64 {
     type Dist = FloatDist;
     const MAX_DIST: FloatDist = FloatDist(0x7ff0_0000_0000_0000); // +inf
+    const ZERO_DIST: FloatDist = FloatDist(0);
     fn total_cmp(a: f64, b: f64) -> Ordering {
         a.total_cmp(&b)
     }
