@@ -4,7 +4,7 @@
 //! the photon map; the array puts the core's valid/ready streams in front of them:
 //!
 //! * load: broadcast. A beat moves only when every tree is ready, into all of them,
-//!   so the trees always hold the same map.
+//!   so the trees always hold the same map; `ready` is a register, as in the core.
 //! * query: dispatched round-robin (the core's [`Dispatcher`]) into a one-beat stage
 //!   per tree, which hands it to its tree once the tree has a free QueryModule. A
 //!   pending load blocks queries, as in the core, and waits for the stages to empty
@@ -61,6 +61,12 @@ pub struct PhotonSearchArray<const S: usize, const W: usize> {
     stage_data: Vec<DFF<QueryBeat>>,
     stages_empty: Signal<Local, bool>,
     load_ready_all: Signal<Local, bool>,
+    /// `load.ready`, registered like each core's (issue 11): the AND over the
+    /// trees' ready registers and the stages, a cycle ahead and with no query
+    /// entering a stage, so the broadcast load's enable starts from one flip-flop
+    /// instead of a path across every tree. (Each tree's `load_ready` is then still
+    /// set: it was set a cycle ago and no query reached the tree since.)
+    load_ready: DFF<bool>,
     any_reading_a: Signal<Local, bool>,
     any_reading_b: Signal<Local, bool>,
     every_busy: Signal<Local, bool>,
@@ -88,6 +94,7 @@ impl<const S: usize, const W: usize> PhotonSearchArray<S, W> {
             stage_data: (0..cfg.trees).map(|_| Default::default()).collect(),
             stages_empty: Default::default(),
             load_ready_all: Default::default(),
+            load_ready: Default::default(),
             any_reading_a: Default::default(),
             any_reading_b: Default::default(),
             every_busy: Default::default(),
@@ -101,6 +108,7 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchArray<S, W> {
         self.dispatch.clock.next = self.clock.val();
         self.merge.clock.next = self.clock.val();
         self.merge.reset.next = self.reset.val();
+        dff_setup!(self, clock, load_ready);
 
         // Collect the trees' load handshake and status bits.
         self.load_ready_all.next = true;
@@ -133,8 +141,13 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchArray<S, W> {
             self.every_busy.next = self.every_busy.val() && self.trees[i].all_busy.val();
         }
         // A load waits for the stages: their queries were sent against the old map.
-        self.load_ready_all.next = self.load_ready_all.val() && self.stages_empty.val();
-        self.load.ready.next = self.load_ready_all.val();
+        self.load_ready.d.next = self.load_ready_all.val()
+            && self.stages_empty.val()
+            && !(self.query.valid.val() && self.dispatch.inbound.ready.val());
+        if self.reset.val() {
+            self.load_ready.d.next = false;
+        }
+        self.load.ready.next = self.load_ready.q.val();
 
         // Queries to one tree; a pending load goes first.
         self.dispatch.inbound.valid.next = self.query.valid.val();
@@ -148,7 +161,7 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchArray<S, W> {
             self.trees[i].clock.next = self.clock.val();
             self.trees[i].reset.next = self.reset.val();
             // Broadcast load: the beat moves into every tree at once.
-            self.trees[i].load.valid.next = self.load.valid.val() && self.load_ready_all.val();
+            self.trees[i].load.valid.next = self.load.valid.val() && self.load_ready.q.val();
             self.trees[i].load.address.next = self.load.address.val();
             self.trees[i].load.word.next = self.load.word.val();
             self.trees[i].load.last.next = self.load.last.val();

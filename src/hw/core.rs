@@ -6,7 +6,8 @@
 //! Streams ([`crate::hw::stream`]), all valid/ready:
 //! * `load`: heap address, word, `last` (the last word's address is latched as N,
 //!   the photon count). Accepted only while no query is in flight, so a new map can
-//!   be loaded after the previous one finished, with or without reset.
+//!   be loaded after the previous one finished, with or without reset; `ready` is
+//!   a register, set the cycle after the core became idle.
 //! * `query`: [`QueryBeat`]s, accepted once a map is loaded and no load is pending.
 //! * `result`: [`ResultBeat`] packets, a header then one beat per found photon.
 //!   Results of different queries may leave out of order; beats of one result are
@@ -47,6 +48,14 @@ pub struct PhotonSearchCore<const S: usize, const W: usize> {
     merge: PacketMerge,
     photon_count: DFF<Addr>,
     loaded: DFF<bool>,
+    /// `load.ready`, registered (issue 11): computed from the ports' idle flags it
+    /// was one path from a QueryModule's state through the AND over every module,
+    /// `load_fire` and the BlockRAM's port-A address multiplexer (the 2 × 12
+    /// core's ECP5 critical path, seed 3, 98.3 MHz). Set from the cycle before:
+    /// every module free, both stages empty and no query entering one, so the
+    /// core is still idle when the load is taken (a pending load holds the
+    /// dispatcher, so a burst of load beats keeps it set).
+    load_ready: DFF<bool>,
     load_fire: Signal<Local, bool>,
     /// The query stages in front of the ports.
     stage_a_valid: DFF<bool>,
@@ -76,6 +85,7 @@ impl<const S: usize, const W: usize> PhotonSearchCore<S, W> {
             merge: PacketMerge::new(PORTS),
             photon_count: Default::default(),
             loaded: Default::default(),
+            load_ready: Default::default(),
             load_fire: Default::default(),
             stage_a_valid: Default::default(),
             stage_a_data: Default::default(),
@@ -94,6 +104,7 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
             clock,
             photon_count,
             loaded,
+            load_ready,
             stage_a_valid,
             stage_a_data,
             stage_b_valid,
@@ -111,11 +122,13 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
         self.port_b.photon_count.next = self.photon_count.q.val();
 
         // Load: only while every QueryModule is free (no search reads port A) and no
-        // query waits in a stage.
-        self.load.ready.next = self.port_a.idle.val()
+        // query waits in a stage — decided a cycle ahead (`load_ready`).
+        self.load_ready.d.next = self.port_a.idle.val()
             && self.port_b.idle.val()
             && (!self.stage_a_valid.q.val())
-            && (!self.stage_b_valid.q.val());
+            && (!self.stage_b_valid.q.val())
+            && !(self.query.valid.val() && self.dispatch.inbound.ready.val());
+        self.load.ready.next = self.load_ready.q.val();
         self.load_fire.next = self.load.valid.val() && self.load.ready.val();
         if self.load_fire.val() {
             self.tree.a_address.next = self.load.address.val();
@@ -177,6 +190,7 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
 
         if self.reset.val() {
             self.loaded.d.next = false;
+            self.load_ready.d.next = false;
             self.stage_a_valid.d.next = false;
             self.stage_b_valid.d.next = false;
         }

@@ -131,6 +131,12 @@ pub struct QueryModule<const S: usize> {
     /// level (`CoreConfig::path_levels` entries), in LUT-RAM: its axis distance, or
     /// with `Traversal::Cell` the distance to its cell.
     path: LutRam,
+    /// The same entries again, read at `grand_at` (issue 11): the registered
+    /// pruning test reads the parent's entry while waiting and the grandparent's
+    /// while climbing; with one memory the read index was chosen by the state in
+    /// front of the LUT-RAM (the 2 × 12 core's ECP5 critical path, seed 1,
+    /// 95.7 MHz). Two copies read at two registers, the choice after the read.
+    path_up: LutRam,
     /// `Traversal::Cell`: the query's offsets from its cell, and the rest of each
     /// level ([`CellBound`]; one-entry memories never written otherwise).
     cell_state: CellBound,
@@ -170,7 +176,10 @@ pub struct QueryModule<const S: usize> {
     insert_slot: Signal<Local, SlotMask<S>>,
     /// ASCEND: the parent's level and pending bit.
     parent_level: Signal<Local, LevelMask>,
-    parent_pending: Signal<Local, bool>,
+    /// The parent's pending bit, registered a cycle ahead like `parent_within`
+    /// (the AND-OR over the pending bits before ASCEND's next state was the
+    /// critical path of seed 2, 92.1 MHz).
+    parent_pending: DFF<bool>,
     /// For the registered pruning test: the entry the parent will have next cycle
     /// (read from the path memory), the R and the full flag it will be tested with.
     ahead_dist: Signal<Local, Dist>,
@@ -234,6 +243,7 @@ impl<const S: usize> QueryModule<S> {
             pending: Default::default(),
             ascending: Default::default(),
             path: LutRam::new(cfg.path_levels().max(1), cfg.dist_bits()),
+            path_up: LutRam::new(cfg.path_levels().max(1), cfg.dist_bits()),
             cell_state: CellBound::new(cell_levels, cell_bits),
             found: LutRam::new(cfg.k, cfg.address_bits),
             found_dist: LutRam::new(cfg.k, cfg.dist_bits()),
@@ -289,28 +299,37 @@ impl<const S: usize> Logic for QueryModule<S> {
             parent_at,
             grand_at,
             parent_within,
+            parent_pending,
             parent_bound,
             one_left
         );
         self.found.clock.next = self.clock.val();
         self.found_dist.clock.next = self.clock.val();
         self.path.clock.next = self.clock.val();
+        self.path_up.clock.next = self.clock.val();
         self.cell_state.clock.next = self.clock.val();
         // ASCEND's view of the parent level.
         self.parent_level.next = self.level.q.val() >> 1;
-        self.parent_pending.next = (self.pending.q.val() & self.parent_level.val()).any();
+        // Its pending bit next cycle: while climbing, the grandparent's; otherwise
+        // the parent stays (WAIT changes only the current level's bit).
+        if self.state.q.val() == QueryState::Ascend {
+            self.parent_pending.d.next = (self.pending.q.val() & (self.level.q.val() >> 2)).any();
+        } else {
+            self.parent_pending.d.next = (self.pending.q.val() & self.parent_level.val()).any();
+        }
         // The pruning test a cycle ahead. ASCEND is entered from WAIT (R and the
         // parent unchanged: an insertion that changes R goes through MAX_FIND) or
         // from MAX_FIND (the parent unchanged, R = the MaxFinder's maximum, full);
         // while climbing, the next parent is the entry above (`grand_at`) and R
         // stays. In any other cycle the value is not used. No entry is written in
         // the cycle it is read: WAIT writes the current level, not its parent.
+        self.path.read_index.next = self.parent_at.q.val();
+        self.path_up.read_index.next = self.grand_at.q.val();
         if self.state.q.val() == QueryState::Ascend {
-            self.path.read_index.next = self.grand_at.q.val();
+            self.ahead_dist.next = self.path_up.read_data.val();
         } else {
-            self.path.read_index.next = self.parent_at.q.val();
+            self.ahead_dist.next = self.path.read_data.val();
         }
-        self.ahead_dist.next = self.path.read_data.val();
         if self.state.q.val() == QueryState::MaxFind {
             self.ahead_radius.next = self.max_finder.max_dist.val() & self.dist_mask.val();
             self.ahead_full.next = true;
@@ -335,7 +354,7 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.cell_state.step.next = self.cell_bound.val()
             && (self.state.q.val() == QueryState::Ascend)
             && !self.level.q.val().get_bit(0);
-        self.cell_state.enter.next = self.parent_pending.val() && self.parent_within.q.val();
+        self.cell_state.enter.next = self.parent_pending.q.val() && self.parent_within.q.val();
         self.cell_state.enter_bound.next = self.parent_bound.q.val();
         self.max_finder.clock.next = self.clock.val();
         self.max_finder.start.next = false;
@@ -371,12 +390,17 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.found_dist.write_data.next = self.result.val().distance & self.dist_mask.val();
         self.found_dist.read_index.next = self.out_entry.val();
         // The path memory takes each down visit's pruning bound at its level.
+        // (Both copies alike.)
         self.path.write_enable.next = false;
+        self.path_up.write_enable.next = false;
         self.path.write_index.next = self.level_at.q.val();
+        self.path_up.write_index.next = self.level_at.q.val();
         if self.cell_bound.val() {
             self.path.write_data.next = self.cell_state.far_cell_dist.val();
+            self.path_up.write_data.next = self.cell_state.far_cell_dist.val();
         } else {
             self.path.write_data.next = self.result.val().axis_dist & self.dist_mask.val();
+            self.path_up.write_data.next = self.result.val().axis_dist & self.dist_mask.val();
         }
 
         match self.state.q.val() {
@@ -396,6 +420,7 @@ impl<const S: usize> Logic for QueryModule<S> {
                     if self.remember.val() {
                         // Remember this level; go down, or climb (after the MaxFinder).
                         self.path.write_enable.next = true;
+                        self.path_up.write_enable.next = true;
                         self.cell_state.visit.next = self.cell_bound.val();
                         if self.result.val().far_pending {
                             self.pending.d.next = (self.pending.q.val() | self.level.q.val())
@@ -466,7 +491,7 @@ impl<const S: usize> Logic for QueryModule<S> {
                 if self.level.q.val().get_bit(0) {
                     self.search_done.d.next = true;
                     self.state.d.next = QueryState::Done;
-                } else if self.parent_pending.val() && self.parent_within.q.val() {
+                } else if self.parent_pending.q.val() && self.parent_within.q.val() {
                     // Enter the far child: the sibling of the node we came from.
                     self.address.d.next = (self.address.q.val() ^ 1) & self.addr_mask.val();
                     self.pending.d.next = self.pending.q.val() & (!self.parent_level.val());
