@@ -19,8 +19,8 @@
 //! registered pick through the dispatcher's round robin to every QueryModule's load
 //! enable (the 2 × 11 core's ECP5 critical path after the registered pick: 61.8 MHz,
 //! 12 nets). A stage takes a query only while empty and while its port has a free
-//! QueryModule picked; that module stays free until this stage's query loads it,
-//! one cycle later.
+//! QueryModule picked; that module is reserved for this stage's query, which the
+//! port takes a cycle later and loads into it from registers the cycle after.
 
 use crate::hw::config::{low_mask, Addr, CoreConfig, PORTS};
 use crate::hw::dispatcher::Dispatcher;

@@ -10,6 +10,12 @@
 //! 12 nets). A free module stays free until it is loaded, so the registered pick is
 //! still free when it is used; the module loaded in this cycle is left out of the
 //! next pick. Cost: a module freed in cycle t can take a query in t + 1, not t.
+//! The picked module then loads the query a cycle later, from registers
+//! (`load_now`, `load_data`): the load enable of a module placed anywhere on the die
+//! was the port's accepted-query AND (its stage's valid and the pick) fanned out to
+//! all Q modules, the 2 × 12 core's ECP5 critical path on all three seeds once
+//! `load.ready` was registered (83–89 MHz, 9–10 ns of 11–12 routing). A module
+//! being loaded counts as taken (not free, not idle).
 //!
 //! Read grant (issue 11): with `CoreConfig::pipelined` the arbiter's grant is a
 //! register. The grant for cycle t + 1 is decided in cycle t among the modules
@@ -85,6 +91,9 @@ pub struct SearchPort<const S: usize, const W: usize> {
     /// The module the next query goes to (one-hot; zero: none free), and its index.
     load_pick: DFF<ModuleMask>,
     load_pick_index: DFF<ModuleIndex>,
+    /// The module loading the query accepted last cycle (one-hot), and that query.
+    load_now: DFF<ModuleMask>,
+    load_data: DFF<QueryBeat>,
     next_pick: Signal<Local, ModuleMask>,
     next_pick_index: Signal<Local, ModuleIndex>,
     /// The lowest finished module (one-hot) and its index.
@@ -157,6 +166,8 @@ impl<const S: usize, const W: usize> SearchPort<S, W> {
             still_free: Default::default(),
             load_pick: Default::default(),
             load_pick_index: Default::default(),
+            load_now: Default::default(),
+            load_data: Default::default(),
             next_pick: Default::default(),
             next_pick_index: Default::default(),
             finished_pick: Default::default(),
@@ -197,6 +208,8 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
             clock,
             load_pick,
             load_pick_index,
+            load_now,
+            load_data,
             grant_reg,
             granted_reg,
             out_active,
@@ -227,10 +240,10 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
                 .requests
                 .val()
                 .replace_bit(i, self.modules[i].read_request.val());
-            self.free_mask.next = self
-                .free_mask
-                .val()
-                .replace_bit(i, self.modules[i].free.val());
+            self.free_mask.next = self.free_mask.val().replace_bit(
+                i,
+                self.modules[i].free.val() && !self.load_now.q.val().get_bit(i),
+            );
             self.finished_mask.next = self
                 .finished_mask
                 .val()
@@ -279,8 +292,14 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
         }
         self.load_pick.d.next = self.next_pick.val();
         self.load_pick_index.d.next = self.next_pick_index.val();
+        self.load_now.d.next = 0.into();
+        if self.query_fire.val() {
+            self.load_now.d.next = self.load_pick.q.val();
+        }
+        self.load_data.d.next = self.query.data.val();
         if self.reset.val() {
             self.load_pick.d.next = 0.into();
+            self.load_now.d.next = 0.into();
         }
         // The loaded query's id and coordinates go to the picked module's entries.
         self.ids.clock.next = self.clock.val();
@@ -340,9 +359,10 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
             // SearchModule result broadcast.
             self.modules[i].result_valid.next = self.search.result_for.val().get_bit(i);
             self.modules[i].result.next = self.search.result.val();
-            // Query hand-out broadcast; only the picked module loads.
-            self.modules[i].load.next = self.query.valid.val() && self.load_pick.q.val().get_bit(i);
-            self.modules[i].load_query.next = self.query.data.val();
+            // Query hand-out broadcast, a cycle after the port took it; only the
+            // picked module loads.
+            self.modules[i].load.next = self.load_now.q.val().get_bit(i);
+            self.modules[i].load_query.next = self.load_data.q.val();
             // Result read-out: only the selected module sees a slot and drives its
             // outputs (the others give zeros), so the beat is an OR over modules.
             self.modules[i].out_enable.next = self.out_select.q.val().get_bit(i);
