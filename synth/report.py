@@ -55,6 +55,8 @@ CONFIGS = [
     # The largest default-traversal array the ECP5-85k holds: T = 4 took 66 % of its
     # LUT4s (commit 78b1edd), so T = 5 about 83 % and T = 6 about 99 %.
     ("T=5 trees", PAPER + ["--trees", "5"], 5),
+    # The largest cell-traversal array: one cell core takes 26 % of the LUT4s.
+    ("T=3 trees, cell traversal", PAPER_CELL + ["--trees", "3"], 3),
 ]
 
 
