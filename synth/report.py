@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Build synth/REPORT.md (see run.sh). One row per core configuration."""
-import hashlib, os, re, subprocess, sys, tempfile, threading, time
+import filecmp, hashlib, os, re, subprocess, sys, tempfile, threading, time
 from concurrent.futures import ThreadPoolExecutor
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -52,8 +52,8 @@ CONFIGS = [
     ("T=2 trees", PAPER + ["--trees", "2"], 2),
     ("T=4 trees", PAPER + ["--trees", "4"], 4),
     ("T=4 trees, cell traversal", PAPER_CELL + ["--trees", "4"], 4),
-    # The largest default-traversal array the ECP5-85k holds: T = 4 took 66 % of its
-    # LUT4s (commit 78b1edd), so T = 5 about 83 % and T = 6 about 99 %.
+    # The largest default-traversal array the ECP5-85k holds: one core takes 18 % of
+    # its LUT4s; nextpnr packs T = 5 into 93 % (commit 3b5ccdb).
     ("T=5 trees", PAPER + ["--trees", "5"], 5),
     # The largest cell-traversal array: one cell core takes 26 % of the LUT4s.
     ("T=3 trees, cell traversal", PAPER_CELL + ["--trees", "3"], 3),
@@ -231,7 +231,7 @@ def export(name, opts, trees):
             return out.strip().splitlines()[-1]
         for f in os.listdir(tmp):
             new, old = os.path.join(tmp, f), os.path.join(d, f)
-            if not (os.path.exists(old) and open(old, "rb").read() == open(new, "rb").read()):
+            if not (os.path.exists(old) and filecmp.cmp(old, new, shallow=False)):
                 os.replace(new, old)
     return None
 
