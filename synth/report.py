@@ -62,6 +62,8 @@ CONFIGS = [
     ("T=5 trees", PAPER + ["--trees", "5"], 5),
     # The largest cell-traversal array: one cell core takes 26 % of the LUT4s.
     ("T=3 trees, cell traversal", PAPER_CELL + ["--trees", "3"], 3),
+    # One cell core fewer, about half the device: the fallback if T = 3 does not route.
+    ("T=2 trees, cell traversal", PAPER_CELL + ["--trees", "2"], 2),
 ]
 
 
@@ -96,7 +98,13 @@ def unrouted(out, router):
         return None
     total = re.findall(r"Routing (\d+) arcs", out)
     left = re.findall(r"^Info:\s+\d+ \|\s+\d+\s+\d+ \|\s+\d+\s+\d+ \|\s+(\d+)\|", out, re.M)
-    arcs = f", {int(left[-1]):,} of {int(total[-1]):,} arcs left" if (total and left) else ""
+    over = re.findall(r"iter=(\d+) wires=\d+ overused=(\d+)", out)  # router2
+    if total and left:
+        arcs = f", {int(left[-1]):,} of {int(total[-1]):,} arcs left"
+    elif over:
+        arcs = f", {int(over[-1][1]):,} wires still overused after {over[-1][0]} iterations"
+    else:
+        arcs = ""
     return f"not routed in {stop.group(1)} min ({router}{arcs})"
 
 
@@ -129,8 +137,9 @@ def xilinx(d, top, files, cache_only):
                 slices_est=max((luts + 3) // 4, (ffs + 7) // 8))
 
 
-def ecp5(d, files, seeds, router, cache_only):
-    """fmax over `seeds` (None if nothing ran), or a string saying why it could not place."""
+def ecp5(d, files, seeds, router, cache_only, first_routed=False):
+    """fmax over `seeds` (None if nothing ran), or a string saying why it could not place.
+    With `first_routed`, the seeds are tried in order until one routes."""
     hit, stamp = cached(d, "ecp5", files)
     if not hit:
         if cache_only:
@@ -146,6 +155,7 @@ def ecp5(d, files, seeds, router, cache_only):
     best = None
     fmax = []
     errors = []
+    seed_used = None
     for s in seeds:
         log = f"{d}/nextpnr_seed{s}.log"
         old = open(log).read() if os.path.exists(log) else ""
@@ -176,6 +186,7 @@ def ecp5(d, files, seeds, router, cache_only):
             continue
         f = float(m[-1])
         fmax.append(f)
+        seed_used = s
         if best is None or f > best[0]:
             crit = re.search(r"Critical path report for clock[^\n]*\n(.*?)\n[^\n]*Info: \d+\.\d+ ns logic", out, re.S)
             path = crit.group(1) if crit else ""
@@ -186,11 +197,14 @@ def ecp5(d, files, seeds, router, cache_only):
             # What one core (in its shell) uses of the device, for the device-fitted table.
             use = {k: re.search(rf"{k}:\s+(\d+)/\s*(\d+)", out) for k in ("Total LUT4s", "Total DFFs", "DP16KD")}
             used = {k: (int(m.group(1)), int(m.group(2))) for k, m in use.items() if m}
+        if first_routed:
+            break
     if not fmax:
         if errors and errors[-1].startswith(("not routed", "does not fit")):
             return errors[-1]
         return f"does not place on ECP5-85k: {errors[-1]}" if errors else None
-    return dict(fmax=fmax, best=best, used=used if best else {})
+    # The seeds tried before the one that routed, and why each did not.
+    return dict(fmax=fmax, best=best, used=used if best else {}, seed=seed_used, failed=errors)
 
 
 def sim(d, opts, files, cache_only):
@@ -258,8 +272,13 @@ def row(name, opts, trees, steps, export_error=None):
         # Flip-flops map one to one on both families: no point in a 30-minute ECP5 run.
         e = f"does not fit the ECP5-85k: {x['ffs']:,} flip-flops, it has {ECP5_85K_FFS:,}"
     else:
+        # The first row: every seed. An array: the seeds in turn until one routes (a
+        # congested placement may not route on one seed and route on the next). Any
+        # other row: the first seed.
         router = "router2" if trees >= ROUTER2_TREES else "router1"
-        e = ecp5(d, [core, shell], SEEDS if name == CONFIGS[0][0] else SEEDS[:1], router, "ecp5" not in steps)
+        first = name == CONFIGS[0][0]
+        e = ecp5(d, [core, shell], SEEDS if first or trees > 1 else SEEDS[:1], router, "ecp5" not in steps,
+                 first_routed=not first)
     s, err = sim(d, opts, [core], "sim" not in steps)
     if not (x or e or s):
         err = "not run yet (synth/run.sh runs it)"
@@ -361,18 +380,24 @@ def fitted(rows):
     if arrays:
         L.append("\n### Arrays placed and routed on the ECP5-85k\n")
         L.append("The whole `PhotonSearchArray` of T cores inside its I/O shell, placed and routed by nextpnr "
-                 "(seed 1); reads/cycle simulated under Verilator for the array; queries/s = reads/cycle x "
+                 f"(seeds {SEEDS} in turn until one routes; router2 from T = {ROUTER2_TREES}); reads/cycle "
+                 "simulated under Verilator for the array; queries/s = reads/cycle x "
                  "placed-and-routed fmax / reads per query; kiddo timed by the same bench-core run.\n")
-        L.append("| configuration | T | LUT4s | DFFs | DP16KD | fmax MHz | reads/cycle | queries/s | "
+        L.append("| configuration | T | seed | LUT4s | DFFs | DP16KD | fmax MHz | reads/cycle | queries/s | "
                  "vs kiddo 1 thread | vs kiddo all threads |")
-        L.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        L.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        tried = []
         for name, trees, e, s in arrays:
             u = e.get("used", {})
             use = lambda k: f"{u[k][0]:,} ({100 * u[k][0] / u[k][1]:.0f} %)" if k in u else "?"
             q = s["rpc"] * e["best"][0] * 1e6 / s["rpq"]
             allt = f"{q / s['kiddo_all']:,.1f}x ({s['threads']})" if s.get("kiddo_all") else "not measured"
-            L.append(f"| {name} | {trees} | {use('Total LUT4s')} | {use('Total DFFs')} | {use('DP16KD')} | "
-                     f"{e['best'][0]:.1f} | {s['rpc']:.3f} | {q / 1e6:,.2f} M | {q / s['kiddo']:,.1f}x | {allt} |")
+            L.append(f"| {name} | {trees} | {e['seed']} | {use('Total LUT4s')} | {use('Total DFFs')} | "
+                     f"{use('DP16KD')} | {e['best'][0]:.1f} | {s['rpc']:.3f} | {q / 1e6:,.2f} M | "
+                     f"{q / s['kiddo']:,.1f}x | {allt} |")
+            tried += [f"- {name}, an earlier seed: {f}" for f in e.get("failed", [])]
+        if tried:
+            L.append("\n" + "\n".join(tried))
     return L
 
 
@@ -386,8 +411,8 @@ def write(rows):
              "paper core's then 10,347). Slices are an *estimate* (max(LUTs/4, FFs/8), "
              "a lower bound; only ISE's packer gives the real number). fmax: yowasp nextpnr-ecp5 `--85k "
              f"--package CABGA381`, the top inside the registered I/O shell of `src/hw/shell.rs`, seeds {SEEDS} for the first row and "
-             f"seed {SEEDS[0]} for the others (best, and all); router1, except `--router router2` for arrays of "
-             f"{ROUTER2_TREES} trees and more. "
+             f"seed {SEEDS[0]} for the other cores, the seeds in turn until one routes for arrays (best, and all); "
+             f"router1, except `--router router2` for arrays of {ROUTER2_TREES} trees and more. "
              "Reads/cycle: all 2T ports, from the Verilator simulation of the exported top (`photon-fpga bench-core "
              f"--engine verilator`, cycle-exact with the rust-hdl simulation), {SIM_QUERIES:,} random queries on a full random "
              "1023-photon map, whole run including fill and drain. "
