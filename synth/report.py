@@ -155,6 +155,7 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False):
     best = None
     fmax = []
     errors = []
+    failed_seeds = []
     seed_used = None
     for s in seeds:
         log = f"{d}/nextpnr_seed{s}.log"
@@ -173,6 +174,7 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False):
         if unrouted(out, router):
             errors.append(unrouted(out, router))
             print(f"  {d}: nextpnr seed {s}: {errors[-1]}", flush=True)
+            failed_seeds.append(s)
             continue
         if rc != 0 or not m:
             err = re.findall(r"ERROR: (.*)", out)
@@ -183,6 +185,7 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False):
             else:
                 errors.append(err[-1] if err else "nextpnr failed")
             print(f"  {d}: nextpnr seed {s}: {errors[-1]}", flush=True)
+            failed_seeds.append(s)
             continue
         f = float(m[-1])
         fmax.append(f)
@@ -200,11 +203,14 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False):
         if first_routed:
             break
     if not fmax:
+        if len(errors) > 1 and all(e.startswith("not routed") for e in errors):
+            return "; ".join(f"seed {n}: {e}" for n, e in zip(failed_seeds, errors))
         if errors and errors[-1].startswith(("not routed", "does not fit")):
             return errors[-1]
         return f"does not place on ECP5-85k: {errors[-1]}" if errors else None
     # The seeds tried before the one that routed, and why each did not.
-    return dict(fmax=fmax, best=best, used=used if best else {}, seed=seed_used, failed=errors)
+    return dict(fmax=fmax, best=best, used=used if best else {}, seed=seed_used,
+                failed=[f"seed {n}: {e}" for n, e in zip(failed_seeds, errors)])
 
 
 def sim(d, opts, files, cache_only):
@@ -395,7 +401,7 @@ def fitted(rows):
             L.append(f"| {name} | {trees} | {e['seed']} | {use('Total LUT4s')} | {use('Total DFFs')} | "
                      f"{use('DP16KD')} | {e['best'][0]:.1f} | {s['rpc']:.3f} | {q / 1e6:,.2f} M | "
                      f"{q / s['kiddo']:,.1f}x | {allt} |")
-            tried += [f"- {name}, an earlier seed: {f}" for f in e.get("failed", [])]
+            tried += [f"- {name}, {f}" for f in e.get("failed", [])]
         if tried:
             L.append("\n" + "\n".join(tried))
     return L
