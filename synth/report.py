@@ -154,8 +154,7 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False):
         stamp()
     best = None
     fmax = []
-    errors = []
-    failed_seeds = []
+    failed = []  # (seed, why it did not give a clock)
     seed_used = None
     for s in seeds:
         log = f"{d}/nextpnr_seed{s}.log"
@@ -171,21 +170,20 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False):
                            "--freq", str(FREQ), "--timing-allow-fail", "--seed", str(s), "--router", router],
                           log, PNR_MINUTES)
         m = re.findall(r"Max frequency for clock\s+'[^']*':\s+([\d.]+) MHz", out)
-        if unrouted(out, router):
-            errors.append(unrouted(out, router))
-            print(f"  {d}: nextpnr seed {s}: {errors[-1]}", flush=True)
-            failed_seeds.append(s)
+        why = unrouted(out, router)
+        if why:
+            failed.append((s, why))
+            print(f"  {d}: nextpnr seed {s}: {why}", flush=True)
             continue
         if rc != 0 or not m:
             err = re.findall(r"ERROR: (.*)", out)
             luts = re.search(r"Total LUT4s:\s+(\d+)/\s*(\d+)", out)
             if luts and int(luts.group(1)) > int(luts.group(2)):
-                errors.append(f"does not fit the ECP5-85k: {int(luts.group(1)):,} LUT4s, it has "
-                              f"{int(luts.group(2)):,}")
+                why = f"does not fit the ECP5-85k: {int(luts.group(1)):,} LUT4s, it has {int(luts.group(2)):,}"
             else:
-                errors.append(err[-1] if err else "nextpnr failed")
-            print(f"  {d}: nextpnr seed {s}: {errors[-1]}", flush=True)
-            failed_seeds.append(s)
+                why = err[-1] if err else "nextpnr failed"
+            failed.append((s, why))
+            print(f"  {d}: nextpnr seed {s}: {why}", flush=True)
             continue
         f = float(m[-1])
         fmax.append(f)
@@ -202,15 +200,16 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False):
             used = {k: (int(m.group(1)), int(m.group(2))) for k, m in use.items() if m}
         if first_routed:
             break
+    tried = [f"seed {n}: {why}" for n, why in failed]
     if not fmax:
-        if len(errors) > 1 and all(e.startswith("not routed") for e in errors):
-            return "; ".join(f"seed {n}: {e}" for n, e in zip(failed_seeds, errors))
-        if errors and errors[-1].startswith(("not routed", "does not fit")):
-            return errors[-1]
-        return f"does not place on ECP5-85k: {errors[-1]}" if errors else None
+        whys = [why for _, why in failed]
+        if len(whys) > 1 and all(w.startswith("not routed") for w in whys):
+            return "; ".join(tried)
+        if whys and whys[-1].startswith(("not routed", "does not fit")):
+            return whys[-1]
+        return f"does not place on ECP5-85k: {whys[-1]}" if whys else None
     # The seeds tried before the one that routed, and why each did not.
-    return dict(fmax=fmax, best=best, used=used if best else {}, seed=seed_used,
-                failed=[f"seed {n}: {e}" for n, e in zip(failed_seeds, errors)])
+    return dict(fmax=fmax, best=best, used=used if best else {}, seed=seed_used, failed=tried)
 
 
 def sim(d, opts, files, cache_only):
