@@ -166,8 +166,17 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
             }
         {
             return Err(Error::new(format!(
-                "query {}: the core disagrees with the software search",
-                q.id
+                "query {}: the core disagrees with the software search \
+                 (core: {} reads, distances {:?}; software: {} reads, {:?})",
+                q.id,
+                r.visited,
+                {
+                    let mut d: Vec<u64> = r.found.iter().map(|x| x.1).collect();
+                    d.sort();
+                    d
+                },
+                f.visited,
+                f.sorted_dists()
             )));
         }
         sw_visited += f.visited as u64;

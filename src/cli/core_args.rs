@@ -3,7 +3,8 @@
 
 use clap::Args;
 use photon_fpga::host::error::{Error, Result};
-use photon_fpga::hw::config::CoreConfig;
+use photon_fpga::hw::config::{CoreConfig, BARREL_SLOTS};
+use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::traversal::Traversal;
@@ -40,6 +41,11 @@ pub struct CoreArgs {
     /// its own copy of the map, behind one set of streams (src/hw/array.rs).
     #[arg(long, default_value_t = 1)]
     trees: usize,
+    /// Who runs a port's queries: modules (the paper's Q QueryModules) or barrel
+    /// (Q query slots in memory behind one pipelined datapath per port; needs
+    /// --traversal remember or cell; Q defaults to 16 slots).
+    #[arg(long, default_value_t = Controller::default())]
+    controller: Controller,
 }
 
 impl CoreArgs {
@@ -60,8 +66,13 @@ impl CoreArgs {
             pipelined: !self.unpipelined,
             trees: self.trees,
             traversal: self.traversal,
+            controller: self.controller,
         };
-        cfg.queries_per_port = self.queries_per_port.unwrap_or(cfg.issue_interval());
+        let default_q = match self.controller {
+            Controller::Modules => cfg.issue_interval(),
+            Controller::Barrel => BARREL_SLOTS,
+        };
+        cfg.queries_per_port = self.queries_per_port.unwrap_or(default_q);
         cfg.validate()?;
         Ok(cfg)
     }

@@ -12,6 +12,7 @@
 //! [`dispatch_widths`]). The limits are checked by [`CoreConfig::validate`], which
 //! returns an error instead of panicking.
 
+use crate::hw::controller::Controller;
 use crate::hw::error::HwError;
 use crate::hw::metric::Metric;
 use crate::hw::photon_word::{PhotonLayout, TreeImage};
@@ -45,6 +46,10 @@ pub const WIDE_WORD: usize = 64;
 pub const MAX_QUERIES_PER_PORT: usize = 32;
 /// TreeModule ports = SearchModules (paper §4.5: both BlockRAM ports are used).
 pub const PORTS: usize = 2;
+/// Query slots of a [`Controller::Barrel`] port: a slot reads every 10 cycles (six
+/// pipeline stages and the SearchModule's four), so 10 keep the port busy; 16 cost
+/// the same LUT-RAM (an ECP5 DPR16X4 holds 16 entries, a Virtex-6 RAM32M 32).
+pub const BARREL_SLOTS: usize = 16;
 /// Replicated trees limit (`PhotonSearchArray`): four already exceed the largest
 /// ECP5, and one bit per tree fits the arbiter masks.
 pub const MAX_TREES: usize = 8;
@@ -119,6 +124,9 @@ pub struct CoreConfig {
     /// distance (no reads), the paper's re-read of every parent, or remembering the
     /// distance to each level's far cell (`Traversal::Cell`).
     pub traversal: Traversal,
+    /// Who runs a port's queries: Q QueryModules (the paper's) or Q slots of one
+    /// shared datapath ([`Controller::Barrel`]).
+    pub controller: Controller,
 }
 
 impl CoreConfig {
@@ -137,6 +145,7 @@ impl CoreConfig {
             pipelined: true,
             trees: 1,
             traversal: Traversal::default(),
+            controller: Controller::default(),
         }
     }
 
@@ -154,6 +163,7 @@ impl CoreConfig {
             pipelined: true,
             trees: 1,
             traversal: Traversal::default(),
+            controller: Controller::default(),
         };
         cfg.queries_per_port = cfg.issue_interval().min(MAX_QUERIES_PER_PORT);
         cfg.validate()?;
@@ -205,6 +215,10 @@ impl CoreConfig {
     /// cycle on the paper workload and a Cornell-box stream, testbenches/hw_throughput),
     /// never more than the worst-case issue interval.
     pub fn fit_queries_per_port(&mut self, profile: &ReadProfile) {
+        if self.controller == Controller::Barrel {
+            self.queries_per_port = BARREL_SLOTS;
+            return;
+        }
         let q = (1.25 * self.mean_read_interval(profile)).ceil() as usize;
         self.queries_per_port = q.clamp(2, self.issue_interval().min(MAX_QUERIES_PER_PORT));
     }
@@ -317,6 +331,12 @@ impl CoreConfig {
             return Err(HwError::Config(format!(
                 "{} QueryModules per port unsupported (1..={MAX_QUERIES_PER_PORT})",
                 self.queries_per_port
+            )));
+        }
+        if self.controller == Controller::Barrel && !self.traversal.remembers() {
+            return Err(HwError::Config(format!(
+                "the barrel controller needs a traversal that remembers the path (remember, cell), not {}",
+                self.traversal
             )));
         }
         Ok(())

@@ -1,0 +1,926 @@
+//! BarrelPort: one TreeModule port whose Q queries share one traversal datapath
+//! (`Controller::Barrel`, issue 11). The interface is the [`SearchPort`]'s.
+//!
+//! Why: a port reads at most one photon per cycle and its SearchModule answers at
+//! most one read per cycle, so at most one query per cycle has anything to decide.
+//! The paper's port (§4.5) gives each of its Q queries a whole QueryModule — a
+//! MaxFinder, comparators and a state machine — of which all but one wait in any
+//! cycle: 28 QueryModules were 90 % of the cell-traversal core's 21.7 K ECP5 LUT4s,
+//! and the largest array that routes on the ECP5-85k (T = 2) reached 5.1x kiddo.
+//! Here a query is a slot: its state lives in LUT-RAM and BlockRAM entries, and a
+//! result is processed by a pipeline that reads the slot's state, updates it and
+//! issues the slot's next read, one event per cycle, like a barrel processor.
+//! Waiting costs memory bits, not logic. Only the traversals that remember the
+//! path (`Remember`, `Cell`) are supported: the ascent is one step (below).
+//!
+//! An event is a SearchModule result, or (in a cycle without one) a new query
+//! loaded into a free slot. It flows through six stages; a slot has at most one
+//! event or read in flight, so a stage never meets another event of its own slot
+//! and the state read in stage A is always the one written by the slot's last
+//! event in stage F:
+//! * **A** — read the slot's state (LUT-RAM, asynchronous, by slot index); a
+//!   photon in range enters the found list (while not full at slot `count`, else
+//!   over the maximum's slot: knn.rs's `FoundList`); this level's pruning bound,
+//!   pending bit and (`Cell`) far-cell offsets are remembered.
+//! * **B**, **C** — when the list became or was full, its new maximum and the
+//!   lowest slot holding it: a tree of comparators over the K entries (paper §4.4
+//!   finds it bit-serially, one cycle per distance bit, per QueryModule; one
+//!   pipelined tree per port costs less than Q MaxFinders and no cycles).
+//! * **D** — the ascent in one step (the path memory of `Traversal::Remember`,
+//!   searched at once): the deepest level above with a pending far child within
+//!   R is where the search goes next; none: the search is over. Climbing one level
+//!   per cycle (as a QueryModule does) would cost a pipeline pass per level.
+//! * **E** — the far child's address; its cell's offsets are read (BlockRAM).
+//! * **F** — the slot's new state is written and its next read issued.
+//!
+//! Reads per query are those of the software search (`knn::search_with`), read for
+//! read; only the order in which the port interleaves its queries differs. A read
+//! issued in F returns to A four cycles later (the SearchModule's pipeline), so a
+//! slot reads every 10 cycles and 16 slots keep the port busy
+//! ([`CoreConfig::barrel_slots`]).
+//!
+//! Result read-out is the SearchPort's: a header beat, then one beat per found
+//! photon in list-slot order, from a BlockRAM written as photons enter the list.
+
+use crate::hw::block_ram::{BlockRam, BramIndex, BramWord};
+use crate::hw::config::{
+    bits_for, low_mask, Addr, CoreConfig, Count, Dist, LevelMask, ModuleIndex, ModuleMask,
+    ReadCount, Word,
+};
+use crate::hw::lut_ram::{LutRam, RamIndex};
+use crate::hw::register_slice::ResultRegister;
+use crate::hw::search_module::SearchModule;
+use crate::hw::stream::{QueryBeat, ResultBeat, StreamIn, StreamOut};
+use crate::hw::traversal::Traversal;
+use rust_hdl::prelude::*;
+
+/// One event as it moves down the pipeline: the slot's state as it will be
+/// written in stage F, and what the later stages still need of the result.
+#[derive(Clone, Copy, Debug, PartialEq, Default, LogicStruct)]
+pub struct SlotEvent {
+    pub valid: bool,
+    /// A new query (the first read is the root's).
+    pub load: bool,
+    pub slot: ModuleIndex,
+    /// The list became or was full with this photon: a new maximum (stages B, C).
+    pub run_max: bool,
+    pub full: bool,
+    pub radius: Dist,
+    pub count: Count,
+    pub k: Count,
+    pub max_pos: RamIndex,
+    pub visited: ReadCount,
+    /// The level of the node just read, and the pending far children above.
+    pub level: RamIndex,
+    pub pending: LevelMask,
+    /// No child to descend to: the ascent (stage D).
+    pub up: bool,
+    /// The node just read and the child to read next if not `up`.
+    pub address: Addr,
+    pub next_address: Addr,
+    /// `Cell`: the query's offsets from its current cell and the cell's distance.
+    pub off_x: Dist,
+    pub off_y: Dist,
+    pub off_z: Dist,
+    pub cell_dist: Dist,
+}
+
+#[derive(LogicBlock)]
+pub struct BarrelPort<const W: usize> {
+    pub clock: Signal<In, Clock>,
+    pub reset: Signal<In, bool>,
+    pub photon_count: Signal<In, Addr>,
+    /// TreeModule port: read address now, word next cycle.
+    pub ram_address: Signal<Out, Addr>,
+    pub ram_data: Signal<In, Word<W>>,
+    /// Queries, ready while a slot is free and no result takes stage A.
+    pub query: StreamIn<QueryBeat>,
+    /// Result packets.
+    pub result: StreamOut<ResultBeat>,
+    /// Status: a read was issued this cycle; every slot is occupied; none is.
+    pub reading: Signal<Out, bool>,
+    pub all_busy: Signal<Out, bool>,
+    pub idle: Signal<Out, bool>,
+    search: SearchModule<W>,
+    result_register: ResultRegister,
+    /// `Traversal::Cell`: prune on the far cell's distance, restore its offsets.
+    cell: Constant<bool>,
+    all_slots: Constant<ModuleMask>,
+    one_slot: Constant<ModuleMask>,
+    one_level: Constant<LevelMask>,
+    /// The widths the configuration needs (every register is loaded through them).
+    dist_mask: Constant<Dist>,
+    addr_mask: Constant<Addr>,
+    count_mask: Constant<Count>,
+    visited_mask: Constant<ReadCount>,
+    level_mask: Constant<RamIndex>,
+    pending_mask: Constant<LevelMask>,
+    entry_mask: Constant<RamIndex>,
+    /// Found-list entries of a slot in the read-out BlockRAM (2^entry_shift) and
+    /// levels of a slot in the offsets BlockRAM (2^level_shift).
+    entry_shift: Constant<BramIndex>,
+    level_shift: Constant<BramIndex>,
+    /// Where the second field of a packed BlockRAM word starts: the distance bits
+    /// (offsets) and the address bits (found entries).
+    dist_shift: Constant<Bits<8>>,
+    addr_shift: Constant<Bits<8>>,
+    dist_mask_wide: Constant<BramWord>,
+    addr_mask_wide: Constant<BramWord>,
+    slot_index: Vec<Constant<ModuleIndex>>,
+    entry_index: Vec<Constant<RamIndex>>,
+    level_index: Vec<Constant<RamIndex>>,
+    // The slot state, one LUT-RAM entry per slot: written in F, read in A.
+    st_level: LutRam,
+    st_pending: LutRam,
+    st_radius: LutRam,
+    st_full: LutRam,
+    st_count: LutRam,
+    st_k: LutRam,
+    st_max_pos: LutRam,
+    st_visited: LutRam,
+    st_off_x: LutRam,
+    st_off_y: LutRam,
+    st_off_z: LutRam,
+    st_cell_dist: LutRam,
+    /// The found distances, one LUT-RAM per list entry (all K are read at once by
+    /// the comparator tree): written in A, read in B. Padded to a power of two
+    /// with never-written entries.
+    found_dist: Vec<LutRam>,
+    /// Each level's pruning bound, one LUT-RAM per level (all are compared at once
+    /// in D): written in A, read in D.
+    bound: Vec<LutRam>,
+    /// `Cell`: per (slot, level), the offsets inside the level's far cell: x | y,
+    /// and z | the far cell's distance. Written in A, read in E.
+    far_xy: BlockRam,
+    far_zd: BlockRam,
+    /// Per (slot, entry): heap address | distance << 32, for the read-out.
+    found_entry: BlockRam,
+    /// Per slot, for the read-out: the query id (written at the load), the found
+    /// count and photon reads (written when the search ends).
+    ids: LutRam,
+    out_count_mem: LutRam,
+    out_visited_mem: LutRam,
+    free: DFF<ModuleMask>,
+    finished: DFF<ModuleMask>,
+    // Stage A.
+    a_result: Signal<Local, bool>,
+    a_load: Signal<Local, bool>,
+    a_slot: Signal<Local, ModuleIndex>,
+    a_ev: Signal<Local, SlotEvent>,
+    a_insert: Signal<Local, bool>,
+    a_pos: Signal<Local, RamIndex>,
+    a_axis_off: Signal<Local, Dist>,
+    a_level_bit: Signal<Local, LevelMask>,
+    /// This level's pruning bound, and (`Cell`) its entry of the offsets BlockRAMs.
+    a_bound: Signal<Local, Dist>,
+    a_far_index: Signal<Local, BramIndex>,
+    a_far_xy: Signal<Local, BramWord>,
+    a_far_zd: Signal<Local, BramWord>,
+    free_pick: Signal<Local, ModuleMask>,
+    free_pick_index: Signal<Local, ModuleIndex>,
+    // Stage B: the comparator tree's first two levels.
+    b_ev: DFF<SlotEvent>,
+    b_node: Vec<Signal<Local, Dist>>,
+    b_node_ix: Vec<Signal<Local, RamIndex>>,
+    /// B's tree: leaves 0..P (`_b_leaves`), node P + i over 2i and 2i + 1 for the
+    /// `_b_inner` nodes of two levels; its P/4 winners start at `_b_out`.
+    _b_leaves: usize,
+    _b_inner: usize,
+    _b_out: usize,
+    // Stage C: the rest of the tree over B's winners.
+    c_ev: DFF<SlotEvent>,
+    c_leaf: Vec<DFF<Dist>>,
+    c_leaf_ix: Vec<DFF<RamIndex>>,
+    c_node: Vec<Signal<Local, Dist>>,
+    c_node_ix: Vec<Signal<Local, RamIndex>>,
+    /// C's tree: leaves 0..P/4, node P/4 + i over 2i and 2i + 1 (`_c_inner` of
+    /// them), the root last (`_c_root`).
+    _c_leaves: usize,
+    _c_inner: usize,
+    _c_root: usize,
+    // Stage D: the ascent.
+    d_ev: DFF<SlotEvent>,
+    d_target: Signal<Local, RamIndex>,
+    d_found: Signal<Local, bool>,
+    // Stage E.
+    e_ev: DFF<SlotEvent>,
+    e_target: DFF<RamIndex>,
+    e_found: DFF<bool>,
+    e_shift: Signal<Local, RamIndex>,
+    e_far_index: Signal<Local, BramIndex>,
+    // Stage F.
+    f_ev: DFF<SlotEvent>,
+    f_target: DFF<RamIndex>,
+    f_found: DFF<bool>,
+    f_jump: DFF<Addr>,
+    f_done: Signal<Local, bool>,
+    f_issue: Signal<Local, bool>,
+    f_state: Signal<Local, SlotEvent>,
+    f_slot_bit: Signal<Local, ModuleMask>,
+    // Read-out.
+    query_fire: Signal<Local, bool>,
+    result_fire: Signal<Local, bool>,
+    finished_pick: Signal<Local, ModuleMask>,
+    finished_pick_index: Signal<Local, ModuleIndex>,
+    beat: Signal<Local, ResultBeat>,
+    out_end: Signal<Local, ModuleMask>,
+    out_entry_next: Signal<Local, RamIndex>,
+    out_active: DFF<bool>,
+    out_fetch: DFF<bool>,
+    out_header: DFF<bool>,
+    out_index: DFF<ModuleIndex>,
+    out_entry: DFF<RamIndex>,
+    out_left: DFF<Count>,
+    out_last: DFF<bool>,
+    hdr_count: DFF<Count>,
+    hdr_visited: DFF<ReadCount>,
+    hdr_last: DFF<bool>,
+}
+
+impl<const W: usize> BarrelPort<W> {
+    pub fn new(cfg: &CoreConfig) -> Self {
+        let q = cfg.queries_per_port;
+        let cell = cfg.traversal == Traversal::Cell;
+        let db = cfg.dist_bits();
+        let levels = cfg.path_levels().max(1);
+        // The comparator tree's leaves: a power of two, at least 4 (two levels in B).
+        let p = cfg.k.next_power_of_two().max(4);
+        let entry_bits = bits_for(cfg.k.saturating_sub(1) as u64);
+        let level_bits = bits_for(levels.saturating_sub(1) as u64);
+        let slot_bits = bits_for(q.saturating_sub(1) as u64);
+        let (cell_bits, cell_depth) = if cell { (db, q) } else { (1, 1) };
+        let far_index_bits = if cell { slot_bits + level_bits } else { 1 };
+        let ram = |width: u32| LutRam::new(q, width);
+        BarrelPort {
+            clock: Default::default(),
+            reset: Default::default(),
+            photon_count: Default::default(),
+            ram_address: Default::default(),
+            ram_data: Default::default(),
+            query: Default::default(),
+            result: Default::default(),
+            reading: Default::default(),
+            all_busy: Default::default(),
+            idle: Default::default(),
+            search: SearchModule::new(cfg),
+            result_register: ResultRegister::new(!cfg.pipelined),
+            cell: Constant::new(cell),
+            all_slots: Constant::new(ModuleMask::from(low_mask(q as u32))),
+            one_slot: Constant::new(ModuleMask::from(1u64)),
+            one_level: Constant::new(LevelMask::from(1u64)),
+            dist_mask: Constant::new(Dist::from(low_mask(db))),
+            addr_mask: Constant::new(Addr::from(low_mask(cfg.address_bits))),
+            count_mask: Constant::new(Count::from(low_mask(cfg.count_bits()))),
+            visited_mask: Constant::new(ReadCount::from(low_mask(cfg.visited_bits()))),
+            level_mask: Constant::new(RamIndex::from(low_mask(bits_for(
+                cfg.address_bits.saturating_sub(1) as u64,
+            )))),
+            pending_mask: Constant::new(LevelMask::from(low_mask(cfg.path_levels() as u32))),
+            entry_mask: Constant::new(RamIndex::from(low_mask(entry_bits))),
+            entry_shift: Constant::new(BramIndex::from(entry_bits as u64)),
+            level_shift: Constant::new(BramIndex::from(level_bits as u64)),
+            dist_shift: Constant::new(Bits::<8>::from(db as u64)),
+            addr_shift: Constant::new(Bits::<8>::from(cfg.address_bits as u64)),
+            dist_mask_wide: Constant::new(BramWord::from(low_mask(db))),
+            addr_mask_wide: Constant::new(BramWord::from(low_mask(cfg.address_bits))),
+            slot_index: (0..q)
+                .map(|i| Constant::new(ModuleIndex::from(i as u64)))
+                .collect(),
+            entry_index: (0..p)
+                .map(|i| Constant::new(RamIndex::from(i as u64)))
+                .collect(),
+            level_index: (0..levels)
+                .map(|i| Constant::new(RamIndex::from(i as u64)))
+                .collect(),
+            st_level: ram(bits_for(cfg.address_bits.saturating_sub(1) as u64)),
+            st_pending: ram(cfg.path_levels().max(1) as u32),
+            st_radius: ram(db),
+            st_full: ram(1),
+            st_count: ram(cfg.count_bits()),
+            st_k: ram(cfg.count_bits()),
+            st_max_pos: ram(entry_bits),
+            st_visited: ram(cfg.visited_bits()),
+            st_off_x: LutRam::new(cell_depth, cell_bits),
+            st_off_y: LutRam::new(cell_depth, cell_bits),
+            st_off_z: LutRam::new(cell_depth, cell_bits),
+            st_cell_dist: LutRam::new(cell_depth, cell_bits),
+            found_dist: (0..p)
+                .map(|i| if i < cfg.k { ram(db) } else { LutRam::new(1, 1) })
+                .collect(),
+            bound: (0..levels).map(|_| ram(db)).collect(),
+            far_xy: BlockRam::new(far_index_bits, 2 * cell_bits),
+            far_zd: BlockRam::new(far_index_bits, 2 * cell_bits),
+            found_entry: BlockRam::new(slot_bits + entry_bits, cfg.address_bits + db),
+            ids: ram(cfg.id_bits()),
+            out_count_mem: ram(cfg.count_bits()),
+            out_visited_mem: ram(cfg.visited_bits()),
+            free: Default::default(),
+            finished: Default::default(),
+            a_result: Default::default(),
+            a_load: Default::default(),
+            a_slot: Default::default(),
+            a_ev: Default::default(),
+            a_insert: Default::default(),
+            a_pos: Default::default(),
+            a_axis_off: Default::default(),
+            a_level_bit: Default::default(),
+            a_bound: Default::default(),
+            a_far_index: Default::default(),
+            a_far_xy: Default::default(),
+            a_far_zd: Default::default(),
+            free_pick: Default::default(),
+            free_pick_index: Default::default(),
+            b_ev: Default::default(),
+            b_node: (0..p + p / 2 + p / 4).map(|_| Default::default()).collect(),
+            b_node_ix: (0..p + p / 2 + p / 4).map(|_| Default::default()).collect(),
+            _b_leaves: p,
+            _b_inner: p / 2 + p / 4,
+            _b_out: p + p / 2,
+            c_ev: Default::default(),
+            c_leaf: (0..p / 4).map(|_| Default::default()).collect(),
+            c_leaf_ix: (0..p / 4).map(|_| Default::default()).collect(),
+            c_node: (0..p / 2 - 1).map(|_| Default::default()).collect(),
+            c_node_ix: (0..p / 2 - 1).map(|_| Default::default()).collect(),
+            _c_leaves: p / 4,
+            _c_inner: p / 4 - 1,
+            _c_root: p / 2 - 2,
+            d_ev: Default::default(),
+            d_target: Default::default(),
+            d_found: Default::default(),
+            e_ev: Default::default(),
+            e_target: Default::default(),
+            e_found: Default::default(),
+            e_shift: Default::default(),
+            e_far_index: Default::default(),
+            f_ev: Default::default(),
+            f_target: Default::default(),
+            f_found: Default::default(),
+            f_jump: Default::default(),
+            f_done: Default::default(),
+            f_issue: Default::default(),
+            f_state: Default::default(),
+            f_slot_bit: Default::default(),
+            query_fire: Default::default(),
+            result_fire: Default::default(),
+            finished_pick: Default::default(),
+            finished_pick_index: Default::default(),
+            beat: Default::default(),
+            out_end: Default::default(),
+            out_entry_next: Default::default(),
+            out_active: Default::default(),
+            out_fetch: Default::default(),
+            out_header: Default::default(),
+            out_index: Default::default(),
+            out_entry: Default::default(),
+            out_left: Default::default(),
+            out_last: Default::default(),
+            hdr_count: Default::default(),
+            hdr_visited: Default::default(),
+            hdr_last: Default::default(),
+        }
+    }
+}
+
+impl<const W: usize> Logic for BarrelPort<W> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(
+            self,
+            clock,
+            free,
+            finished,
+            b_ev,
+            c_ev,
+            d_ev,
+            e_ev,
+            e_target,
+            e_found,
+            f_ev,
+            f_target,
+            f_found,
+            f_jump,
+            out_active,
+            out_fetch,
+            out_header,
+            out_index,
+            out_entry,
+            out_left,
+            out_last,
+            hdr_count,
+            hdr_visited,
+            hdr_last
+        );
+        self.search.clock.next = self.clock.val();
+        self.search.reset.next = self.reset.val();
+        self.search.photon_count.next = self.photon_count.val();
+        self.search.word.next = self.ram_data.val();
+        self.st_level.clock.next = self.clock.val();
+        self.st_pending.clock.next = self.clock.val();
+        self.st_radius.clock.next = self.clock.val();
+        self.st_full.clock.next = self.clock.val();
+        self.st_count.clock.next = self.clock.val();
+        self.st_k.clock.next = self.clock.val();
+        self.st_max_pos.clock.next = self.clock.val();
+        self.st_visited.clock.next = self.clock.val();
+        self.st_off_x.clock.next = self.clock.val();
+        self.st_off_y.clock.next = self.clock.val();
+        self.st_off_z.clock.next = self.clock.val();
+        self.st_cell_dist.clock.next = self.clock.val();
+        self.far_xy.clock.next = self.clock.val();
+        self.far_zd.clock.next = self.clock.val();
+        self.found_entry.clock.next = self.clock.val();
+        self.ids.clock.next = self.clock.val();
+        self.out_count_mem.clock.next = self.clock.val();
+        self.out_visited_mem.clock.next = self.clock.val();
+
+        // ---- Stage A: a result, else a new query into the lowest free slot. ----
+        self.free_pick.next = self.free.q.val() & ((!self.free.q.val()) + 1);
+        self.free_pick_index.next = 0.into();
+        for i in 0..self.slot_index.len() {
+            if self.free_pick.val().get_bit(i) {
+                self.free_pick_index.next = self.free_pick_index.val() | self.slot_index[i].val();
+            }
+        }
+        self.a_result.next = self.search.result_valid.val();
+        self.query.ready.next = self.free.q.val().any() && (!self.search.result_valid.val());
+        self.query_fire.next = self.query.valid.val() && self.query.ready.val();
+        self.a_load.next = self.query_fire.val();
+        if self.a_result.val() {
+            self.a_slot.next = self.search.result.val().query_module;
+        } else {
+            self.a_slot.next = self.free_pick_index.val();
+        }
+        self.st_level.read_index.next = self.a_slot.val();
+        self.st_pending.read_index.next = self.a_slot.val();
+        self.st_radius.read_index.next = self.a_slot.val();
+        self.st_full.read_index.next = self.a_slot.val();
+        self.st_count.read_index.next = self.a_slot.val();
+        self.st_k.read_index.next = self.a_slot.val();
+        self.st_max_pos.read_index.next = self.a_slot.val();
+        self.st_visited.read_index.next = self.a_slot.val();
+        self.st_off_x.read_index.next = self.a_slot.val();
+        self.st_off_y.read_index.next = self.a_slot.val();
+        self.st_off_z.read_index.next = self.a_slot.val();
+        self.st_cell_dist.read_index.next = self.a_slot.val();
+
+        // The slot's state as read, then this result's changes.
+        self.a_ev.next.valid = self.a_result.val() || self.a_load.val();
+        self.a_ev.next.load = self.a_load.val();
+        self.a_ev.next.slot = self.a_slot.val();
+        self.a_ev.next.full = self.st_full.read_data.val().get_bit(0);
+        self.a_ev.next.radius = self.st_radius.read_data.val() & self.dist_mask.val();
+        self.a_ev.next.count = bit_cast::<8, 32>(self.st_count.read_data.val()) & self.count_mask.val();
+        self.a_ev.next.k = bit_cast::<8, 32>(self.st_k.read_data.val()) & self.count_mask.val();
+        self.a_ev.next.max_pos =
+            bit_cast::<8, 32>(self.st_max_pos.read_data.val()) & self.entry_mask.val();
+        self.a_ev.next.visited =
+            (self.st_visited.read_data.val() + 1) & self.visited_mask.val();
+        self.a_ev.next.level = bit_cast::<8, 32>(self.st_level.read_data.val()) & self.level_mask.val();
+        self.a_ev.next.up = self.search.result.val().next_up;
+        self.a_ev.next.address = self.search.result.val().address & self.addr_mask.val();
+        self.a_ev.next.next_address = self.search.result.val().next_address & self.addr_mask.val();
+        self.a_ev.next.off_x = self.st_off_x.read_data.val() & self.dist_mask.val();
+        self.a_ev.next.off_y = self.st_off_y.read_data.val() & self.dist_mask.val();
+        self.a_ev.next.off_z = self.st_off_z.read_data.val() & self.dist_mask.val();
+        self.a_ev.next.cell_dist = self.st_cell_dist.read_data.val() & self.dist_mask.val();
+        self.a_ev.next.run_max = false;
+
+        // The found list (knn.rs `FoundList`): appended at `count` while not full,
+        // else over the maximum's slot; filling it or replacing in it sets a new R.
+        self.a_insert.next = self.a_result.val() && self.search.result.val().in_range;
+        if self.a_ev.val().full {
+            self.a_pos.next = self.a_ev.val().max_pos;
+        } else {
+            self.a_pos.next = self.a_ev.val().count;
+        }
+        if self.a_insert.val() {
+            if self.a_ev.val().full {
+                self.a_ev.next.run_max = true;
+            } else {
+                // (Compared before `count` is written: `.val()` reads the new value.)
+                if (self.a_ev.val().count + 1) == self.a_ev.val().k {
+                    self.a_ev.next.full = true;
+                    self.a_ev.next.run_max = true;
+                }
+                self.a_ev.next.count = (self.a_ev.val().count + 1) & self.count_mask.val();
+            }
+        }
+        for i in 0..self.found_dist.len() {
+            self.found_dist[i].clock.next = self.clock.val();
+            self.found_dist[i].write_enable.next =
+                self.a_insert.val() && (self.a_pos.val() == self.entry_index[i].val());
+            self.found_dist[i].write_index.next = self.a_slot.val();
+            self.found_dist[i].write_data.next =
+                self.search.result.val().distance & self.dist_mask.val();
+            self.found_dist[i].read_index.next = self.b_ev.q.val().slot;
+        }
+        self.found_entry.write_enable.next = self.a_insert.val();
+        self.found_entry.write_index.next = (bit_cast::<16, 8>(self.a_slot.val())
+            << self.entry_shift.val())
+            | bit_cast::<16, 8>(self.a_pos.val());
+        self.found_entry.write_data.next = bit_cast::<64, 24>(
+            self.search.result.val().address & self.addr_mask.val(),
+        ) | (bit_cast::<64, 32>(self.search.result.val().distance & self.dist_mask.val())
+            << self.addr_shift.val());
+
+        // The path memory of this level: its far child's pruning bound and whether
+        // that child is still to be visited; `Cell`: the offsets inside it.
+        self.a_level_bit.next = self.one_level.val() << self.a_ev.val().level;
+        if self.search.result.val().far_pending {
+            self.a_ev.next.pending = (bit_cast::<32, 32>(self.st_pending.read_data.val())
+                | self.a_level_bit.val())
+                & self.pending_mask.val();
+        } else {
+            self.a_ev.next.pending = bit_cast::<32, 32>(self.st_pending.read_data.val())
+                & (!self.a_level_bit.val())
+                & self.pending_mask.val();
+        }
+        self.a_axis_off.next = self.a_ev.val().off_x;
+        if self.search.result.val().axis == 1 {
+            self.a_axis_off.next = self.a_ev.val().off_y;
+        }
+        if self.search.result.val().axis == 2 {
+            self.a_axis_off.next = self.a_ev.val().off_z;
+        }
+        if self.cell.val() {
+            self.a_bound.next = ((self.a_ev.val().cell_dist - self.a_axis_off.val())
+                + self.search.result.val().axis_dist)
+                & self.dist_mask.val();
+        } else {
+            self.a_bound.next = self.search.result.val().axis_dist & self.dist_mask.val();
+        }
+        for l in 0..self.bound.len() {
+            self.bound[l].clock.next = self.clock.val();
+            self.bound[l].write_enable.next =
+                self.a_result.val() && (self.a_ev.val().level == self.level_index[l].val());
+            self.bound[l].write_index.next = self.a_slot.val();
+            self.bound[l].write_data.next = self.a_bound.val();
+            self.bound[l].read_index.next = self.d_ev.q.val().slot;
+        }
+        // (Only a level whose far child is pending is ever entered.)
+        self.a_far_index.next = (bit_cast::<16, 8>(self.a_slot.val()) << self.level_shift.val())
+            | bit_cast::<16, 8>(self.a_ev.val().level);
+        self.a_far_xy.next = bit_cast::<64, 32>(self.a_ev.val().off_x);
+        if self.search.result.val().axis == 0 {
+            self.a_far_xy.next =
+                bit_cast::<64, 32>(self.search.result.val().axis_dist & self.dist_mask.val());
+        }
+        if self.search.result.val().axis == 1 {
+            self.a_far_xy.next = self.a_far_xy.val()
+                | (bit_cast::<64, 32>(self.search.result.val().axis_dist & self.dist_mask.val())
+                    << self.dist_shift.val());
+        } else {
+            self.a_far_xy.next = self.a_far_xy.val()
+                | (bit_cast::<64, 32>(self.a_ev.val().off_y) << self.dist_shift.val());
+        }
+        if self.search.result.val().axis == 2 {
+            self.a_far_zd.next =
+                bit_cast::<64, 32>(self.search.result.val().axis_dist & self.dist_mask.val());
+        } else {
+            self.a_far_zd.next = bit_cast::<64, 32>(self.a_ev.val().off_z);
+        }
+        self.a_far_zd.next =
+            self.a_far_zd.val() | (bit_cast::<64, 32>(self.a_bound.val()) << self.dist_shift.val());
+        self.far_xy.write_enable.next =
+            self.a_result.val() && self.cell.val() && self.search.result.val().far_pending;
+        self.far_zd.write_enable.next =
+            self.a_result.val() && self.cell.val() && self.search.result.val().far_pending;
+        self.far_xy.write_index.next = self.a_far_index.val();
+        self.far_zd.write_index.next = self.a_far_index.val();
+        self.far_xy.write_data.next = self.a_far_xy.val();
+        self.far_zd.write_data.next = self.a_far_zd.val();
+
+        // A new query: the root is read first, with the initial radius (a radius
+        // beyond every distance is the largest one, in distance bits).
+        if self.a_load.val() {
+            if (self.query.data.val().radius & (!self.dist_mask.val())).any() {
+                self.a_ev.next.radius = self.dist_mask.val();
+            } else {
+                self.a_ev.next.radius = self.query.data.val().radius & self.dist_mask.val();
+            }
+            self.a_ev.next.k = self.query.data.val().k & self.count_mask.val();
+            self.a_ev.next.full = false;
+            self.a_ev.next.count = 0.into();
+            self.a_ev.next.max_pos = 0.into();
+            self.a_ev.next.visited = 0.into();
+            self.a_ev.next.level = 0.into();
+            self.a_ev.next.pending = 0.into();
+            self.a_ev.next.up = false;
+            self.a_ev.next.address = 0.into();
+            self.a_ev.next.next_address = 1.into();
+            self.a_ev.next.off_x = 0.into();
+            self.a_ev.next.off_y = 0.into();
+            self.a_ev.next.off_z = 0.into();
+            self.a_ev.next.cell_dist = 0.into();
+        }
+        self.ids.write_enable.next = self.a_load.val();
+        self.ids.write_index.next = self.a_slot.val();
+        self.ids.write_data.next = self.query.data.val().id;
+        self.search.query_write.next = self.a_load.val();
+        self.search.query_module.next = self.a_slot.val();
+        self.search.query.next = self.query.data.val();
+
+        // ---- Stage B: the found list's first two comparator levels. ----
+        // Entries past k hold nothing (zero: on a tie the lower entry wins, and
+        // every real entry is below them).
+        self.b_ev.d.next = self.a_ev.val();
+        for i in 0..self.found_dist.len() {
+            self.b_node[i].next = 0.into();
+            if self.entry_index[i].val() < self.b_ev.q.val().k {
+                self.b_node[i].next = self.found_dist[i].read_data.val() & self.dist_mask.val();
+            }
+            self.b_node_ix[i].next = self.entry_index[i].val();
+        }
+        for p in self._b_leaves..(self._b_leaves + 1) {
+            for i in 0..self._b_inner {
+                // The larger of two; on a tie the lower entry (knn.rs: "the lowest
+                // list slot among ties").
+                if self.b_node[2 * i + 1].val() > self.b_node[2 * i].val() {
+                    self.b_node[p + i].next = self.b_node[2 * i + 1].val();
+                    self.b_node_ix[p + i].next = self.b_node_ix[2 * i + 1].val();
+                } else {
+                    self.b_node[p + i].next = self.b_node[2 * i].val();
+                    self.b_node_ix[p + i].next = self.b_node_ix[2 * i].val();
+                }
+            }
+        }
+        for p in self._b_out..(self._b_out + 1) {
+            for j in 0..self.c_leaf.len() {
+                self.c_leaf[j].clock.next = self.clock.val();
+                self.c_leaf_ix[j].clock.next = self.clock.val();
+                self.c_leaf[j].d.next = self.b_node[p + j].val();
+                self.c_leaf_ix[j].d.next = self.b_node_ix[p + j].val();
+            }
+        }
+
+        // ---- Stage C: the rest of the tree; R and its slot if the list is full. ----
+        self.c_ev.d.next = self.b_ev.q.val();
+        for j in 0..self.c_leaf.len() {
+            self.c_node[j].next = self.c_leaf[j].q.val();
+            self.c_node_ix[j].next = self.c_leaf_ix[j].q.val();
+        }
+        for n in self._c_leaves..(self._c_leaves + 1) {
+            for i in 0..self._c_inner {
+                if self.c_node[2 * i + 1].val() > self.c_node[2 * i].val() {
+                    self.c_node[n + i].next = self.c_node[2 * i + 1].val();
+                    self.c_node_ix[n + i].next = self.c_node_ix[2 * i + 1].val();
+                } else {
+                    self.c_node[n + i].next = self.c_node[2 * i].val();
+                    self.c_node_ix[n + i].next = self.c_node_ix[2 * i].val();
+                }
+            }
+        }
+        self.d_ev.d.next = self.c_ev.q.val();
+        if self.c_ev.q.val().run_max {
+            for r in self._c_root..(self._c_root + 1) {
+                self.d_ev.d.next.radius = self.c_node[r].val() & self.dist_mask.val();
+                self.d_ev.d.next.max_pos = self.c_node_ix[r].val() & self.entry_mask.val();
+            }
+        }
+
+        // ---- Stage D: the ascent in one step. ----
+        // The software search climbs level by level with R fixed and enters the
+        // first pending far child within R: the deepest such level above this one.
+        self.d_target.next = 0.into();
+        self.d_found.next = false;
+        for l in 0..self.bound.len() {
+            if (self.level_index[l].val() < self.d_ev.q.val().level)
+                && self.d_ev.q.val().pending.get_bit(l)
+            {
+                if self.d_ev.q.val().full {
+                    if (self.bound[l].read_data.val() & self.dist_mask.val())
+                        < self.d_ev.q.val().radius
+                    {
+                        self.d_target.next = self.level_index[l].val();
+                        self.d_found.next = true;
+                    }
+                } else if (self.bound[l].read_data.val() & self.dist_mask.val())
+                    <= self.d_ev.q.val().radius
+                {
+                    self.d_target.next = self.level_index[l].val();
+                    self.d_found.next = true;
+                }
+            }
+        }
+        self.e_ev.d.next = self.d_ev.q.val();
+        self.e_target.d.next = self.d_target.val();
+        self.e_found.d.next = self.d_found.val();
+
+        // ---- Stage E: the far child's address; its cell's offsets are read. ----
+        // The far child is the sibling of the path's node one level below the
+        // target: this node's ancestor there.
+        self.e_shift.next =
+            ((self.e_ev.q.val().level - self.e_target.q.val()) - 1) & self.level_mask.val();
+        self.f_jump.d.next =
+            ((self.e_ev.q.val().address >> self.e_shift.val()) ^ 1) & self.addr_mask.val();
+        self.e_far_index.next = (bit_cast::<16, 8>(self.e_ev.q.val().slot)
+            << self.level_shift.val())
+            | bit_cast::<16, 8>(self.e_target.q.val());
+        self.far_xy.read_index.next = self.e_far_index.val();
+        self.far_zd.read_index.next = self.e_far_index.val();
+        self.f_ev.d.next = self.e_ev.q.val();
+        self.f_target.d.next = self.e_target.q.val();
+        self.f_found.d.next = self.e_found.q.val();
+
+        // ---- Stage F: the slot's new state; its next read. ----
+        self.f_state.next = self.f_ev.q.val();
+        self.f_done.next = false;
+        if self.f_ev.q.val().load {
+            self.f_state.next.level = 0.into();
+        } else if !self.f_ev.q.val().up {
+            self.f_state.next.level = (self.f_ev.q.val().level + 1) & self.level_mask.val();
+        } else if self.f_found.q.val() {
+            self.f_state.next.level = (self.f_target.q.val() + 1) & self.level_mask.val();
+            self.f_state.next.next_address = self.f_jump.q.val();
+            self.f_state.next.pending = self.f_ev.q.val().pending
+                & (!(self.one_level.val() << self.f_target.q.val()));
+            if self.cell.val() {
+                self.f_state.next.off_x =
+                    bit_cast::<32, 64>(self.far_xy.read_data.val() & self.dist_mask_wide.val());
+                self.f_state.next.off_y = bit_cast::<32, 64>(
+                    (self.far_xy.read_data.val() >> self.dist_shift.val())
+                        & self.dist_mask_wide.val(),
+                );
+                self.f_state.next.off_z =
+                    bit_cast::<32, 64>(self.far_zd.read_data.val() & self.dist_mask_wide.val());
+                self.f_state.next.cell_dist = bit_cast::<32, 64>(
+                    (self.far_zd.read_data.val() >> self.dist_shift.val())
+                        & self.dist_mask_wide.val(),
+                );
+            }
+        } else {
+            self.f_done.next = true;
+        }
+        self.f_issue.next = self.f_ev.q.val().valid && (!self.f_done.val());
+        self.search.request_valid.next = self.f_issue.val();
+        self.search.request.next.query_module = self.f_ev.q.val().slot;
+        self.search.request.next.address = self.f_state.val().next_address;
+        self.search.request.next.up = false;
+        self.search.request.next.came_from_right = false;
+        self.search.request.next.x = 0.into();
+        self.search.request.next.y = 0.into();
+        self.search.request.next.z = 0.into();
+        self.search.request.next.radius = self.f_state.val().radius;
+        self.search.request.next.full = self.f_state.val().full;
+        self.ram_address.next = self.f_state.val().next_address;
+        self.reading.next = self.f_issue.val();
+        // The state write (every event), and the header of a finished search.
+        self.st_level.write_enable.next = self.f_ev.q.val().valid;
+        self.st_pending.write_enable.next = self.f_ev.q.val().valid;
+        self.st_radius.write_enable.next = self.f_ev.q.val().valid;
+        self.st_full.write_enable.next = self.f_ev.q.val().valid;
+        self.st_count.write_enable.next = self.f_ev.q.val().valid;
+        self.st_k.write_enable.next = self.f_ev.q.val().valid;
+        self.st_max_pos.write_enable.next = self.f_ev.q.val().valid;
+        self.st_visited.write_enable.next = self.f_ev.q.val().valid;
+        self.st_off_x.write_enable.next = self.f_ev.q.val().valid && self.cell.val();
+        self.st_off_y.write_enable.next = self.f_ev.q.val().valid && self.cell.val();
+        self.st_off_z.write_enable.next = self.f_ev.q.val().valid && self.cell.val();
+        self.st_cell_dist.write_enable.next = self.f_ev.q.val().valid && self.cell.val();
+        self.st_level.write_index.next = self.f_ev.q.val().slot;
+        self.st_pending.write_index.next = self.f_ev.q.val().slot;
+        self.st_radius.write_index.next = self.f_ev.q.val().slot;
+        self.st_full.write_index.next = self.f_ev.q.val().slot;
+        self.st_count.write_index.next = self.f_ev.q.val().slot;
+        self.st_k.write_index.next = self.f_ev.q.val().slot;
+        self.st_max_pos.write_index.next = self.f_ev.q.val().slot;
+        self.st_visited.write_index.next = self.f_ev.q.val().slot;
+        self.st_off_x.write_index.next = self.f_ev.q.val().slot;
+        self.st_off_y.write_index.next = self.f_ev.q.val().slot;
+        self.st_off_z.write_index.next = self.f_ev.q.val().slot;
+        self.st_cell_dist.write_index.next = self.f_ev.q.val().slot;
+        self.st_level.write_data.next = bit_cast::<32, 8>(self.f_state.val().level);
+        self.st_pending.write_data.next = self.f_state.val().pending;
+        self.st_radius.write_data.next = self.f_state.val().radius;
+        self.st_full.write_data.next = 0.into();
+        if self.f_state.val().full {
+            self.st_full.write_data.next = 1.into();
+        }
+        self.st_count.write_data.next = bit_cast::<32, 8>(self.f_state.val().count);
+        self.st_k.write_data.next = bit_cast::<32, 8>(self.f_state.val().k);
+        self.st_max_pos.write_data.next = bit_cast::<32, 8>(self.f_state.val().max_pos);
+        self.st_visited.write_data.next = self.f_state.val().visited;
+        self.st_off_x.write_data.next = self.f_state.val().off_x;
+        self.st_off_y.write_data.next = self.f_state.val().off_y;
+        self.st_off_z.write_data.next = self.f_state.val().off_z;
+        self.st_cell_dist.write_data.next = self.f_state.val().cell_dist;
+        self.out_count_mem.write_enable.next = self.f_ev.q.val().valid && self.f_done.val();
+        self.out_visited_mem.write_enable.next = self.f_ev.q.val().valid && self.f_done.val();
+        self.out_count_mem.write_index.next = self.f_ev.q.val().slot;
+        self.out_visited_mem.write_index.next = self.f_ev.q.val().slot;
+        self.out_count_mem.write_data.next = bit_cast::<32, 8>(self.f_state.val().count);
+        self.out_visited_mem.write_data.next = self.f_state.val().visited;
+        self.f_slot_bit.next = 0.into();
+        if self.f_ev.q.val().valid && self.f_done.val() {
+            self.f_slot_bit.next = self.one_slot.val() << self.f_ev.q.val().slot;
+        }
+
+        // ---- Read-out: a finished slot's header, then its entries. ----
+        self.finished_pick.next = self.finished.q.val() & ((!self.finished.q.val()) + 1);
+        self.finished_pick_index.next = 0.into();
+        for i in 0..self.slot_index.len() {
+            if self.finished_pick.val().get_bit(i) {
+                self.finished_pick_index.next =
+                    self.finished_pick_index.val() | self.slot_index[i].val();
+            }
+        }
+        self.result_fire.next = self.out_active.q.val()
+            && (!self.out_fetch.q.val())
+            && self.result_register.inbound.ready.val();
+        self.ids.read_index.next = self.out_index.q.val();
+        self.out_count_mem.read_index.next = self.out_index.q.val();
+        self.out_visited_mem.read_index.next = self.out_index.q.val();
+        self.beat.next.header = self.out_header.q.val();
+        self.beat.next.id = 0.into();
+        if self.out_active.q.val() {
+            self.beat.next.id = self.ids.read_data.val();
+        }
+        self.beat.next.count = self.hdr_count.q.val();
+        self.beat.next.visited = self.hdr_visited.q.val();
+        self.beat.next.address = 0.into();
+        self.beat.next.distance = 0.into();
+        if self.out_header.q.val() {
+            self.beat.next.last = self.hdr_last.q.val();
+        } else {
+            self.beat.next.last = self.out_last.q.val();
+            if self.out_active.q.val() && (!self.out_fetch.q.val()) {
+                self.beat.next.address = bit_cast::<24, 64>(
+                    self.found_entry.read_data.val() & self.addr_mask_wide.val(),
+                );
+                self.beat.next.distance = bit_cast::<32, 64>(
+                    (self.found_entry.read_data.val() >> self.addr_shift.val())
+                        & self.dist_mask_wide.val(),
+                );
+            }
+        }
+        // The entry beat now is at `out_entry`; the BlockRAM reads the next one.
+        self.out_entry_next.next = self.out_entry.q.val();
+        if self.result_fire.val() && (!self.out_header.q.val()) {
+            self.out_entry_next.next = (self.out_entry.q.val() + 1) & self.entry_mask.val();
+        }
+        self.found_entry.read_index.next = (bit_cast::<16, 8>(self.out_index.q.val())
+            << self.entry_shift.val())
+            | bit_cast::<16, 8>(self.out_entry_next.val());
+        self.out_entry.d.next = self.out_entry_next.val();
+        self.result_register.clock.next = self.clock.val();
+        self.result_register.reset.next = self.reset.val();
+        self.result_register.inbound.valid.next =
+            self.out_active.q.val() && (!self.out_fetch.q.val());
+        self.result_register.inbound.data.next = self.beat.val();
+        self.result_register.outbound.ready.next = self.result.ready.val();
+        self.result.valid.next = self.result_register.outbound.valid.val();
+        self.result.data.next = self.result_register.outbound.data.val();
+        self.out_end.next = 0.into();
+        if !self.out_active.q.val() {
+            if self.finished.q.val().any() {
+                self.out_active.d.next = true;
+                self.out_fetch.d.next = true;
+                self.out_index.d.next = self.finished_pick_index.val();
+                self.out_entry.d.next = 0.into();
+            }
+        } else if self.out_fetch.q.val() {
+            self.out_fetch.d.next = false;
+            self.out_header.d.next = true;
+            self.hdr_count.d.next =
+                bit_cast::<8, 32>(self.out_count_mem.read_data.val()) & self.count_mask.val();
+            self.hdr_visited.d.next = self.out_visited_mem.read_data.val() & self.visited_mask.val();
+            self.hdr_last.d.next =
+                (bit_cast::<8, 32>(self.out_count_mem.read_data.val()) & self.count_mask.val()) == 0;
+        } else if self.result_fire.val() {
+            if self.out_header.q.val() {
+                self.out_header.d.next = false;
+                self.out_left.d.next = self.hdr_count.q.val();
+                self.out_last.d.next = self.hdr_count.q.val() == 1;
+            } else {
+                self.out_left.d.next = self.out_left.q.val() - 1;
+                self.out_last.d.next = self.out_left.q.val() == 2;
+            }
+            if self.beat.val().last {
+                self.out_active.d.next = false;
+                self.out_end.next = self.one_slot.val() << self.out_index.q.val();
+            }
+        }
+
+        // Slots: taken by a load, finished in F, freed by their last beat.
+        self.free.d.next = self.free.q.val() | self.out_end.val();
+        if self.a_load.val() {
+            self.free.d.next = (self.free.q.val() & (!self.free_pick.val())) | self.out_end.val();
+        }
+        self.finished.d.next =
+            (self.finished.q.val() | self.f_slot_bit.val()) & (!self.out_end.val());
+        if self.reset.val() {
+            self.free.d.next = self.all_slots.val();
+            self.finished.d.next = 0.into();
+            self.b_ev.d.next.valid = false;
+            self.c_ev.d.next.valid = false;
+            self.d_ev.d.next.valid = false;
+            self.e_ev.d.next.valid = false;
+            self.f_ev.d.next.valid = false;
+            self.out_active.d.next = false;
+            self.out_fetch.d.next = false;
+            self.out_header.d.next = false;
+        }
+        self.all_busy.next = (self.free.q.val() & self.all_slots.val()) == 0;
+        self.idle.next = (self.free.q.val() & self.all_slots.val()) == self.all_slots.val();
+    }
+}
