@@ -104,7 +104,7 @@ pub struct BarrelPort<const W: usize> {
     search: SearchModule<W>,
     result_register: ResultRegister,
     /// `Traversal::Cell`: prune on the far cell's distance, restore its offsets.
-    cell: Constant<bool>,
+    cell_mode: Constant<bool>,
     all_slots: Constant<ModuleMask>,
     one_slot: Constant<ModuleMask>,
     one_level: Constant<LevelMask>,
@@ -264,7 +264,7 @@ impl<const W: usize> BarrelPort<W> {
             idle: Default::default(),
             search: SearchModule::new(cfg),
             result_register: ResultRegister::new(!cfg.pipelined),
-            cell: Constant::new(cell),
+            cell_mode: Constant::new(cell),
             all_slots: Constant::new(ModuleMask::from(low_mask(q as u32))),
             one_slot: Constant::new(ModuleMask::from(1u64)),
             one_level: Constant::new(LevelMask::from(1u64)),
@@ -542,7 +542,7 @@ impl<const W: usize> Logic for BarrelPort<W> {
         if self.search.result.val().axis == 2 {
             self.a_axis_off.next = self.a_ev.val().off_z;
         }
-        if self.cell.val() {
+        if self.cell_mode.val() {
             self.a_bound.next = ((self.a_ev.val().cell_dist - self.a_axis_off.val())
                 + self.search.result.val().axis_dist)
                 & self.dist_mask.val();
@@ -582,9 +582,9 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.a_far_zd.next =
             self.a_far_zd.val() | (bit_cast::<64, 32>(self.a_bound.val()) << self.dist_shift.val());
         self.far_xy.write_enable.next =
-            self.a_result.val() && self.cell.val() && self.search.result.val().far_pending;
+            self.a_result.val() && self.cell_mode.val() && self.search.result.val().far_pending;
         self.far_zd.write_enable.next =
-            self.a_result.val() && self.cell.val() && self.search.result.val().far_pending;
+            self.a_result.val() && self.cell_mode.val() && self.search.result.val().far_pending;
         self.far_xy.write_index.next = self.a_far_index.val();
         self.far_zd.write_index.next = self.a_far_index.val();
         self.far_xy.write_data.next = self.a_far_xy.val();
@@ -734,7 +734,7 @@ impl<const W: usize> Logic for BarrelPort<W> {
             self.f_state.next.next_address = self.f_jump.q.val();
             self.f_state.next.pending = self.f_ev.q.val().pending
                 & (!(self.one_level.val() << self.f_target.q.val()));
-            if self.cell.val() {
+            if self.cell_mode.val() {
                 self.f_state.next.off_x =
                     bit_cast::<32, 64>(self.far_xy.read_data.val() & self.dist_mask_wide.val());
                 self.f_state.next.off_y = bit_cast::<32, 64>(
@@ -773,10 +773,10 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.st_k.write_enable.next = self.f_ev.q.val().valid;
         self.st_max_pos.write_enable.next = self.f_ev.q.val().valid;
         self.st_visited.write_enable.next = self.f_ev.q.val().valid;
-        self.st_off_x.write_enable.next = self.f_ev.q.val().valid && self.cell.val();
-        self.st_off_y.write_enable.next = self.f_ev.q.val().valid && self.cell.val();
-        self.st_off_z.write_enable.next = self.f_ev.q.val().valid && self.cell.val();
-        self.st_cell_dist.write_enable.next = self.f_ev.q.val().valid && self.cell.val();
+        self.st_off_x.write_enable.next = self.f_ev.q.val().valid && self.cell_mode.val();
+        self.st_off_y.write_enable.next = self.f_ev.q.val().valid && self.cell_mode.val();
+        self.st_off_z.write_enable.next = self.f_ev.q.val().valid && self.cell_mode.val();
+        self.st_cell_dist.write_enable.next = self.f_ev.q.val().valid && self.cell_mode.val();
         self.st_level.write_index.next = self.f_ev.q.val().slot;
         self.st_pending.write_index.next = self.f_ev.q.val().slot;
         self.st_radius.write_index.next = self.f_ev.q.val().slot;
