@@ -3,13 +3,35 @@
 //! cases, random stalls on every stream, two maps loaded one after the other.
 
 use crate::common::*;
-use photon_fpga::hw::config::CoreConfig;
+use photon_fpga::hw::config::{CoreConfig, BARREL_SLOTS};
+use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::rtl::driver::HwQuery;
 use photon_fpga::hw::rtl::native::{run_gather, CoreSim, SimOptions};
 use photon_fpga::hw::traversal::Traversal;
 use rand::Rng;
+
+/// Every (traversal, controller) a port can be built with.
+const EVERY_PORT: [(Traversal, Controller); 5] = [
+    (Traversal::Remember, Controller::Modules),
+    (Traversal::Reread, Controller::Modules),
+    (Traversal::Cell, Controller::Modules),
+    (Traversal::Remember, Controller::Barrel),
+    (Traversal::Cell, Controller::Barrel),
+];
+
+/// The QueryModule core and the barrel core with the cell traversal.
+fn both_controllers(cfg: CoreConfig) -> [CoreConfig; 2] {
+    [
+        cfg,
+        CoreConfig {
+            traversal: Traversal::Cell,
+            controller: Controller::Barrel,
+            ..cfg
+        },
+    ]
+}
 
 /// A small core for the map: Q capped to keep the simulation quick.
 fn small_core(
@@ -30,10 +52,12 @@ fn run_case(
     queries: &[HwQuery],
 ) {
     let tree = pack(points, layout);
-    // Every traversal: the default path memory, the paper's re-reads, the cell bound.
-    for traversal in [Traversal::Remember, Traversal::Reread, Traversal::Cell] {
+    // Every traversal on QueryModules (the default path memory, the paper's
+    // re-reads, the cell bound), and the two the barrel port runs.
+    for (traversal, controller) in EVERY_PORT {
         let cfg = CoreConfig {
             traversal,
+            controller,
             ..small_core(&tree, k, metric)
         };
         let (results, _) =
@@ -180,13 +204,21 @@ fn paper_config_matches_software() {
         q.k = cfg.k as u32;
         q.radius = u64::MAX;
     }
-    let (results, stats) =
-        run_gather(&cfg, tree.image(), &queries, &SimOptions::default()).expect("sim");
-    check_results(&cfg, &tree, &points, &queries, &results);
-    assert!(
-        stats.reads_per_port.iter().all(|&r| r > 0),
-        "both ports read"
-    );
+    let barrel = CoreConfig {
+        traversal: Traversal::Cell,
+        controller: Controller::Barrel,
+        queries_per_port: BARREL_SLOTS,
+        ..cfg
+    };
+    for cfg in [cfg, barrel] {
+        let (results, stats) =
+            run_gather(&cfg, tree.image(), &queries, &SimOptions::default()).expect("sim");
+        check_results(&cfg, &tree, &points, &queries, &results);
+        assert!(
+            stats.reads_per_port.iter().all(|&r| r > 0),
+            "both ports read"
+        );
+    }
 }
 
 /// K > 32 switches the core to 64-bit slot masks: K = 50 (the paper's §5 example)
@@ -251,15 +283,16 @@ fn random_stalls_on_every_stream() {
         let mut r = rng(seed);
         let points = random_points(&mut r, 200, layout);
         let tree = pack(&points, layout);
-        let cfg = small_core(&tree, 7, metric);
         let queries = random_queries(&mut r, 60, layout, 7, metric);
         let opts = SimOptions {
             vcd: None,
             stall_seed: Some(seed),
             ..Default::default()
         };
-        let (results, _) = run_gather(&cfg, tree.image(), &queries, &opts).expect("sim");
-        check_results(&cfg, &tree, &points, &queries, &results);
+        for cfg in both_controllers(small_core(&tree, 7, metric)) {
+            let (results, _) = run_gather(&cfg, tree.image(), &queries, &opts).expect("sim");
+            check_results(&cfg, &tree, &points, &queries, &results);
+        }
     }
 }
 
@@ -271,10 +304,12 @@ fn two_maps_one_after_the_other() {
     let first = random_points(&mut r, 250, layout);
     let second = random_points(&mut r, 90, layout);
     let (t1, t2) = (pack(&first, layout), pack(&second, layout));
-    let cfg = small_core(&t1, 5, metric);
     let q1 = random_queries(&mut r, 25, layout, 5, metric);
     let q2 = random_queries(&mut r, 25, layout, 5, metric);
-    for stall_seed in [None, Some(5)] {
+    for (cfg, stall_seed) in both_controllers(small_core(&t1, 5, metric))
+        .into_iter()
+        .flat_map(|c| [(c, None), (c, Some(5))])
+    {
         let mut sim = CoreSim::new(
             &cfg,
             &SimOptions {
@@ -360,26 +395,27 @@ fn reset_in_the_middle_of_a_search() {
     let mut r = rng(81);
     let points = random_points(&mut r, 200, layout);
     let tree = pack(&points, layout);
-    let cfg = small_core(&tree, 6, metric);
     let queries = random_queries(&mut r, 30, layout, 6, metric);
-    let mut sim = CoreSim::new(&cfg, &SimOptions::default()).unwrap();
-    sim.load_map(tree.image()).unwrap();
-    for cycles in [3u64, 57, 200] {
-        let partial = sim.run_queries_for(&queries, cycles).unwrap();
-        assert!(
-            partial.iter().any(|p| p.is_none()),
-            "still in flight at the reset"
-        );
-        sim.reset().unwrap();
-        // The map survives a reset but must be reloaded to be searched again.
+    for cfg in both_controllers(small_core(&tree, 6, metric)) {
+        let mut sim = CoreSim::new(&cfg, &SimOptions::default()).unwrap();
         sim.load_map(tree.image()).unwrap();
-        check_results(
-            &cfg,
-            &tree,
-            &points,
-            &queries,
-            &sim.run_queries(&queries).unwrap(),
-        );
+        for cycles in [3u64, 57, 200] {
+            let partial = sim.run_queries_for(&queries, cycles).unwrap();
+            assert!(
+                partial.iter().any(|p| p.is_none()),
+                "still in flight at the reset"
+            );
+            sim.reset().unwrap();
+            // The map survives a reset but must be reloaded to be searched again.
+            sim.load_map(tree.image()).unwrap();
+            check_results(
+                &cfg,
+                &tree,
+                &points,
+                &queries,
+                &sim.run_queries(&queries).unwrap(),
+            );
+        }
     }
 }
 

@@ -7,10 +7,12 @@
 
 use crate::common::*;
 use photon_fpga::hw::config::CoreConfig;
+use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::rtl::driver::HwQuery;
 use photon_fpga::hw::rtl::native::{run_gather, Engine, SimOptions};
+use photon_fpga::hw::traversal::Traversal;
 
 fn both(cfg: &CoreConfig, points: &[[u32; 3]], queries: &[HwQuery], stall_seed: Option<u64>) {
     let tree = pack(points, cfg.layout);
@@ -42,6 +44,7 @@ fn verilator_equals_the_native_simulation() {
         pipelined: true,
         trees: 1,
         traversal: Default::default(),
+        controller: Default::default(),
     };
     let mut r = rng(31);
     let points = random_points(&mut r, 100, cfg.layout);
@@ -62,6 +65,20 @@ fn verilator_equals_the_native_simulation() {
     // A replicated array of two trees.
     let array = CoreConfig { trees: 2, ..cfg };
     both(&array, &points, &queries, Some(9));
+    // The barrel port (cell traversal), alone and in an array.
+    let barrel = CoreConfig {
+        traversal: Traversal::Cell,
+        controller: Controller::Barrel,
+        ..cfg
+    };
+    both(&barrel, &points, &queries, Some(10));
+    both(&barrel, &one, &q_one, Some(11));
+    both(
+        &CoreConfig { trees: 2, ..barrel },
+        &points,
+        &queries,
+        Some(12),
+    );
 }
 
 /// The value changes of the top-level port `name` in a VCD file: (time, value).
@@ -125,6 +142,7 @@ fn verilator_vcd_shows_the_native_handshakes() {
         pipelined: true,
         trees: 1,
         traversal: Default::default(),
+        controller: Default::default(),
     };
     let mut r = rng(32);
     let points = random_points(&mut r, 40, cfg.layout);

@@ -3,11 +3,13 @@
 //! tools the tests are ignored (build.rs), and under CI=true a missing tool fails.
 
 use photon_fpga::hw::config::CoreConfig;
+use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::port_arbiter::PortArbiter;
 use photon_fpga::hw::rtl::export::{export_block, export_verilog, glitch_free};
 use photon_fpga::hw::rtl::ports::Port;
+use photon_fpga::hw::traversal::Traversal;
 use std::process::Command;
 
 /// The tests below run only where build.rs found the tools (or under CI=true).
@@ -103,6 +105,7 @@ fn small_core_verilog_is_clean() {
         pipelined: true,
         trees: 1,
         traversal: Default::default(),
+        controller: Default::default(),
     });
 }
 
@@ -113,6 +116,22 @@ fn small_core_verilog_is_clean() {
 )]
 fn paper_core_verilog_is_clean() {
     check_config(&CoreConfig::paper());
+}
+
+/// The barrel port's Verilog (LUT-RAM and BlockRAM templates, the comparator tree,
+/// struct-field slices) through the same checks.
+#[test]
+#[cfg_attr(
+    not(all(has_yosys, has_verilator, has_iverilog)),
+    ignore = "needs yosys, verilator and iverilog"
+)]
+fn barrel_core_verilog_is_clean() {
+    check_config(&CoreConfig {
+        traversal: Traversal::Cell,
+        controller: Controller::Barrel,
+        queries_per_port: 16,
+        ..CoreConfig::paper()
+    });
 }
 
 /// The TreeModule alone maps to Virtex-6 BlockRAM (RAMB36E1/RAMB18E1), not LUTs.
@@ -285,6 +304,12 @@ fn generic_synth(cfg: &CoreConfig) -> (usize, usize, usize) {
 #[test]
 #[cfg_attr(not(has_yosys), ignore = "needs yosys")]
 fn a_small_map_synthesises_smaller_with_no_constant_flip_flops() {
+    for controller in [Controller::Modules, Controller::Barrel] {
+        small_smaller_than_large(controller);
+    }
+}
+
+fn small_smaller_than_large(controller: Controller) {
     let small = CoreConfig {
         layout: PhotonLayout::new([6, 6, 5]),
         address_bits: 6,
@@ -293,7 +318,8 @@ fn a_small_map_synthesises_smaller_with_no_constant_flip_flops() {
         metric: Metric::L2,
         pipelined: true,
         trees: 1,
-        traversal: Default::default(),
+        traversal: Traversal::Cell,
+        controller,
     };
     let large = CoreConfig {
         layout: PhotonLayout::new([10, 10, 10]),
@@ -305,7 +331,7 @@ fn a_small_map_synthesises_smaller_with_no_constant_flip_flops() {
     let (small_cells, small_ffs, small_after) = generic_synth(&small);
     let (large_cells, large_ffs, large_after) = generic_synth(&large);
     eprintln!(
-        "small: {small_cells} cells, {small_ffs} FFs; large: {large_cells} cells, {large_ffs} FFs"
+        "{controller}: small: {small_cells} cells, {small_ffs} FFs; large: {large_cells} cells, {large_ffs} FFs"
     );
     assert!(small_ffs > 0 && large_ffs > 0);
     assert!(small_cells < large_cells, "{small_cells} >= {large_cells}");

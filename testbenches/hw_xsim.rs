@@ -24,6 +24,7 @@ use photon_fpga::host::render::photons::trace_photons;
 use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::render::{self, eye_queries, RenderSettings};
 use photon_fpga::hw::config::CoreConfig;
+use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::rtl::driver::HwQuery;
@@ -352,6 +353,15 @@ fn small_and_paper(sim: Simulator) {
         cfg.traversal = Traversal::Cell;
         (cfg, cases)
     };
+    // The barrel port: Q = 4 query slots behind one datapath per port, both
+    // traversals it runs.
+    let barrel = |traversal| {
+        let (mut cfg, cases) = small_cases();
+        cfg.traversal = traversal;
+        cfg.controller = Controller::Barrel;
+        cfg.queries_per_port = 4;
+        (cfg, cases)
+    };
     // Two replicated trees (PhotonSearchArray) on the small config's cases.
     let array = {
         let (mut cfg, cases) = small_cases();
@@ -363,6 +373,8 @@ fn small_and_paper(sim: Simulator) {
         ("small_unregistered_reread", unregistered),
         ("small_cell", cell),
         ("array_t2", array),
+        ("small_barrel_remember", barrel(Traversal::Remember)),
+        ("small_barrel_cell", barrel(Traversal::Cell)),
         ("wide", wide_cases()),
         ("paper", paper_cases()),
     ] {

@@ -202,6 +202,7 @@ pub struct BarrelPort<const W: usize> {
     d_ev: DFF<SlotEvent>,
     d_target: Signal<Local, RamIndex>,
     d_found: Signal<Local, bool>,
+    d_pending: Signal<Local, LevelMask>,
     // Stage E.
     e_ev: DFF<SlotEvent>,
     e_target: DFF<RamIndex>,
@@ -305,7 +306,13 @@ impl<const W: usize> BarrelPort<W> {
             st_off_z: LutRam::new(cell_depth, cell_bits),
             st_cell_dist: LutRam::new(cell_depth, cell_bits),
             found_dist: (0..p)
-                .map(|i| if i < cfg.k { ram(db) } else { LutRam::new(1, 1) })
+                .map(|i| {
+                    if i < cfg.k {
+                        ram(db)
+                    } else {
+                        LutRam::new(1, 1)
+                    }
+                })
                 .collect(),
             bound: (0..levels).map(|_| ram(db)).collect(),
             far_xy: BlockRam::new(far_index_bits, 2 * cell_bits),
@@ -347,6 +354,7 @@ impl<const W: usize> BarrelPort<W> {
             d_ev: Default::default(),
             d_target: Default::default(),
             d_found: Default::default(),
+            d_pending: Default::default(),
             e_ev: Default::default(),
             e_target: Default::default(),
             e_found: Default::default(),
@@ -469,13 +477,14 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.a_ev.next.slot = self.a_slot.val();
         self.a_ev.next.full = self.st_full.read_data.val().get_bit(0);
         self.a_ev.next.radius = self.st_radius.read_data.val() & self.dist_mask.val();
-        self.a_ev.next.count = bit_cast::<8, 32>(self.st_count.read_data.val()) & self.count_mask.val();
+        self.a_ev.next.count =
+            bit_cast::<8, 32>(self.st_count.read_data.val()) & self.count_mask.val();
         self.a_ev.next.k = bit_cast::<8, 32>(self.st_k.read_data.val()) & self.count_mask.val();
         self.a_ev.next.max_pos =
             bit_cast::<8, 32>(self.st_max_pos.read_data.val()) & self.entry_mask.val();
-        self.a_ev.next.visited =
-            (self.st_visited.read_data.val() + 1) & self.visited_mask.val();
-        self.a_ev.next.level = bit_cast::<8, 32>(self.st_level.read_data.val()) & self.level_mask.val();
+        self.a_ev.next.visited = (self.st_visited.read_data.val() + 1) & self.visited_mask.val();
+        self.a_ev.next.level =
+            bit_cast::<8, 32>(self.st_level.read_data.val()) & self.level_mask.val();
         self.a_ev.next.up = self.search.result.val().next_up;
         self.a_ev.next.address = self.search.result.val().address & self.addr_mask.val();
         self.a_ev.next.next_address = self.search.result.val().next_address & self.addr_mask.val();
@@ -518,10 +527,10 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.found_entry.write_index.next = (bit_cast::<16, 8>(self.a_slot.val())
             << self.entry_shift.val())
             | bit_cast::<16, 8>(self.a_pos.val());
-        self.found_entry.write_data.next = bit_cast::<64, 24>(
-            self.search.result.val().address & self.addr_mask.val(),
-        ) | (bit_cast::<64, 32>(self.search.result.val().distance & self.dist_mask.val())
-            << self.addr_shift.val());
+        self.found_entry.write_data.next =
+            bit_cast::<64, 24>(self.search.result.val().address & self.addr_mask.val())
+                | (bit_cast::<64, 32>(self.search.result.val().distance & self.dist_mask.val())
+                    << self.addr_shift.val());
 
         // The path memory of this level: its far child's pruning bound and whether
         // that child is still to be visited; `Cell`: the offsets inside it.
@@ -681,11 +690,14 @@ impl<const W: usize> Logic for BarrelPort<W> {
         // ---- Stage D: the ascent in one step. ----
         // The software search climbs level by level with R fixed and enters the
         // first pending far child within R: the deepest such level above this one.
+        // (The pending bits through a signal of their own: Verilog-2005 cannot
+        // index a bit of a struct field's slice.)
+        self.d_pending.next = self.d_ev.q.val().pending;
         self.d_target.next = 0.into();
         self.d_found.next = false;
         for l in 0..self.bound.len() {
             if (self.level_index[l].val() < self.d_ev.q.val().level)
-                && self.d_ev.q.val().pending.get_bit(l)
+                && self.d_pending.val().get_bit(l)
             {
                 if self.d_ev.q.val().full {
                     if (self.bound[l].read_data.val() & self.dist_mask.val())
@@ -732,8 +744,8 @@ impl<const W: usize> Logic for BarrelPort<W> {
         } else if self.f_found.q.val() {
             self.f_state.next.level = (self.f_target.q.val() + 1) & self.level_mask.val();
             self.f_state.next.next_address = self.f_jump.q.val();
-            self.f_state.next.pending = self.f_ev.q.val().pending
-                & (!(self.one_level.val() << self.f_target.q.val()));
+            self.f_state.next.pending =
+                self.f_ev.q.val().pending & (!(self.one_level.val() << self.f_target.q.val()));
             if self.cell_mode.val() {
                 self.f_state.next.off_x =
                     bit_cast::<32, 64>(self.far_xy.read_data.val() & self.dist_mask_wide.val());
@@ -883,9 +895,11 @@ impl<const W: usize> Logic for BarrelPort<W> {
             self.out_header.d.next = true;
             self.hdr_count.d.next =
                 bit_cast::<8, 32>(self.out_count_mem.read_data.val()) & self.count_mask.val();
-            self.hdr_visited.d.next = self.out_visited_mem.read_data.val() & self.visited_mask.val();
-            self.hdr_last.d.next =
-                (bit_cast::<8, 32>(self.out_count_mem.read_data.val()) & self.count_mask.val()) == 0;
+            self.hdr_visited.d.next =
+                self.out_visited_mem.read_data.val() & self.visited_mask.val();
+            self.hdr_last.d.next = (bit_cast::<8, 32>(self.out_count_mem.read_data.val())
+                & self.count_mask.val())
+                == 0;
         } else if self.result_fire.val() {
             if self.out_header.q.val() {
                 self.out_header.d.next = false;

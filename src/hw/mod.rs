@@ -41,15 +41,15 @@
 //! H <= 20, K <= 64, Q <= 32, T <= 8) are in [`config`].
 
 pub mod array;
+pub mod axis_dist;
 pub mod barrel_port;
 pub mod block_ram;
-pub mod axis_dist;
 pub mod cell_bound;
 pub mod config;
+pub mod controller;
 pub mod core;
 pub mod dispatcher;
 pub mod dist_module;
-pub mod controller;
 pub mod error;
 pub mod lut_ram;
 pub mod max_finder;

@@ -127,5 +127,6 @@ pub fn small_config(
         pipelined: true,
         trees: 1,
         traversal: Default::default(),
+        controller: Default::default(),
     }
 }
