@@ -36,6 +36,8 @@ PAPER_BASE = ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "
 PAPER = PAPER_BASE + ["--queries-per-port", "12"]
 PAPER21 = PAPER_BASE + ["--queries-per-port", "21"]
 PAPER_CELL = PAPER_BASE + ["--queries-per-port", "14", "--traversal", "cell"]
+# The barrel port (Controller::Barrel): 16 query slots per port behind one datapath.
+BARREL_CELL = PAPER_BASE + ["--queries-per-port", "16", "--traversal", "cell", "--controller", "barrel"]
 # name, export-verilog/bench-core options, replicated trees T (a PhotonSearchArray)
 CONFIGS = [
     ("paper (K=10, 10-bit, L1, 2x12: Q fitted)", PAPER, 1),
@@ -64,6 +66,11 @@ CONFIGS = [
     ("T=3 trees, cell traversal", PAPER_CELL + ["--trees", "3"], 3),
     # One cell core fewer, about half the device: the fallback if T = 3 does not route.
     ("T=2 trees, cell traversal", PAPER_CELL + ["--trees", "2"], 2),
+    # The barrel port: one pipelined datapath per port instead of Q QueryModules.
+    ("paper, cell traversal, barrel (2x16 slots)", BARREL_CELL, 1),
+    # The largest barrel arrays (MAX_TREES = 8 and a fallback).
+    ("T=8 trees, barrel cell", BARREL_CELL + ["--trees", "8"], 8),
+    ("T=6 trees, barrel cell", BARREL_CELL + ["--trees", "6"], 6),
 ]
 
 

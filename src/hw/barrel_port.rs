@@ -176,14 +176,21 @@ pub struct BarrelPort<const W: usize> {
     a_far_index: Signal<Local, BramIndex>,
     a_far_xy: Signal<Local, BramWord>,
     a_far_zd: Signal<Local, BramWord>,
+    /// Free slots but the one loaded now; the lowest of them and its index.
+    still_free: Signal<Local, ModuleMask>,
     free_pick: Signal<Local, ModuleMask>,
     free_pick_index: Signal<Local, ModuleIndex>,
+    /// The slot the next query goes to, picked a cycle ahead (one-hot, its index,
+    /// whether there is one).
+    load_pick: DFF<ModuleMask>,
+    load_pick_index: DFF<ModuleIndex>,
+    load_pick_valid: DFF<bool>,
     // Stage B: the comparator tree's first two levels.
     b_ev: DFF<SlotEvent>,
     b_node: Vec<Signal<Local, Dist>>,
     b_node_ix: Vec<Signal<Local, RamIndex>>,
     /// B's tree: leaves 0..P (`_b_leaves`), node P + i over 2i and 2i + 1 for the
-    /// `_b_inner` nodes of two levels; its P/4 winners start at `_b_out`.
+    /// `_b_inner` nodes of one level; its P/2 winners start at `_b_out`.
     _b_leaves: usize,
     _b_inner: usize,
     _b_out: usize,
@@ -193,11 +200,22 @@ pub struct BarrelPort<const W: usize> {
     c_leaf_ix: Vec<DFF<RamIndex>>,
     c_node: Vec<Signal<Local, Dist>>,
     c_node_ix: Vec<Signal<Local, RamIndex>>,
-    /// C's tree: leaves 0..P/4, node P/4 + i over 2i and 2i + 1 (`_c_inner` of
-    /// them), the root last (`_c_root`).
+    /// C's tree: leaves 0..P/2, two levels of nodes P/2 + i over 2i and 2i + 1
+    /// (`_c_inner` of them); its P/8 winners start at `_c_out`.
     _c_leaves: usize,
     _c_inner: usize,
-    _c_root: usize,
+    _c_out: usize,
+    // Stage M: the rest of the tree over C's winners.
+    m_ev: DFF<SlotEvent>,
+    m_leaf: Vec<DFF<Dist>>,
+    m_leaf_ix: Vec<DFF<RamIndex>>,
+    m_node: Vec<Signal<Local, Dist>>,
+    m_node_ix: Vec<Signal<Local, RamIndex>>,
+    /// M's tree: leaves 0..P/8, node P/8 + i over 2i and 2i + 1 (`_m_inner` of
+    /// them), the root last (`_m_root`).
+    _m_leaves: usize,
+    _m_inner: usize,
+    _m_root: usize,
     // Stage D: the ascent.
     d_ev: DFF<SlotEvent>,
     d_target: Signal<Local, RamIndex>,
@@ -244,8 +262,9 @@ impl<const W: usize> BarrelPort<W> {
         let cell = cfg.traversal == Traversal::Cell;
         let db = cfg.dist_bits();
         let levels = cfg.path_levels().max(1);
-        // The comparator tree's leaves: a power of two, at least 4 (two levels in B).
-        let p = cfg.k.next_power_of_two().max(4);
+        // The comparator tree's leaves: a power of two, at least 8 (one level in B,
+        // two in C).
+        let p = cfg.k.next_power_of_two().max(8);
         let entry_bits = bits_for(cfg.k.saturating_sub(1) as u64);
         let level_bits = bits_for(levels.saturating_sub(1) as u64);
         let slot_bits = bits_for(q.saturating_sub(1) as u64);
@@ -335,22 +354,34 @@ impl<const W: usize> BarrelPort<W> {
             a_far_index: Default::default(),
             a_far_xy: Default::default(),
             a_far_zd: Default::default(),
+            still_free: Default::default(),
             free_pick: Default::default(),
             free_pick_index: Default::default(),
+            load_pick: Default::default(),
+            load_pick_index: Default::default(),
+            load_pick_valid: Default::default(),
             b_ev: Default::default(),
-            b_node: (0..p + p / 2 + p / 4).map(|_| Default::default()).collect(),
-            b_node_ix: (0..p + p / 2 + p / 4).map(|_| Default::default()).collect(),
+            b_node: (0..p + p / 2).map(|_| Default::default()).collect(),
+            b_node_ix: (0..p + p / 2).map(|_| Default::default()).collect(),
             _b_leaves: p,
-            _b_inner: p / 2 + p / 4,
-            _b_out: p + p / 2,
+            _b_inner: p / 2,
+            _b_out: p,
             c_ev: Default::default(),
-            c_leaf: (0..p / 4).map(|_| Default::default()).collect(),
-            c_leaf_ix: (0..p / 4).map(|_| Default::default()).collect(),
-            c_node: (0..p / 2 - 1).map(|_| Default::default()).collect(),
-            c_node_ix: (0..p / 2 - 1).map(|_| Default::default()).collect(),
-            _c_leaves: p / 4,
-            _c_inner: p / 4 - 1,
-            _c_root: p / 2 - 2,
+            c_leaf: (0..p / 2).map(|_| Default::default()).collect(),
+            c_leaf_ix: (0..p / 2).map(|_| Default::default()).collect(),
+            c_node: (0..p / 2 + p / 4 + p / 8).map(|_| Default::default()).collect(),
+            c_node_ix: (0..p / 2 + p / 4 + p / 8).map(|_| Default::default()).collect(),
+            _c_leaves: p / 2,
+            _c_inner: p / 4 + p / 8,
+            _c_out: p / 2 + p / 4,
+            m_ev: Default::default(),
+            m_leaf: (0..p / 8).map(|_| Default::default()).collect(),
+            m_leaf_ix: (0..p / 8).map(|_| Default::default()).collect(),
+            m_node: (0..p / 4 - 1).map(|_| Default::default()).collect(),
+            m_node_ix: (0..p / 4 - 1).map(|_| Default::default()).collect(),
+            _m_leaves: p / 8,
+            _m_inner: p / 8 - 1,
+            _m_root: p / 4 - 2,
             d_ev: Default::default(),
             d_target: Default::default(),
             d_found: Default::default(),
@@ -397,8 +428,12 @@ impl<const W: usize> Logic for BarrelPort<W> {
             clock,
             free,
             finished,
+            load_pick,
+            load_pick_index,
+            load_pick_valid,
             b_ev,
             c_ev,
+            m_ev,
             d_ev,
             e_ev,
             e_target,
@@ -441,23 +476,36 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.out_count_mem.clock.next = self.clock.val();
         self.out_visited_mem.clock.next = self.clock.val();
 
-        // ---- Stage A: a result, else a new query into the lowest free slot. ----
-        self.free_pick.next = self.free.q.val() & ((!self.free.q.val()) + 1);
+        // ---- Stage A: a result, else a new query into the picked free slot. ----
+        // The free slot is picked a cycle ahead into registers (as the SearchPort
+        // does), leaving out the one loaded now: the slot index that addresses every
+        // state LUT-RAM then comes from flip-flops through one multiplexer. Picked
+        // in the same cycle, the lowest-free-bit carry chain, the index encoder, the
+        // LUT-RAM read and the found list's write enable were one path (64.1 MHz
+        // on the ECP5, seed 1).
+        self.a_result.next = self.search.result_valid.val();
+        self.query.ready.next = self.load_pick_valid.q.val() && (!self.search.result_valid.val());
+        self.query_fire.next = self.query.valid.val() && self.query.ready.val();
+        self.a_load.next = self.query_fire.val();
+        if self.a_result.val() {
+            self.a_slot.next = self.search.result.val().query_module;
+        } else {
+            self.a_slot.next = self.load_pick_index.q.val();
+        }
+        self.still_free.next = self.free.q.val();
+        if self.a_load.val() {
+            self.still_free.next = self.free.q.val() & (!self.load_pick.q.val());
+        }
+        self.free_pick.next = self.still_free.val() & ((!self.still_free.val()) + 1);
         self.free_pick_index.next = 0.into();
         for i in 0..self.slot_index.len() {
             if self.free_pick.val().get_bit(i) {
                 self.free_pick_index.next = self.free_pick_index.val() | self.slot_index[i].val();
             }
         }
-        self.a_result.next = self.search.result_valid.val();
-        self.query.ready.next = self.free.q.val().any() && (!self.search.result_valid.val());
-        self.query_fire.next = self.query.valid.val() && self.query.ready.val();
-        self.a_load.next = self.query_fire.val();
-        if self.a_result.val() {
-            self.a_slot.next = self.search.result.val().query_module;
-        } else {
-            self.a_slot.next = self.free_pick_index.val();
-        }
+        self.load_pick.d.next = self.free_pick.val();
+        self.load_pick_index.d.next = self.free_pick_index.val();
+        self.load_pick_valid.d.next = self.still_free.val().any();
         self.st_level.read_index.next = self.a_slot.val();
         self.st_pending.read_index.next = self.a_slot.val();
         self.st_radius.read_index.next = self.a_slot.val();
@@ -629,7 +677,8 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.search.query_module.next = self.a_slot.val();
         self.search.query.next = self.query.data.val();
 
-        // ---- Stage B: the found list's first two comparator levels. ----
+        // ---- Stage B: the found list read, the first comparator level. ----
+        // (The LUT-RAM read and two levels were the ECP5 critical path, 79.4 MHz.)
         // Entries past k hold nothing (zero: on a tie the lower entry wins, and
         // every real entry is below them).
         self.b_ev.d.next = self.a_ev.val();
@@ -662,7 +711,7 @@ impl<const W: usize> Logic for BarrelPort<W> {
             }
         }
 
-        // ---- Stage C: the rest of the tree; R and its slot if the list is full. ----
+        // ---- Stage C: two more levels. ----
         self.c_ev.d.next = self.b_ev.q.val();
         for j in 0..self.c_leaf.len() {
             self.c_node[j].next = self.c_leaf[j].q.val();
@@ -679,11 +728,37 @@ impl<const W: usize> Logic for BarrelPort<W> {
                 }
             }
         }
-        self.d_ev.d.next = self.c_ev.q.val();
-        if self.c_ev.q.val().run_max {
-            for r in self._c_root..(self._c_root + 1) {
-                self.d_ev.d.next.radius = self.c_node[r].val() & self.dist_mask.val();
-                self.d_ev.d.next.max_pos = self.c_node_ix[r].val() & self.entry_mask.val();
+        for p in self._c_out..(self._c_out + 1) {
+            for j in 0..self.m_leaf.len() {
+                self.m_leaf[j].clock.next = self.clock.val();
+                self.m_leaf_ix[j].clock.next = self.clock.val();
+                self.m_leaf[j].d.next = self.c_node[p + j].val();
+                self.m_leaf_ix[j].d.next = self.c_node_ix[p + j].val();
+            }
+        }
+
+        // ---- Stage M: the rest of the tree; R and its slot if the list is full. ----
+        self.m_ev.d.next = self.c_ev.q.val();
+        for j in 0..self.m_leaf.len() {
+            self.m_node[j].next = self.m_leaf[j].q.val();
+            self.m_node_ix[j].next = self.m_leaf_ix[j].q.val();
+        }
+        for n in self._m_leaves..(self._m_leaves + 1) {
+            for i in 0..self._m_inner {
+                if self.m_node[2 * i + 1].val() > self.m_node[2 * i].val() {
+                    self.m_node[n + i].next = self.m_node[2 * i + 1].val();
+                    self.m_node_ix[n + i].next = self.m_node_ix[2 * i + 1].val();
+                } else {
+                    self.m_node[n + i].next = self.m_node[2 * i].val();
+                    self.m_node_ix[n + i].next = self.m_node_ix[2 * i].val();
+                }
+            }
+        }
+        self.d_ev.d.next = self.m_ev.q.val();
+        if self.m_ev.q.val().run_max {
+            for r in self._m_root..(self._m_root + 1) {
+                self.d_ev.d.next.radius = self.m_node[r].val() & self.dist_mask.val();
+                self.d_ev.d.next.max_pos = self.m_node_ix[r].val() & self.entry_mask.val();
             }
         }
 
@@ -916,17 +991,17 @@ impl<const W: usize> Logic for BarrelPort<W> {
         }
 
         // Slots: taken by a load, finished in F, freed by their last beat.
-        self.free.d.next = self.free.q.val() | self.out_end.val();
-        if self.a_load.val() {
-            self.free.d.next = (self.free.q.val() & (!self.free_pick.val())) | self.out_end.val();
-        }
+        self.free.d.next = self.still_free.val() | self.out_end.val();
         self.finished.d.next =
             (self.finished.q.val() | self.f_slot_bit.val()) & (!self.out_end.val());
         if self.reset.val() {
             self.free.d.next = self.all_slots.val();
             self.finished.d.next = 0.into();
+            self.load_pick.d.next = 0.into();
+            self.load_pick_valid.d.next = false;
             self.b_ev.d.next.valid = false;
             self.c_ev.d.next.valid = false;
+            self.m_ev.d.next.valid = false;
             self.d_ev.d.next.valid = false;
             self.e_ev.d.next.valid = false;
             self.f_ev.d.next.valid = false;

@@ -19,6 +19,12 @@
 //! │   │   └── NextIndexModule (next_index.rs)
 //! │   └── ResultRegister (register_slice.rs) skid buffer on the result stream
 //! └── SearchPort B                      TreeModule port B
+//!   (or, with `Controller::Barrel`, per port:)
+//!   BarrelPort (barrel_port.rs)         Q query slots behind one pipelined datapath
+//!   ├── LutRam × … (lut_ram.rs)         per-slot state, found distances, bounds
+//!   ├── BlockRam × 3 (block_ram.rs)     found entries, far-cell offsets
+//!   ├── SearchModule                    as above
+//!   └── ResultRegister
 //! ```
 //!
 //! A QueryModule issues a read at most every `CoreConfig::issue_interval()` =
