@@ -60,6 +60,9 @@ impl Bench {
             visited: b.4.into(),
             address: b.5.into(),
             distance: b.6.into(),
+            pair: false,
+            address2: 0.into(),
+            distance2: 0.into(),
         };
     }
     fn out_beat(&self) -> Beat {

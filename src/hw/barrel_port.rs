@@ -116,9 +116,10 @@ pub struct BarrelPort<const W: usize> {
     level_mask: Constant<RamIndex>,
     pending_mask: Constant<LevelMask>,
     entry_mask: Constant<RamIndex>,
-    /// Found-list entries of a slot in the read-out BlockRAM (2^entry_shift) and
+    /// Found-list pairs of a slot in the read-out BlockRAMs (2^pair_shift) and
     /// levels of a slot in the offsets BlockRAM (2^level_shift).
-    entry_shift: Constant<BramIndex>,
+    pair_shift: Constant<BramIndex>,
+    pair_mask: Constant<RamIndex>,
     level_shift: Constant<BramIndex>,
     /// Where the second field of a packed BlockRAM word starts: the distance bits
     /// (offsets) and the address bits (found entries).
@@ -153,8 +154,11 @@ pub struct BarrelPort<const W: usize> {
     /// and z | the far cell's distance. Written in A, read in E.
     far_xy: BlockRam,
     far_zd: BlockRam,
-    /// Per (slot, entry): heap address | distance << 32, for the read-out.
-    found_entry: BlockRam,
+    /// Per (slot, pair of entries): heap address | distance << H, for the
+    /// read-out; the even entries and the odd ones, so that a result beat carries
+    /// two photons (one BlockRAM read port each).
+    found_even: BlockRam,
+    found_odd: BlockRam,
     /// Per slot, for the read-out: the query id (written at the load), the found
     /// count and photon reads (written when the search ends).
     ids: LutRam,
@@ -244,6 +248,10 @@ pub struct BarrelPort<const W: usize> {
     beat: Signal<Local, ResultBeat>,
     out_end: Signal<Local, ModuleMask>,
     out_entry_next: Signal<Local, RamIndex>,
+    out_found_index: Signal<Local, BramIndex>,
+    /// A photon's read-out entry, and where it goes.
+    a_found_index: Signal<Local, BramIndex>,
+    a_found_entry: Signal<Local, BramWord>,
     out_active: DFF<bool>,
     out_fetch: DFF<bool>,
     out_header: DFF<bool>,
@@ -266,6 +274,7 @@ impl<const W: usize> BarrelPort<W> {
         // two in C).
         let p = cfg.k.next_power_of_two().max(8);
         let entry_bits = bits_for(cfg.k.saturating_sub(1) as u64);
+        let pair_bits = bits_for((cfg.k.saturating_sub(1) / 2) as u64);
         let level_bits = bits_for(levels.saturating_sub(1) as u64);
         let slot_bits = bits_for(q.saturating_sub(1) as u64);
         let (cell_bits, cell_depth) = if cell { (db, q) } else { (1, 1) };
@@ -297,7 +306,8 @@ impl<const W: usize> BarrelPort<W> {
             )))),
             pending_mask: Constant::new(LevelMask::from(low_mask(cfg.path_levels() as u32))),
             entry_mask: Constant::new(RamIndex::from(low_mask(entry_bits))),
-            entry_shift: Constant::new(BramIndex::from(entry_bits as u64)),
+            pair_shift: Constant::new(BramIndex::from(pair_bits as u64)),
+            pair_mask: Constant::new(RamIndex::from(low_mask(pair_bits))),
             level_shift: Constant::new(BramIndex::from(level_bits as u64)),
             dist_shift: Constant::new(Bits::<8>::from(db as u64)),
             addr_shift: Constant::new(Bits::<8>::from(cfg.address_bits as u64)),
@@ -336,7 +346,8 @@ impl<const W: usize> BarrelPort<W> {
             bound: (0..levels).map(|_| ram(db)).collect(),
             far_xy: BlockRam::new(far_index_bits, 2 * cell_bits),
             far_zd: BlockRam::new(far_index_bits, 2 * cell_bits),
-            found_entry: BlockRam::new(slot_bits + entry_bits, cfg.address_bits + db),
+            found_even: BlockRam::new(slot_bits + pair_bits, cfg.address_bits + db),
+            found_odd: BlockRam::new(slot_bits + pair_bits, cfg.address_bits + db),
             ids: ram(cfg.id_bits()),
             out_count_mem: ram(cfg.count_bits()),
             out_visited_mem: ram(cfg.visited_bits()),
@@ -369,8 +380,12 @@ impl<const W: usize> BarrelPort<W> {
             c_ev: Default::default(),
             c_leaf: (0..p / 2).map(|_| Default::default()).collect(),
             c_leaf_ix: (0..p / 2).map(|_| Default::default()).collect(),
-            c_node: (0..p / 2 + p / 4 + p / 8).map(|_| Default::default()).collect(),
-            c_node_ix: (0..p / 2 + p / 4 + p / 8).map(|_| Default::default()).collect(),
+            c_node: (0..p / 2 + p / 4 + p / 8)
+                .map(|_| Default::default())
+                .collect(),
+            c_node_ix: (0..p / 2 + p / 4 + p / 8)
+                .map(|_| Default::default())
+                .collect(),
             _c_leaves: p / 2,
             _c_inner: p / 4 + p / 8,
             _c_out: p / 2 + p / 4,
@@ -406,6 +421,9 @@ impl<const W: usize> BarrelPort<W> {
             beat: Default::default(),
             out_end: Default::default(),
             out_entry_next: Default::default(),
+            out_found_index: Default::default(),
+            a_found_index: Default::default(),
+            a_found_entry: Default::default(),
             out_active: Default::default(),
             out_fetch: Default::default(),
             out_header: Default::default(),
@@ -471,7 +489,8 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.st_cell_dist.clock.next = self.clock.val();
         self.far_xy.clock.next = self.clock.val();
         self.far_zd.clock.next = self.clock.val();
-        self.found_entry.clock.next = self.clock.val();
+        self.found_even.clock.next = self.clock.val();
+        self.found_odd.clock.next = self.clock.val();
         self.ids.clock.next = self.clock.val();
         self.out_count_mem.clock.next = self.clock.val();
         self.out_visited_mem.clock.next = self.clock.val();
@@ -571,14 +590,18 @@ impl<const W: usize> Logic for BarrelPort<W> {
                 self.search.result.val().distance & self.dist_mask.val();
             self.found_dist[i].read_index.next = self.b_ev.q.val().slot;
         }
-        self.found_entry.write_enable.next = self.a_insert.val();
-        self.found_entry.write_index.next = (bit_cast::<16, 8>(self.a_slot.val())
-            << self.entry_shift.val())
-            | bit_cast::<16, 8>(self.a_pos.val());
-        self.found_entry.write_data.next =
+        self.a_found_index.next = (bit_cast::<16, 8>(self.a_slot.val()) << self.pair_shift.val())
+            | bit_cast::<16, 8>(self.a_pos.val() >> 1);
+        self.a_found_entry.next =
             bit_cast::<64, 24>(self.search.result.val().address & self.addr_mask.val())
                 | (bit_cast::<64, 32>(self.search.result.val().distance & self.dist_mask.val())
                     << self.addr_shift.val());
+        self.found_even.write_enable.next = self.a_insert.val() && !self.a_pos.val().get_bit(0);
+        self.found_odd.write_enable.next = self.a_insert.val() && self.a_pos.val().get_bit(0);
+        self.found_even.write_index.next = self.a_found_index.val();
+        self.found_odd.write_index.next = self.a_found_index.val();
+        self.found_even.write_data.next = self.a_found_entry.val();
+        self.found_odd.write_data.next = self.a_found_entry.val();
 
         // The path memory of this level: its far child's pruning bound and whether
         // that child is still to be visited; `Cell`: the offsets inside it.
@@ -926,28 +949,43 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.beat.next.visited = self.hdr_visited.q.val();
         self.beat.next.address = 0.into();
         self.beat.next.distance = 0.into();
+        self.beat.next.pair = false;
+        self.beat.next.address2 = 0.into();
+        self.beat.next.distance2 = 0.into();
         if self.out_header.q.val() {
             self.beat.next.last = self.hdr_last.q.val();
         } else {
             self.beat.next.last = self.out_last.q.val();
             if self.out_active.q.val() && (!self.out_fetch.q.val()) {
-                self.beat.next.address = bit_cast::<24, 64>(
-                    self.found_entry.read_data.val() & self.addr_mask_wide.val(),
-                );
+                // Two photons a beat while two are left.
+                self.beat.next.address =
+                    bit_cast::<24, 64>(self.found_even.read_data.val() & self.addr_mask_wide.val());
                 self.beat.next.distance = bit_cast::<32, 64>(
-                    (self.found_entry.read_data.val() >> self.addr_shift.val())
+                    (self.found_even.read_data.val() >> self.addr_shift.val())
                         & self.dist_mask_wide.val(),
                 );
+                if self.out_left.q.val() > 1 {
+                    self.beat.next.pair = true;
+                    self.beat.next.address2 = bit_cast::<24, 64>(
+                        self.found_odd.read_data.val() & self.addr_mask_wide.val(),
+                    );
+                    self.beat.next.distance2 = bit_cast::<32, 64>(
+                        (self.found_odd.read_data.val() >> self.addr_shift.val())
+                            & self.dist_mask_wide.val(),
+                    );
+                }
             }
         }
-        // The entry beat now is at `out_entry`; the BlockRAM reads the next one.
+        // The entry beat now is pair `out_entry`; the BlockRAMs read the next one.
         self.out_entry_next.next = self.out_entry.q.val();
         if self.result_fire.val() && (!self.out_header.q.val()) {
-            self.out_entry_next.next = (self.out_entry.q.val() + 1) & self.entry_mask.val();
+            self.out_entry_next.next = (self.out_entry.q.val() + 1) & self.pair_mask.val();
         }
-        self.found_entry.read_index.next = (bit_cast::<16, 8>(self.out_index.q.val())
-            << self.entry_shift.val())
+        self.out_found_index.next = (bit_cast::<16, 8>(self.out_index.q.val())
+            << self.pair_shift.val())
             | bit_cast::<16, 8>(self.out_entry_next.val());
+        self.found_even.read_index.next = self.out_found_index.val();
+        self.found_odd.read_index.next = self.out_found_index.val();
         self.out_entry.d.next = self.out_entry_next.val();
         self.result_register.clock.next = self.clock.val();
         self.result_register.reset.next = self.reset.val();
@@ -979,10 +1017,11 @@ impl<const W: usize> Logic for BarrelPort<W> {
             if self.out_header.q.val() {
                 self.out_header.d.next = false;
                 self.out_left.d.next = self.hdr_count.q.val();
-                self.out_last.d.next = self.hdr_count.q.val() == 1;
+                self.out_last.d.next = self.hdr_count.q.val() <= 2;
             } else {
-                self.out_left.d.next = self.out_left.q.val() - 1;
-                self.out_last.d.next = self.out_left.q.val() == 2;
+                // (Not the last beat: more than two were left.)
+                self.out_left.d.next = (self.out_left.q.val() - 2) & self.count_mask.val();
+                self.out_last.d.next = self.out_left.q.val() <= 4;
             }
             if self.beat.val().last {
                 self.out_active.d.next = false;

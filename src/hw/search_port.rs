@@ -326,6 +326,10 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
         self.module_visited.next = 0.into();
         self.beat.next.address = 0.into();
         self.beat.next.distance = 0.into();
+        // One photon per beat (the QueryModules' found lists have one read port).
+        self.beat.next.pair = false;
+        self.beat.next.address2 = 0.into();
+        self.beat.next.distance2 = 0.into();
 
         // The granted read goes to the TreeModule and, with its context, the SearchModule.
         self.search.request_valid.next = self.granted.val();

@@ -25,9 +25,12 @@ pub struct QueryBeat {
 }
 
 /// One beat of a result packet: a header (`header`; id, found count and photons
-/// read meaningful; `last` iff count = 0), then one beat per found photon (id, heap
-/// address and distance meaningful), `last` on the final one. The beats of one
-/// packet are contiguous; packets of different queries may leave out of order.
+/// read meaningful; `last` iff count = 0), then the found photons in list-slot
+/// order (id, heap address and distance meaningful), one per beat — or two, the
+/// second in `address2`/`distance2` when `pair` is set (a BarrelPort sends pairs:
+/// issue 11, an array of barrel cores answers more queries per cycle than one
+/// photon per beat carries) — `last` on the final one. The beats of one packet are
+/// contiguous; packets of different queries may leave out of order.
 #[derive(Clone, Copy, Debug, PartialEq, Default, LogicStruct)]
 pub struct ResultBeat {
     pub header: bool,
@@ -38,6 +41,10 @@ pub struct ResultBeat {
     pub address: Addr,
     /// Named `distance`, not `dist`: SystemVerilog reserves `dist`.
     pub distance: Dist,
+    /// A second photon in this beat: the next list slot's.
+    pub pair: bool,
+    pub address2: Addr,
+    pub distance2: Dist,
 }
 
 /// A valid/ready stream into a block.

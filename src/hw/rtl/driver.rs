@@ -499,6 +499,13 @@ fn receive(
         let r = results[ji][qi].as_mut().expect("header seen");
         r.found
             .push((beat.address.to_u64() as u32, beat.distance.to_u64()));
+        if beat.pair {
+            r.found
+                .push((beat.address2.to_u64() as u32, beat.distance2.to_u64()));
+        }
+        if r.found.len() > count {
+            return Err(protocol("result entries: more photons than the count"));
+        }
         if (r.found.len() == count) != beat.last {
             return Err(protocol("result entries: last flag and count disagree"));
         }

@@ -452,6 +452,9 @@ impl Dut for VerilatorDut {
                         visited: take(w, &mut at, ReadCount::BITS).into(),
                         address: take(w, &mut at, Addr::BITS).into(),
                         distance: take(w, &mut at, Dist::BITS).into(),
+                        pair: take(w, &mut at, 1) == 1,
+                        address2: take(w, &mut at, Addr::BITS).into(),
+                        distance2: take(w, &mut at, Dist::BITS).into(),
                     }
                 }
                 // T = 1: the core's own status; T > 1: per tree from the vectors
