@@ -78,6 +78,12 @@ pub struct SlotEvent {
     /// The node just read and the child to read next if not `up`.
     pub address: Addr,
     pub next_address: Addr,
+    /// A result (not a load) and what stage B remembers of it for the path memory:
+    /// the photon's axis, axis distance and whether its far child is pending.
+    pub result: bool,
+    pub axis: Bits<2>,
+    pub axis_dist: Dist,
+    pub far_pending: bool,
     /// `Cell`: the query's offsets from its current cell and the cell's distance.
     pub off_x: Dist,
     pub off_y: Dist,
@@ -173,13 +179,13 @@ pub struct BarrelPort<const W: usize> {
     a_ev: Signal<Local, SlotEvent>,
     a_insert: Signal<Local, bool>,
     a_pos: Signal<Local, RamIndex>,
-    a_axis_off: Signal<Local, Dist>,
+    b_axis_off: Signal<Local, Dist>,
     a_level_bit: Signal<Local, LevelMask>,
     /// This level's pruning bound, and (`Cell`) its entry of the offsets BlockRAMs.
-    a_bound: Signal<Local, Dist>,
-    a_far_index: Signal<Local, BramIndex>,
-    a_far_xy: Signal<Local, BramWord>,
-    a_far_zd: Signal<Local, BramWord>,
+    b_bound: Signal<Local, Dist>,
+    b_far_index: Signal<Local, BramIndex>,
+    b_far_xy: Signal<Local, BramWord>,
+    b_far_zd: Signal<Local, BramWord>,
     /// Free slots but the one loaded now; the lowest of them and its index.
     still_free: Signal<Local, ModuleMask>,
     free_pick: Signal<Local, ModuleMask>,
@@ -359,12 +365,12 @@ impl<const W: usize> BarrelPort<W> {
             a_ev: Default::default(),
             a_insert: Default::default(),
             a_pos: Default::default(),
-            a_axis_off: Default::default(),
+            b_axis_off: Default::default(),
             a_level_bit: Default::default(),
-            a_bound: Default::default(),
-            a_far_index: Default::default(),
-            a_far_xy: Default::default(),
-            a_far_zd: Default::default(),
+            b_bound: Default::default(),
+            b_far_index: Default::default(),
+            b_far_xy: Default::default(),
+            b_far_zd: Default::default(),
             still_free: Default::default(),
             free_pick: Default::default(),
             free_pick_index: Default::default(),
@@ -560,6 +566,10 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.a_ev.next.off_z = self.st_off_z.read_data.val() & self.dist_mask.val();
         self.a_ev.next.cell_dist = self.st_cell_dist.read_data.val() & self.dist_mask.val();
         self.a_ev.next.run_max = false;
+        self.a_ev.next.result = self.a_result.val();
+        self.a_ev.next.axis = self.search.result.val().axis;
+        self.a_ev.next.axis_dist = self.search.result.val().axis_dist & self.dist_mask.val();
+        self.a_ev.next.far_pending = self.search.result.val().far_pending;
 
         // The found list (knn.rs `FoundList`): appended at `count` while not full,
         // else over the maximum's slot; filling it or replacing in it sets a new R.
@@ -615,60 +625,6 @@ impl<const W: usize> Logic for BarrelPort<W> {
                 & (!self.a_level_bit.val())
                 & self.pending_mask.val();
         }
-        self.a_axis_off.next = self.a_ev.val().off_x;
-        if self.search.result.val().axis == 1 {
-            self.a_axis_off.next = self.a_ev.val().off_y;
-        }
-        if self.search.result.val().axis == 2 {
-            self.a_axis_off.next = self.a_ev.val().off_z;
-        }
-        if self.cell_mode.val() {
-            self.a_bound.next = ((self.a_ev.val().cell_dist - self.a_axis_off.val())
-                + self.search.result.val().axis_dist)
-                & self.dist_mask.val();
-        } else {
-            self.a_bound.next = self.search.result.val().axis_dist & self.dist_mask.val();
-        }
-        for l in 0..self.bound.len() {
-            self.bound[l].clock.next = self.clock.val();
-            self.bound[l].write_enable.next =
-                self.a_result.val() && (self.a_ev.val().level == self.level_index[l].val());
-            self.bound[l].write_index.next = self.a_slot.val();
-            self.bound[l].write_data.next = self.a_bound.val();
-            self.bound[l].read_index.next = self.d_ev.q.val().slot;
-        }
-        // (Only a level whose far child is pending is ever entered.)
-        self.a_far_index.next = (bit_cast::<16, 8>(self.a_slot.val()) << self.level_shift.val())
-            | bit_cast::<16, 8>(self.a_ev.val().level);
-        self.a_far_xy.next = bit_cast::<64, 32>(self.a_ev.val().off_x);
-        if self.search.result.val().axis == 0 {
-            self.a_far_xy.next =
-                bit_cast::<64, 32>(self.search.result.val().axis_dist & self.dist_mask.val());
-        }
-        if self.search.result.val().axis == 1 {
-            self.a_far_xy.next = self.a_far_xy.val()
-                | (bit_cast::<64, 32>(self.search.result.val().axis_dist & self.dist_mask.val())
-                    << self.dist_shift.val());
-        } else {
-            self.a_far_xy.next = self.a_far_xy.val()
-                | (bit_cast::<64, 32>(self.a_ev.val().off_y) << self.dist_shift.val());
-        }
-        if self.search.result.val().axis == 2 {
-            self.a_far_zd.next =
-                bit_cast::<64, 32>(self.search.result.val().axis_dist & self.dist_mask.val());
-        } else {
-            self.a_far_zd.next = bit_cast::<64, 32>(self.a_ev.val().off_z);
-        }
-        self.a_far_zd.next =
-            self.a_far_zd.val() | (bit_cast::<64, 32>(self.a_bound.val()) << self.dist_shift.val());
-        self.far_xy.write_enable.next =
-            self.a_result.val() && self.cell_mode.val() && self.search.result.val().far_pending;
-        self.far_zd.write_enable.next =
-            self.a_result.val() && self.cell_mode.val() && self.search.result.val().far_pending;
-        self.far_xy.write_index.next = self.a_far_index.val();
-        self.far_zd.write_index.next = self.a_far_index.val();
-        self.far_xy.write_data.next = self.a_far_xy.val();
-        self.far_zd.write_data.next = self.a_far_zd.val();
 
         // A new query: the root is read first, with the initial radius (a radius
         // beyond every distance is the largest one, in distance bits).
@@ -700,7 +656,66 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.search.query_module.next = self.a_slot.val();
         self.search.query.next = self.query.data.val();
 
-        // ---- Stage B: the found list read, the first comparator level. ----
+        // ---- Stage B (first part): the path memory of the level just read. ----
+        // Its far child's pruning bound (with `Cell` the far cell's distance, from
+        // the slot's offsets as read in A) and the offsets inside that cell. (In
+        // stage A, the state read, this sum and the BlockRAM's write were the ECP5
+        // critical path, 89.7 MHz.) The ascent reads them two stages later, for
+        // levels above this one, written by earlier events.
+        self.b_axis_off.next = self.b_ev.q.val().off_x;
+        if self.b_ev.q.val().axis == 1 {
+            self.b_axis_off.next = self.b_ev.q.val().off_y;
+        }
+        if self.b_ev.q.val().axis == 2 {
+            self.b_axis_off.next = self.b_ev.q.val().off_z;
+        }
+        if self.cell_mode.val() {
+            self.b_bound.next = ((self.b_ev.q.val().cell_dist - self.b_axis_off.val())
+                + self.b_ev.q.val().axis_dist)
+                & self.dist_mask.val();
+        } else {
+            self.b_bound.next = self.b_ev.q.val().axis_dist;
+        }
+        for l in 0..self.bound.len() {
+            self.bound[l].clock.next = self.clock.val();
+            self.bound[l].write_enable.next =
+                self.b_ev.q.val().result && (self.b_ev.q.val().level == self.level_index[l].val());
+            self.bound[l].write_index.next = self.b_ev.q.val().slot;
+            self.bound[l].write_data.next = self.b_bound.val();
+            self.bound[l].read_index.next = self.d_ev.q.val().slot;
+        }
+        // (Only a level whose far child is pending is ever entered.)
+        self.b_far_index.next = (bit_cast::<16, 8>(self.b_ev.q.val().slot)
+            << self.level_shift.val())
+            | bit_cast::<16, 8>(self.b_ev.q.val().level);
+        self.b_far_xy.next = bit_cast::<64, 32>(self.b_ev.q.val().off_x);
+        if self.b_ev.q.val().axis == 0 {
+            self.b_far_xy.next = bit_cast::<64, 32>(self.b_ev.q.val().axis_dist);
+        }
+        if self.b_ev.q.val().axis == 1 {
+            self.b_far_xy.next = self.b_far_xy.val()
+                | (bit_cast::<64, 32>(self.b_ev.q.val().axis_dist) << self.dist_shift.val());
+        } else {
+            self.b_far_xy.next = self.b_far_xy.val()
+                | (bit_cast::<64, 32>(self.b_ev.q.val().off_y) << self.dist_shift.val());
+        }
+        if self.b_ev.q.val().axis == 2 {
+            self.b_far_zd.next = bit_cast::<64, 32>(self.b_ev.q.val().axis_dist);
+        } else {
+            self.b_far_zd.next = bit_cast::<64, 32>(self.b_ev.q.val().off_z);
+        }
+        self.b_far_zd.next =
+            self.b_far_zd.val() | (bit_cast::<64, 32>(self.b_bound.val()) << self.dist_shift.val());
+        self.far_xy.write_enable.next =
+            self.b_ev.q.val().result && self.cell_mode.val() && self.b_ev.q.val().far_pending;
+        self.far_zd.write_enable.next =
+            self.b_ev.q.val().result && self.cell_mode.val() && self.b_ev.q.val().far_pending;
+        self.far_xy.write_index.next = self.b_far_index.val();
+        self.far_zd.write_index.next = self.b_far_index.val();
+        self.far_xy.write_data.next = self.b_far_xy.val();
+        self.far_zd.write_data.next = self.b_far_zd.val();
+
+        // ---- Stage B (second part): the found list read, the first comparator level. ----
         // (The LUT-RAM read and two levels were the ECP5 critical path, 79.4 MHz.)
         // Entries past k hold nothing (zero: on a tie the lower entry wins, and
         // every real entry is below them).
