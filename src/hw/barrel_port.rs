@@ -14,18 +14,20 @@
 //! path (`Remember`, `Cell`) are supported: the ascent is one step (below).
 //!
 //! An event is a SearchModule result, or (in a cycle without one) a new query
-//! loaded into a free slot. It flows through six stages; a slot has at most one
+//! loaded into a free slot. It flows through seven stages; a slot has at most one
 //! event or read in flight, so a stage never meets another event of its own slot
 //! and the state read in stage A is always the one written by the slot's last
 //! event in stage F:
 //! * **A** — read the slot's state (LUT-RAM, asynchronous, by slot index); a
 //!   photon in range enters the found list (while not full at slot `count`, else
-//!   over the maximum's slot: knn.rs's `FoundList`); this level's pruning bound,
-//!   pending bit and (`Cell`) far-cell offsets are remembered.
-//! * **B**, **C** — when the list became or was full, its new maximum and the
-//!   lowest slot holding it: a tree of comparators over the K entries (paper §4.4
-//!   finds it bit-serially, one cycle per distance bit, per QueryModule; one
-//!   pipelined tree per port costs less than Q MaxFinders and no cycles).
+//!   over the maximum's slot: knn.rs's `FoundList`); this level's pending bit.
+//! * **B** — this level's pruning bound and (`Cell`) far-cell offsets are
+//!   remembered (from registers: computed in A they were on A's critical path).
+//! * **B**, **C**, **M** — when the list became or was full, its new maximum and
+//!   the lowest slot holding it: a tree of comparators over the K entries, one
+//!   level in B, two in C, the rest in M (paper §4.4 finds it bit-serially, one
+//!   cycle per distance bit, per QueryModule; one pipelined tree per port costs
+//!   less than Q MaxFinders and no cycles).
 //! * **D** — the ascent in one step (the path memory of `Traversal::Remember`,
 //!   searched at once): the deepest level above with a pending far child within
 //!   R is where the search goes next; none: the search is over. Climbing one level
@@ -36,11 +38,14 @@
 //! Reads per query are those of the software search (`knn::search_with`), read for
 //! read; only the order in which the port interleaves its queries differs. A read
 //! issued in F returns to A four cycles later (the SearchModule's pipeline), so a
-//! slot reads every 10 cycles and 16 slots keep the port busy
-//! ([`CoreConfig::barrel_slots`]).
+//! slot reads every 11 cycles and 16 slots keep the port busy
+//! ([`BARREL_SLOTS`](crate::hw::config::BARREL_SLOTS)).
 //!
-//! Result read-out is the SearchPort's: a header beat, then one beat per found
-//! photon in list-slot order, from a BlockRAM written as photons enter the list.
+//! Result read-out is the SearchPort's, two photons a beat: a header beat, then
+//! the found photons in list-slot order, from two BlockRAMs (even and odd entries)
+//! written as photons enter the list. One photon a beat, an array of barrel cores
+//! answered more queries per cycle than its one result stream carries (T = 8:
+//! 7.3 reads per cycle of 16 ports, a header and ten photons per query).
 
 use crate::hw::block_ram::{BlockRam, BramIndex, BramWord};
 use crate::hw::config::{
@@ -154,10 +159,10 @@ pub struct BarrelPort<const W: usize> {
     /// with never-written entries.
     found_dist: Vec<LutRam>,
     /// Each level's pruning bound, one LUT-RAM per level (all are compared at once
-    /// in D): written in A, read in D.
+    /// in D): written in B, read in D.
     bound: Vec<LutRam>,
     /// `Cell`: per (slot, level), the offsets inside the level's far cell: x | y,
-    /// and z | the far cell's distance. Written in A, read in E.
+    /// and z | the far cell's distance. Written in B, read in E.
     far_xy: BlockRam,
     far_zd: BlockRam,
     /// Per (slot, pair of entries): heap address | distance << H, for the

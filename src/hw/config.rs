@@ -46,8 +46,8 @@ pub const WIDE_WORD: usize = 64;
 pub const MAX_QUERIES_PER_PORT: usize = 32;
 /// TreeModule ports = SearchModules (paper §4.5: both BlockRAM ports are used).
 pub const PORTS: usize = 2;
-/// Query slots of a [`Controller::Barrel`] port: a slot reads every 10 cycles (six
-/// pipeline stages and the SearchModule's four), so 10 keep the port busy; 16 cost
+/// Query slots of a [`Controller::Barrel`] port: a slot reads every 11 cycles (seven
+/// pipeline stages and the SearchModule's four), so 11 keep the port busy; 16 cost
 /// the same LUT-RAM (an ECP5 DPR16X4 holds 16 entries, a Virtex-6 RAM32M 32).
 pub const BARREL_SLOTS: usize = 16;
 /// Replicated trees limit (`PhotonSearchArray`): four already exceed the largest
