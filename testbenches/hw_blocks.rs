@@ -7,6 +7,7 @@ use photon_fpga::hw::axis_dist::AxisDistModule;
 use photon_fpga::hw::block_ram::BlockRam;
 use photon_fpga::hw::cell_bound::CellBound;
 use photon_fpga::hw::dist_module::DistModule;
+use photon_fpga::hw::found_max::FoundMax;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::next_index::NextIndexModule;
 use photon_fpga::hw::tree_module::TreeModule;
@@ -346,6 +347,70 @@ fn block_ram_against_model() {
             uut.read_index.next = w.into();
             tick_ram(&mut uut);
             assert_eq!(uut.read_data.val().to_u64(), model[w as usize]);
+        }
+    }
+}
+
+fn tick_max(uut: &mut FoundMax) {
+    settle(uut);
+    uut.clock.next = true.into();
+    settle(uut);
+    uut.clock.next = false.into();
+    settle(uut);
+}
+
+/// FoundMax against a model: random found lists (small distances, so ties are
+/// common) in random slots; each slot's maximum over its first k entries and the
+/// lowest entry holding it come out two clock edges after the read, a new slot
+/// read every cycle.
+#[test]
+fn found_max_is_the_lowest_maximum() {
+    use photon_fpga::hw::config::CoreConfig;
+    for (k, seed) in [(1usize, 61u64), (3, 62), (10, 63), (33, 64), (64, 65)] {
+        let cfg = CoreConfig {
+            k,
+            queries_per_port: 6,
+            ..CoreConfig::paper()
+        };
+        let mut uut = FoundMax::new(&cfg);
+        uut.connect_all();
+        check_all(&uut).unwrap();
+        let mut r = crate::common::rng(seed);
+        let mut model = vec![vec![0u64; k]; 6];
+        let mut expected = std::collections::VecDeque::new();
+        for step in 0..300 {
+            // A write to one slot, a read of another (of the slot written in the
+            // cycle before, now and then).
+            let ws: usize = r.gen_range(0..6);
+            let wp: usize = r.gen_range(0..k);
+            let d: u64 = r.gen_range(0..6);
+            uut.write_enable.next = true;
+            uut.write_slot.next = (ws as u64).into();
+            uut.write_pos.next = (wp as u64).into();
+            uut.write_dist.next = d.into();
+            let rs: usize = r.gen_range(0..6);
+            let rk: usize = r.gen_range(1..=k);
+            uut.read_slot.next = (rs as u64).into();
+            uut.read_k.next = (rk as u64).into();
+            settle(&mut uut);
+            // The model as read now (the write shows after this edge).
+            let list = &model[rs][..rk];
+            let max = *list.iter().max().unwrap();
+            let pos = list.iter().position(|&x| x == max).unwrap();
+            expected.push_back((max, pos));
+            tick_max(&mut uut);
+            model[ws][wp] = d;
+            // Two edges after its read (this step's tick is the second for the
+            // read of the step before).
+            if step >= 1 {
+                let (max, pos) = expected.pop_front().unwrap();
+                assert_eq!(uut.max.val().to_u64(), max, "k = {k}, step {step}");
+                assert_eq!(
+                    uut.max_pos.val().to_u64() as usize,
+                    pos,
+                    "k = {k}, step {step}"
+                );
+            }
         }
     }
 }

@@ -52,49 +52,14 @@ use crate::hw::config::{
     bits_for, low_mask, Addr, CoreConfig, Count, Dist, LevelMask, ModuleIndex, ModuleMask,
     ReadCount, Word,
 };
+use crate::hw::found_max::FoundMax;
 use crate::hw::lut_ram::{LutRam, RamIndex};
-use crate::hw::register_slice::ResultRegister;
 use crate::hw::search_module::SearchModule;
+use crate::hw::slot_readout::SlotReadout;
+use crate::hw::slot_store::{SlotEvent, SlotStore};
 use crate::hw::stream::{QueryBeat, ResultBeat, StreamIn, StreamOut};
 use crate::hw::traversal::Traversal;
 use rust_hdl::prelude::*;
-
-/// One event as it moves down the pipeline: the slot's state as it will be
-/// written in stage F, and what the later stages still need of the result.
-#[derive(Clone, Copy, Debug, PartialEq, Default, LogicStruct)]
-pub struct SlotEvent {
-    pub valid: bool,
-    /// A new query (the first read is the root's).
-    pub load: bool,
-    pub slot: ModuleIndex,
-    /// The list became or was full with this photon: a new maximum (stages B, C).
-    pub run_max: bool,
-    pub full: bool,
-    pub radius: Dist,
-    pub count: Count,
-    pub k: Count,
-    pub max_pos: RamIndex,
-    pub visited: ReadCount,
-    /// The level of the node just read, and the pending far children above.
-    pub level: RamIndex,
-    pub pending: LevelMask,
-    /// No child to descend to: the ascent (stage D).
-    pub up: bool,
-    /// The node just read and the child to read next if not `up`.
-    pub address: Addr,
-    pub next_address: Addr,
-    /// A result (not a load) and what stage B remembers of it for the path memory:
-    /// the photon's axis, axis distance and whether its far child is pending.
-    pub result: bool,
-    pub axis: Bits<2>,
-    pub axis_dist: Dist,
-    pub far_pending: bool,
-    /// `Cell`: the query's offsets from its current cell and the cell's distance.
-    pub off_x: Dist,
-    pub off_y: Dist,
-    pub off_z: Dist,
-    pub cell_dist: Dist,
-}
 
 #[derive(LogicBlock)]
 pub struct BarrelPort<const W: usize> {
@@ -113,7 +78,6 @@ pub struct BarrelPort<const W: usize> {
     pub all_busy: Signal<Out, bool>,
     pub idle: Signal<Out, bool>,
     search: SearchModule<W>,
-    result_register: ResultRegister,
     /// `Traversal::Cell`: prune on the far cell's distance, restore its offsets.
     cell_mode: Constant<bool>,
     all_slots: Constant<ModuleMask>,
@@ -127,37 +91,18 @@ pub struct BarrelPort<const W: usize> {
     level_mask: Constant<RamIndex>,
     pending_mask: Constant<LevelMask>,
     entry_mask: Constant<RamIndex>,
-    /// Found-list pairs of a slot in the read-out BlockRAMs (2^pair_shift) and
-    /// levels of a slot in the offsets BlockRAM (2^level_shift).
-    pair_shift: Constant<BramIndex>,
-    pair_mask: Constant<RamIndex>,
+    /// Levels of a slot in the offsets BlockRAMs (2^level_shift), and where the
+    /// second offset of a word starts (the distance bits).
     level_shift: Constant<BramIndex>,
-    /// Where the second field of a packed BlockRAM word starts: the distance bits
-    /// (offsets) and the address bits (found entries).
     dist_shift: Constant<Bits<8>>,
-    addr_shift: Constant<Bits<8>>,
     dist_mask_wide: Constant<BramWord>,
-    addr_mask_wide: Constant<BramWord>,
     slot_index: Vec<Constant<ModuleIndex>>,
-    entry_index: Vec<Constant<RamIndex>>,
     level_index: Vec<Constant<RamIndex>>,
-    // The slot state, one LUT-RAM entry per slot: written in F, read in A.
-    st_level: LutRam,
-    st_pending: LutRam,
-    st_radius: LutRam,
-    st_full: LutRam,
-    st_count: LutRam,
-    st_k: LutRam,
-    st_max_pos: LutRam,
-    st_visited: LutRam,
-    st_off_x: LutRam,
-    st_off_y: LutRam,
-    st_off_z: LutRam,
-    st_cell_dist: LutRam,
-    /// The found distances, one LUT-RAM per list entry (all K are read at once by
-    /// the comparator tree): written in A, read in B. Padded to a power of two
-    /// with never-written entries.
-    found_dist: Vec<LutRam>,
+    /// The slot state, one LUT-RAM entry per slot and field: read in A, written
+    /// back in F.
+    store: SlotStore,
+    /// The found distances and the comparator tree (stages B, C, M).
+    found_max: FoundMax,
     /// Each level's pruning bound, one LUT-RAM per level (all are compared at once
     /// in D): written in B, read in D.
     bound: Vec<LutRam>,
@@ -165,18 +110,9 @@ pub struct BarrelPort<const W: usize> {
     /// and z | the far cell's distance. Written in B, read in E.
     far_xy: BlockRam,
     far_zd: BlockRam,
-    /// Per (slot, pair of entries): heap address | distance << H, for the
-    /// read-out; the even entries and the odd ones, so that a result beat carries
-    /// two photons (one BlockRAM read port each).
-    found_even: BlockRam,
-    found_odd: BlockRam,
-    /// Per slot, for the read-out: the query id (written at the load), the found
-    /// count and photon reads (written when the search ends).
-    ids: LutRam,
-    out_count_mem: LutRam,
-    out_visited_mem: LutRam,
+    /// The result stream: found photons, ids and headers until read out.
+    readout: SlotReadout,
     free: DFF<ModuleMask>,
-    finished: DFF<ModuleMask>,
     // Stage A.
     a_result: Signal<Local, bool>,
     a_load: Signal<Local, bool>,
@@ -200,37 +136,10 @@ pub struct BarrelPort<const W: usize> {
     load_pick: DFF<ModuleMask>,
     load_pick_index: DFF<ModuleIndex>,
     load_pick_valid: DFF<bool>,
-    // Stage B: the comparator tree's first two levels.
+    // Stages B, C, M (the comparator tree is `found_max`'s).
     b_ev: DFF<SlotEvent>,
-    b_node: Vec<Signal<Local, Dist>>,
-    b_node_ix: Vec<Signal<Local, RamIndex>>,
-    /// B's tree: leaves 0..P (`_b_leaves`), node P + i over 2i and 2i + 1 for the
-    /// `_b_inner` nodes of one level; its P/2 winners start at `_b_out`.
-    _b_leaves: usize,
-    _b_inner: usize,
-    _b_out: usize,
-    // Stage C: the rest of the tree over B's winners.
     c_ev: DFF<SlotEvent>,
-    c_leaf: Vec<DFF<Dist>>,
-    c_leaf_ix: Vec<DFF<RamIndex>>,
-    c_node: Vec<Signal<Local, Dist>>,
-    c_node_ix: Vec<Signal<Local, RamIndex>>,
-    /// C's tree: leaves 0..P/2, two levels of nodes P/2 + i over 2i and 2i + 1
-    /// (`_c_inner` of them); its P/8 winners start at `_c_out`.
-    _c_leaves: usize,
-    _c_inner: usize,
-    _c_out: usize,
-    // Stage M: the rest of the tree over C's winners.
     m_ev: DFF<SlotEvent>,
-    m_leaf: Vec<DFF<Dist>>,
-    m_leaf_ix: Vec<DFF<RamIndex>>,
-    m_node: Vec<Signal<Local, Dist>>,
-    m_node_ix: Vec<Signal<Local, RamIndex>>,
-    /// M's tree: leaves 0..P/8, node P/8 + i over 2i and 2i + 1 (`_m_inner` of
-    /// them), the root last (`_m_root`).
-    _m_leaves: usize,
-    _m_inner: usize,
-    _m_root: usize,
     // Stage D: the ascent.
     d_ev: DFF<SlotEvent>,
     d_target: Signal<Local, RamIndex>,
@@ -250,29 +159,7 @@ pub struct BarrelPort<const W: usize> {
     f_done: Signal<Local, bool>,
     f_issue: Signal<Local, bool>,
     f_state: Signal<Local, SlotEvent>,
-    f_slot_bit: Signal<Local, ModuleMask>,
-    // Read-out.
     query_fire: Signal<Local, bool>,
-    result_fire: Signal<Local, bool>,
-    finished_pick: Signal<Local, ModuleMask>,
-    finished_pick_index: Signal<Local, ModuleIndex>,
-    beat: Signal<Local, ResultBeat>,
-    out_end: Signal<Local, ModuleMask>,
-    out_entry_next: Signal<Local, RamIndex>,
-    out_found_index: Signal<Local, BramIndex>,
-    /// A photon's read-out entry, and where it goes.
-    a_found_index: Signal<Local, BramIndex>,
-    a_found_entry: Signal<Local, BramWord>,
-    out_active: DFF<bool>,
-    out_fetch: DFF<bool>,
-    out_header: DFF<bool>,
-    out_index: DFF<ModuleIndex>,
-    out_entry: DFF<RamIndex>,
-    out_left: DFF<Count>,
-    out_last: DFF<bool>,
-    hdr_count: DFF<Count>,
-    hdr_visited: DFF<ReadCount>,
-    hdr_last: DFF<bool>,
 }
 
 impl<const W: usize> BarrelPort<W> {
@@ -281,16 +168,11 @@ impl<const W: usize> BarrelPort<W> {
         let cell = cfg.traversal == Traversal::Cell;
         let db = cfg.dist_bits();
         let levels = cfg.path_levels().max(1);
-        // The comparator tree's leaves: a power of two, at least 8 (one level in B,
-        // two in C).
-        let p = cfg.k.next_power_of_two().max(8);
         let entry_bits = bits_for(cfg.k.saturating_sub(1) as u64);
-        let pair_bits = bits_for((cfg.k.saturating_sub(1) / 2) as u64);
         let level_bits = bits_for(levels.saturating_sub(1) as u64);
         let slot_bits = bits_for(q.saturating_sub(1) as u64);
-        let (cell_bits, cell_depth) = if cell { (db, q) } else { (1, 1) };
+        let cell_bits = if cell { db } else { 1 };
         let far_index_bits = if cell { slot_bits + level_bits } else { 1 };
-        let ram = |width: u32| LutRam::new(q, width);
         BarrelPort {
             clock: Default::default(),
             reset: Default::default(),
@@ -303,7 +185,6 @@ impl<const W: usize> BarrelPort<W> {
             all_busy: Default::default(),
             idle: Default::default(),
             search: SearchModule::new(cfg),
-            result_register: ResultRegister::new(!cfg.pipelined),
             cell_mode: Constant::new(cell),
             all_slots: Constant::new(ModuleMask::from(low_mask(q as u32))),
             one_slot: Constant::new(ModuleMask::from(1u64)),
@@ -317,61 +198,30 @@ impl<const W: usize> BarrelPort<W> {
             )))),
             pending_mask: Constant::new(LevelMask::from(low_mask(cfg.path_levels() as u32))),
             entry_mask: Constant::new(RamIndex::from(low_mask(entry_bits))),
-            pair_shift: Constant::new(BramIndex::from(pair_bits as u64)),
-            pair_mask: Constant::new(RamIndex::from(low_mask(pair_bits))),
             level_shift: Constant::new(BramIndex::from(level_bits as u64)),
             dist_shift: Constant::new(Bits::<8>::from(db as u64)),
-            addr_shift: Constant::new(Bits::<8>::from(cfg.address_bits as u64)),
             dist_mask_wide: Constant::new(BramWord::from(low_mask(db))),
-            addr_mask_wide: Constant::new(BramWord::from(low_mask(cfg.address_bits))),
             slot_index: (0..q)
                 .map(|i| Constant::new(ModuleIndex::from(i as u64)))
-                .collect(),
-            entry_index: (0..p)
-                .map(|i| Constant::new(RamIndex::from(i as u64)))
                 .collect(),
             level_index: (0..levels)
                 .map(|i| Constant::new(RamIndex::from(i as u64)))
                 .collect(),
-            st_level: ram(bits_for(cfg.address_bits.saturating_sub(1) as u64)),
-            st_pending: ram(cfg.path_levels().max(1) as u32),
-            st_radius: ram(db),
-            st_full: ram(1),
-            st_count: ram(cfg.count_bits()),
-            st_k: ram(cfg.count_bits()),
-            st_max_pos: ram(entry_bits),
-            st_visited: ram(cfg.visited_bits()),
-            st_off_x: LutRam::new(cell_depth, cell_bits),
-            st_off_y: LutRam::new(cell_depth, cell_bits),
-            st_off_z: LutRam::new(cell_depth, cell_bits),
-            st_cell_dist: LutRam::new(cell_depth, cell_bits),
-            found_dist: (0..p)
-                .map(|i| {
-                    if i < cfg.k {
-                        ram(db)
-                    } else {
-                        LutRam::new(1, 1)
-                    }
-                })
-                .collect(),
-            bound: (0..levels).map(|_| ram(db)).collect(),
+            store: SlotStore::new(cfg),
+            found_max: FoundMax::new(cfg),
+            bound: (0..levels).map(|_| LutRam::new(q, db)).collect(),
             far_xy: BlockRam::new(far_index_bits, 2 * cell_bits),
             far_zd: BlockRam::new(far_index_bits, 2 * cell_bits),
-            found_even: BlockRam::new(slot_bits + pair_bits, cfg.address_bits + db),
-            found_odd: BlockRam::new(slot_bits + pair_bits, cfg.address_bits + db),
-            ids: ram(cfg.id_bits()),
-            out_count_mem: ram(cfg.count_bits()),
-            out_visited_mem: ram(cfg.visited_bits()),
+            readout: SlotReadout::new(cfg),
             free: Default::default(),
-            finished: Default::default(),
             a_result: Default::default(),
             a_load: Default::default(),
             a_slot: Default::default(),
             a_ev: Default::default(),
             a_insert: Default::default(),
             a_pos: Default::default(),
-            b_axis_off: Default::default(),
             a_level_bit: Default::default(),
+            b_axis_off: Default::default(),
             b_bound: Default::default(),
             b_far_index: Default::default(),
             b_far_xy: Default::default(),
@@ -383,31 +233,8 @@ impl<const W: usize> BarrelPort<W> {
             load_pick_index: Default::default(),
             load_pick_valid: Default::default(),
             b_ev: Default::default(),
-            b_node: (0..p + p / 2).map(|_| Default::default()).collect(),
-            b_node_ix: (0..p + p / 2).map(|_| Default::default()).collect(),
-            _b_leaves: p,
-            _b_inner: p / 2,
-            _b_out: p,
             c_ev: Default::default(),
-            c_leaf: (0..p / 2).map(|_| Default::default()).collect(),
-            c_leaf_ix: (0..p / 2).map(|_| Default::default()).collect(),
-            c_node: (0..p / 2 + p / 4 + p / 8)
-                .map(|_| Default::default())
-                .collect(),
-            c_node_ix: (0..p / 2 + p / 4 + p / 8)
-                .map(|_| Default::default())
-                .collect(),
-            _c_leaves: p / 2,
-            _c_inner: p / 4 + p / 8,
-            _c_out: p / 2 + p / 4,
             m_ev: Default::default(),
-            m_leaf: (0..p / 8).map(|_| Default::default()).collect(),
-            m_leaf_ix: (0..p / 8).map(|_| Default::default()).collect(),
-            m_node: (0..p / 4 - 1).map(|_| Default::default()).collect(),
-            m_node_ix: (0..p / 4 - 1).map(|_| Default::default()).collect(),
-            _m_leaves: p / 8,
-            _m_inner: p / 8 - 1,
-            _m_root: p / 4 - 2,
             d_ev: Default::default(),
             d_target: Default::default(),
             d_found: Default::default(),
@@ -424,27 +251,7 @@ impl<const W: usize> BarrelPort<W> {
             f_done: Default::default(),
             f_issue: Default::default(),
             f_state: Default::default(),
-            f_slot_bit: Default::default(),
             query_fire: Default::default(),
-            result_fire: Default::default(),
-            finished_pick: Default::default(),
-            finished_pick_index: Default::default(),
-            beat: Default::default(),
-            out_end: Default::default(),
-            out_entry_next: Default::default(),
-            out_found_index: Default::default(),
-            a_found_index: Default::default(),
-            a_found_entry: Default::default(),
-            out_active: Default::default(),
-            out_fetch: Default::default(),
-            out_header: Default::default(),
-            out_index: Default::default(),
-            out_entry: Default::default(),
-            out_left: Default::default(),
-            out_last: Default::default(),
-            hdr_count: Default::default(),
-            hdr_visited: Default::default(),
-            hdr_last: Default::default(),
         }
     }
 }
@@ -456,7 +263,6 @@ impl<const W: usize> Logic for BarrelPort<W> {
             self,
             clock,
             free,
-            finished,
             load_pick,
             load_pick_index,
             load_pick_valid,
@@ -470,41 +276,18 @@ impl<const W: usize> Logic for BarrelPort<W> {
             f_ev,
             f_target,
             f_found,
-            f_jump,
-            out_active,
-            out_fetch,
-            out_header,
-            out_index,
-            out_entry,
-            out_left,
-            out_last,
-            hdr_count,
-            hdr_visited,
-            hdr_last
+            f_jump
         );
         self.search.clock.next = self.clock.val();
         self.search.reset.next = self.reset.val();
         self.search.photon_count.next = self.photon_count.val();
         self.search.word.next = self.ram_data.val();
-        self.st_level.clock.next = self.clock.val();
-        self.st_pending.clock.next = self.clock.val();
-        self.st_radius.clock.next = self.clock.val();
-        self.st_full.clock.next = self.clock.val();
-        self.st_count.clock.next = self.clock.val();
-        self.st_k.clock.next = self.clock.val();
-        self.st_max_pos.clock.next = self.clock.val();
-        self.st_visited.clock.next = self.clock.val();
-        self.st_off_x.clock.next = self.clock.val();
-        self.st_off_y.clock.next = self.clock.val();
-        self.st_off_z.clock.next = self.clock.val();
-        self.st_cell_dist.clock.next = self.clock.val();
+        self.store.clock.next = self.clock.val();
+        self.found_max.clock.next = self.clock.val();
         self.far_xy.clock.next = self.clock.val();
         self.far_zd.clock.next = self.clock.val();
-        self.found_even.clock.next = self.clock.val();
-        self.found_odd.clock.next = self.clock.val();
-        self.ids.clock.next = self.clock.val();
-        self.out_count_mem.clock.next = self.clock.val();
-        self.out_visited_mem.clock.next = self.clock.val();
+        self.readout.clock.next = self.clock.val();
+        self.readout.reset.next = self.reset.val();
 
         // ---- Stage A: a result, else a new query into the picked free slot. ----
         // The free slot is picked a cycle ahead into registers (as the SearchPort
@@ -536,41 +319,15 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.load_pick.d.next = self.free_pick.val();
         self.load_pick_index.d.next = self.free_pick_index.val();
         self.load_pick_valid.d.next = self.still_free.val().any();
-        self.st_level.read_index.next = self.a_slot.val();
-        self.st_pending.read_index.next = self.a_slot.val();
-        self.st_radius.read_index.next = self.a_slot.val();
-        self.st_full.read_index.next = self.a_slot.val();
-        self.st_count.read_index.next = self.a_slot.val();
-        self.st_k.read_index.next = self.a_slot.val();
-        self.st_max_pos.read_index.next = self.a_slot.val();
-        self.st_visited.read_index.next = self.a_slot.val();
-        self.st_off_x.read_index.next = self.a_slot.val();
-        self.st_off_y.read_index.next = self.a_slot.val();
-        self.st_off_z.read_index.next = self.a_slot.val();
-        self.st_cell_dist.read_index.next = self.a_slot.val();
-
         // The slot's state as read, then this result's changes.
+        self.store.read_index.next = self.a_slot.val();
+        self.a_ev.next = self.store.read.val();
         self.a_ev.next.valid = self.a_result.val() || self.a_load.val();
         self.a_ev.next.load = self.a_load.val();
-        self.a_ev.next.slot = self.a_slot.val();
-        self.a_ev.next.full = self.st_full.read_data.val().get_bit(0);
-        self.a_ev.next.radius = self.st_radius.read_data.val() & self.dist_mask.val();
-        self.a_ev.next.count =
-            bit_cast::<8, 32>(self.st_count.read_data.val()) & self.count_mask.val();
-        self.a_ev.next.k = bit_cast::<8, 32>(self.st_k.read_data.val()) & self.count_mask.val();
-        self.a_ev.next.max_pos =
-            bit_cast::<8, 32>(self.st_max_pos.read_data.val()) & self.entry_mask.val();
-        self.a_ev.next.visited = (self.st_visited.read_data.val() + 1) & self.visited_mask.val();
-        self.a_ev.next.level =
-            bit_cast::<8, 32>(self.st_level.read_data.val()) & self.level_mask.val();
+        self.a_ev.next.visited = (self.store.read.val().visited + 1) & self.visited_mask.val();
         self.a_ev.next.up = self.search.result.val().next_up;
         self.a_ev.next.address = self.search.result.val().address & self.addr_mask.val();
         self.a_ev.next.next_address = self.search.result.val().next_address & self.addr_mask.val();
-        self.a_ev.next.off_x = self.st_off_x.read_data.val() & self.dist_mask.val();
-        self.a_ev.next.off_y = self.st_off_y.read_data.val() & self.dist_mask.val();
-        self.a_ev.next.off_z = self.st_off_z.read_data.val() & self.dist_mask.val();
-        self.a_ev.next.cell_dist = self.st_cell_dist.read_data.val() & self.dist_mask.val();
-        self.a_ev.next.run_max = false;
         self.a_ev.next.result = self.a_result.val();
         self.a_ev.next.axis = self.search.result.val().axis;
         self.a_ev.next.axis_dist = self.search.result.val().axis_dist & self.dist_mask.val();
@@ -596,39 +353,25 @@ impl<const W: usize> Logic for BarrelPort<W> {
                 self.a_ev.next.count = (self.a_ev.val().count + 1) & self.count_mask.val();
             }
         }
-        for i in 0..self.found_dist.len() {
-            self.found_dist[i].clock.next = self.clock.val();
-            self.found_dist[i].write_enable.next =
-                self.a_insert.val() && (self.a_pos.val() == self.entry_index[i].val());
-            self.found_dist[i].write_index.next = self.a_slot.val();
-            self.found_dist[i].write_data.next =
-                self.search.result.val().distance & self.dist_mask.val();
-            self.found_dist[i].read_index.next = self.b_ev.q.val().slot;
-        }
-        self.a_found_index.next = (bit_cast::<16, 8>(self.a_slot.val()) << self.pair_shift.val())
-            | bit_cast::<16, 8>(self.a_pos.val() >> 1);
-        self.a_found_entry.next =
-            bit_cast::<64, 24>(self.search.result.val().address & self.addr_mask.val())
-                | (bit_cast::<64, 32>(self.search.result.val().distance & self.dist_mask.val())
-                    << self.addr_shift.val());
-        self.found_even.write_enable.next = self.a_insert.val() && !self.a_pos.val().get_bit(0);
-        self.found_odd.write_enable.next = self.a_insert.val() && self.a_pos.val().get_bit(0);
-        self.found_even.write_index.next = self.a_found_index.val();
-        self.found_odd.write_index.next = self.a_found_index.val();
-        self.found_even.write_data.next = self.a_found_entry.val();
-        self.found_odd.write_data.next = self.a_found_entry.val();
+        self.found_max.write_enable.next = self.a_insert.val();
+        self.found_max.write_slot.next = self.a_slot.val();
+        self.found_max.write_pos.next = self.a_pos.val();
+        self.found_max.write_dist.next = self.search.result.val().distance;
+        self.readout.found_write.next = self.a_insert.val();
+        self.readout.found_slot.next = self.a_slot.val();
+        self.readout.found_pos.next = self.a_pos.val();
+        self.readout.found_address.next = self.search.result.val().address;
+        self.readout.found_dist.next = self.search.result.val().distance;
 
         // The path memory of this level: its far child's pruning bound and whether
         // that child is still to be visited; `Cell`: the offsets inside it.
         self.a_level_bit.next = self.one_level.val() << self.a_ev.val().level;
         if self.search.result.val().far_pending {
-            self.a_ev.next.pending = (bit_cast::<32, 32>(self.st_pending.read_data.val())
-                | self.a_level_bit.val())
-                & self.pending_mask.val();
+            self.a_ev.next.pending =
+                (self.store.read.val().pending | self.a_level_bit.val()) & self.pending_mask.val();
         } else {
-            self.a_ev.next.pending = bit_cast::<32, 32>(self.st_pending.read_data.val())
-                & (!self.a_level_bit.val())
-                & self.pending_mask.val();
+            self.a_ev.next.pending =
+                self.store.read.val().pending & (!self.a_level_bit.val()) & self.pending_mask.val();
         }
 
         // A new query: the root is read first, with the initial radius (a radius
@@ -654,9 +397,9 @@ impl<const W: usize> Logic for BarrelPort<W> {
             self.a_ev.next.off_z = 0.into();
             self.a_ev.next.cell_dist = 0.into();
         }
-        self.ids.write_enable.next = self.a_load.val();
-        self.ids.write_index.next = self.a_slot.val();
-        self.ids.write_data.next = self.query.data.val().id;
+        self.readout.id_write.next = self.a_load.val();
+        self.readout.id_slot.next = self.a_slot.val();
+        self.readout.id.next = self.query.data.val().id;
         self.search.query_write.next = self.a_load.val();
         self.search.query_module.next = self.a_slot.val();
         self.search.query.next = self.query.data.val();
@@ -720,89 +463,16 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.far_xy.write_data.next = self.b_far_xy.val();
         self.far_zd.write_data.next = self.b_far_zd.val();
 
-        // ---- Stage B (second part): the found list read, the first comparator level. ----
-        // (The LUT-RAM read and two levels were the ECP5 critical path, 79.4 MHz.)
-        // Entries past k hold nothing (zero: on a tie the lower entry wins, and
-        // every real entry is below them).
+        // ---- Stages B, C, M: the new maximum (the comparator tree). ----
         self.b_ev.d.next = self.a_ev.val();
-        for i in 0..self.found_dist.len() {
-            self.b_node[i].next = 0.into();
-            if self.entry_index[i].val() < self.b_ev.q.val().k {
-                self.b_node[i].next = self.found_dist[i].read_data.val() & self.dist_mask.val();
-            }
-            self.b_node_ix[i].next = self.entry_index[i].val();
-        }
-        for p in self._b_leaves..(self._b_leaves + 1) {
-            for i in 0..self._b_inner {
-                // The larger of two; on a tie the lower entry (knn.rs: "the lowest
-                // list slot among ties").
-                if self.b_node[2 * i + 1].val() > self.b_node[2 * i].val() {
-                    self.b_node[p + i].next = self.b_node[2 * i + 1].val();
-                    self.b_node_ix[p + i].next = self.b_node_ix[2 * i + 1].val();
-                } else {
-                    self.b_node[p + i].next = self.b_node[2 * i].val();
-                    self.b_node_ix[p + i].next = self.b_node_ix[2 * i].val();
-                }
-            }
-        }
-        for p in self._b_out..(self._b_out + 1) {
-            for j in 0..self.c_leaf.len() {
-                self.c_leaf[j].clock.next = self.clock.val();
-                self.c_leaf_ix[j].clock.next = self.clock.val();
-                self.c_leaf[j].d.next = self.b_node[p + j].val();
-                self.c_leaf_ix[j].d.next = self.b_node_ix[p + j].val();
-            }
-        }
-
-        // ---- Stage C: two more levels. ----
+        self.found_max.read_slot.next = self.b_ev.q.val().slot;
+        self.found_max.read_k.next = self.b_ev.q.val().k;
         self.c_ev.d.next = self.b_ev.q.val();
-        for j in 0..self.c_leaf.len() {
-            self.c_node[j].next = self.c_leaf[j].q.val();
-            self.c_node_ix[j].next = self.c_leaf_ix[j].q.val();
-        }
-        for n in self._c_leaves..(self._c_leaves + 1) {
-            for i in 0..self._c_inner {
-                if self.c_node[2 * i + 1].val() > self.c_node[2 * i].val() {
-                    self.c_node[n + i].next = self.c_node[2 * i + 1].val();
-                    self.c_node_ix[n + i].next = self.c_node_ix[2 * i + 1].val();
-                } else {
-                    self.c_node[n + i].next = self.c_node[2 * i].val();
-                    self.c_node_ix[n + i].next = self.c_node_ix[2 * i].val();
-                }
-            }
-        }
-        for p in self._c_out..(self._c_out + 1) {
-            for j in 0..self.m_leaf.len() {
-                self.m_leaf[j].clock.next = self.clock.val();
-                self.m_leaf_ix[j].clock.next = self.clock.val();
-                self.m_leaf[j].d.next = self.c_node[p + j].val();
-                self.m_leaf_ix[j].d.next = self.c_node_ix[p + j].val();
-            }
-        }
-
-        // ---- Stage M: the rest of the tree; R and its slot if the list is full. ----
         self.m_ev.d.next = self.c_ev.q.val();
-        for j in 0..self.m_leaf.len() {
-            self.m_node[j].next = self.m_leaf[j].q.val();
-            self.m_node_ix[j].next = self.m_leaf_ix[j].q.val();
-        }
-        for n in self._m_leaves..(self._m_leaves + 1) {
-            for i in 0..self._m_inner {
-                if self.m_node[2 * i + 1].val() > self.m_node[2 * i].val() {
-                    self.m_node[n + i].next = self.m_node[2 * i + 1].val();
-                    self.m_node_ix[n + i].next = self.m_node_ix[2 * i + 1].val();
-                } else {
-                    self.m_node[n + i].next = self.m_node[2 * i].val();
-                    self.m_node_ix[n + i].next = self.m_node_ix[2 * i].val();
-                }
-            }
-        }
         self.d_ev.d.next = self.m_ev.q.val();
         if self.m_ev.q.val().run_max {
-            for r in self._m_root..(self._m_root + 1) {
-                self.d_ev.d.next.radius = self.m_node[r].val() & self.dist_mask.val();
-                self.d_ev.d.next.max_pos = self.m_node_ix[r].val() & self.entry_mask.val();
-            }
+            self.d_ev.d.next.radius = self.found_max.max.val() & self.dist_mask.val();
+            self.d_ev.d.next.max_pos = self.found_max.max_pos.val() & self.entry_mask.val();
         }
 
         // ---- Stage D: the ascent in one step. ----
@@ -895,167 +565,21 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.ram_address.next = self.f_state.val().next_address;
         self.reading.next = self.f_issue.val();
         // The state write (every event), and the header of a finished search.
-        self.st_level.write_enable.next = self.f_ev.q.val().valid;
-        self.st_pending.write_enable.next = self.f_ev.q.val().valid;
-        self.st_radius.write_enable.next = self.f_ev.q.val().valid;
-        self.st_full.write_enable.next = self.f_ev.q.val().valid;
-        self.st_count.write_enable.next = self.f_ev.q.val().valid;
-        self.st_k.write_enable.next = self.f_ev.q.val().valid;
-        self.st_max_pos.write_enable.next = self.f_ev.q.val().valid;
-        self.st_visited.write_enable.next = self.f_ev.q.val().valid;
-        self.st_off_x.write_enable.next = self.f_ev.q.val().valid && self.cell_mode.val();
-        self.st_off_y.write_enable.next = self.f_ev.q.val().valid && self.cell_mode.val();
-        self.st_off_z.write_enable.next = self.f_ev.q.val().valid && self.cell_mode.val();
-        self.st_cell_dist.write_enable.next = self.f_ev.q.val().valid && self.cell_mode.val();
-        self.st_level.write_index.next = self.f_ev.q.val().slot;
-        self.st_pending.write_index.next = self.f_ev.q.val().slot;
-        self.st_radius.write_index.next = self.f_ev.q.val().slot;
-        self.st_full.write_index.next = self.f_ev.q.val().slot;
-        self.st_count.write_index.next = self.f_ev.q.val().slot;
-        self.st_k.write_index.next = self.f_ev.q.val().slot;
-        self.st_max_pos.write_index.next = self.f_ev.q.val().slot;
-        self.st_visited.write_index.next = self.f_ev.q.val().slot;
-        self.st_off_x.write_index.next = self.f_ev.q.val().slot;
-        self.st_off_y.write_index.next = self.f_ev.q.val().slot;
-        self.st_off_z.write_index.next = self.f_ev.q.val().slot;
-        self.st_cell_dist.write_index.next = self.f_ev.q.val().slot;
-        self.st_level.write_data.next = bit_cast::<32, 8>(self.f_state.val().level);
-        self.st_pending.write_data.next = self.f_state.val().pending;
-        self.st_radius.write_data.next = self.f_state.val().radius;
-        self.st_full.write_data.next = 0.into();
-        if self.f_state.val().full {
-            self.st_full.write_data.next = 1.into();
-        }
-        self.st_count.write_data.next = bit_cast::<32, 8>(self.f_state.val().count);
-        self.st_k.write_data.next = bit_cast::<32, 8>(self.f_state.val().k);
-        self.st_max_pos.write_data.next = bit_cast::<32, 8>(self.f_state.val().max_pos);
-        self.st_visited.write_data.next = self.f_state.val().visited;
-        self.st_off_x.write_data.next = self.f_state.val().off_x;
-        self.st_off_y.write_data.next = self.f_state.val().off_y;
-        self.st_off_z.write_data.next = self.f_state.val().off_z;
-        self.st_cell_dist.write_data.next = self.f_state.val().cell_dist;
-        self.out_count_mem.write_enable.next = self.f_ev.q.val().valid && self.f_done.val();
-        self.out_visited_mem.write_enable.next = self.f_ev.q.val().valid && self.f_done.val();
-        self.out_count_mem.write_index.next = self.f_ev.q.val().slot;
-        self.out_visited_mem.write_index.next = self.f_ev.q.val().slot;
-        self.out_count_mem.write_data.next = bit_cast::<32, 8>(self.f_state.val().count);
-        self.out_visited_mem.write_data.next = self.f_state.val().visited;
-        self.f_slot_bit.next = 0.into();
-        if self.f_ev.q.val().valid && self.f_done.val() {
-            self.f_slot_bit.next = self.one_slot.val() << self.f_ev.q.val().slot;
-        }
+        self.store.write_enable.next = self.f_ev.q.val().valid;
+        self.store.write_index.next = self.f_ev.q.val().slot;
+        self.store.write.next = self.f_state.val();
+        self.readout.done.next = self.f_ev.q.val().valid && self.f_done.val();
+        self.readout.done_slot.next = self.f_ev.q.val().slot;
+        self.readout.done_count.next = self.f_state.val().count;
+        self.readout.done_visited.next = self.f_state.val().visited;
+        self.result.valid.next = self.readout.result.valid.val();
+        self.result.data.next = self.readout.result.data.val();
+        self.readout.result.ready.next = self.result.ready.val();
 
-        // ---- Read-out: a finished slot's header, then its entries. ----
-        self.finished_pick.next = self.finished.q.val() & ((!self.finished.q.val()) + 1);
-        self.finished_pick_index.next = 0.into();
-        for i in 0..self.slot_index.len() {
-            if self.finished_pick.val().get_bit(i) {
-                self.finished_pick_index.next =
-                    self.finished_pick_index.val() | self.slot_index[i].val();
-            }
-        }
-        self.result_fire.next = self.out_active.q.val()
-            && (!self.out_fetch.q.val())
-            && self.result_register.inbound.ready.val();
-        self.ids.read_index.next = self.out_index.q.val();
-        self.out_count_mem.read_index.next = self.out_index.q.val();
-        self.out_visited_mem.read_index.next = self.out_index.q.val();
-        self.beat.next.header = self.out_header.q.val();
-        self.beat.next.id = 0.into();
-        if self.out_active.q.val() {
-            self.beat.next.id = self.ids.read_data.val();
-        }
-        self.beat.next.count = self.hdr_count.q.val();
-        self.beat.next.visited = self.hdr_visited.q.val();
-        self.beat.next.address = 0.into();
-        self.beat.next.distance = 0.into();
-        self.beat.next.pair = false;
-        self.beat.next.address2 = 0.into();
-        self.beat.next.distance2 = 0.into();
-        if self.out_header.q.val() {
-            self.beat.next.last = self.hdr_last.q.val();
-        } else {
-            self.beat.next.last = self.out_last.q.val();
-            if self.out_active.q.val() && (!self.out_fetch.q.val()) {
-                // Two photons a beat while two are left.
-                self.beat.next.address =
-                    bit_cast::<24, 64>(self.found_even.read_data.val() & self.addr_mask_wide.val());
-                self.beat.next.distance = bit_cast::<32, 64>(
-                    (self.found_even.read_data.val() >> self.addr_shift.val())
-                        & self.dist_mask_wide.val(),
-                );
-                if self.out_left.q.val() > 1 {
-                    self.beat.next.pair = true;
-                    self.beat.next.address2 = bit_cast::<24, 64>(
-                        self.found_odd.read_data.val() & self.addr_mask_wide.val(),
-                    );
-                    self.beat.next.distance2 = bit_cast::<32, 64>(
-                        (self.found_odd.read_data.val() >> self.addr_shift.val())
-                            & self.dist_mask_wide.val(),
-                    );
-                }
-            }
-        }
-        // The entry beat now is pair `out_entry`; the BlockRAMs read the next one.
-        self.out_entry_next.next = self.out_entry.q.val();
-        if self.result_fire.val() && (!self.out_header.q.val()) {
-            self.out_entry_next.next = (self.out_entry.q.val() + 1) & self.pair_mask.val();
-        }
-        self.out_found_index.next = (bit_cast::<16, 8>(self.out_index.q.val())
-            << self.pair_shift.val())
-            | bit_cast::<16, 8>(self.out_entry_next.val());
-        self.found_even.read_index.next = self.out_found_index.val();
-        self.found_odd.read_index.next = self.out_found_index.val();
-        self.out_entry.d.next = self.out_entry_next.val();
-        self.result_register.clock.next = self.clock.val();
-        self.result_register.reset.next = self.reset.val();
-        self.result_register.inbound.valid.next =
-            self.out_active.q.val() && (!self.out_fetch.q.val());
-        self.result_register.inbound.data.next = self.beat.val();
-        self.result_register.outbound.ready.next = self.result.ready.val();
-        self.result.valid.next = self.result_register.outbound.valid.val();
-        self.result.data.next = self.result_register.outbound.data.val();
-        self.out_end.next = 0.into();
-        if !self.out_active.q.val() {
-            if self.finished.q.val().any() {
-                self.out_active.d.next = true;
-                self.out_fetch.d.next = true;
-                self.out_index.d.next = self.finished_pick_index.val();
-                self.out_entry.d.next = 0.into();
-            }
-        } else if self.out_fetch.q.val() {
-            self.out_fetch.d.next = false;
-            self.out_header.d.next = true;
-            self.hdr_count.d.next =
-                bit_cast::<8, 32>(self.out_count_mem.read_data.val()) & self.count_mask.val();
-            self.hdr_visited.d.next =
-                self.out_visited_mem.read_data.val() & self.visited_mask.val();
-            self.hdr_last.d.next = (bit_cast::<8, 32>(self.out_count_mem.read_data.val())
-                & self.count_mask.val())
-                == 0;
-        } else if self.result_fire.val() {
-            if self.out_header.q.val() {
-                self.out_header.d.next = false;
-                self.out_left.d.next = self.hdr_count.q.val();
-                self.out_last.d.next = self.hdr_count.q.val() <= 2;
-            } else {
-                // (Not the last beat: more than two were left.)
-                self.out_left.d.next = (self.out_left.q.val() - 2) & self.count_mask.val();
-                self.out_last.d.next = self.out_left.q.val() <= 4;
-            }
-            if self.beat.val().last {
-                self.out_active.d.next = false;
-                self.out_end.next = self.one_slot.val() << self.out_index.q.val();
-            }
-        }
-
-        // Slots: taken by a load, finished in F, freed by their last beat.
-        self.free.d.next = self.still_free.val() | self.out_end.val();
-        self.finished.d.next =
-            (self.finished.q.val() | self.f_slot_bit.val()) & (!self.out_end.val());
+        // Slots: taken by a load, freed by their last beat.
+        self.free.d.next = self.still_free.val() | self.readout.freed.val();
         if self.reset.val() {
             self.free.d.next = self.all_slots.val();
-            self.finished.d.next = 0.into();
             self.load_pick.d.next = 0.into();
             self.load_pick_valid.d.next = false;
             self.b_ev.d.next.valid = false;
@@ -1064,9 +588,6 @@ impl<const W: usize> Logic for BarrelPort<W> {
             self.d_ev.d.next.valid = false;
             self.e_ev.d.next.valid = false;
             self.f_ev.d.next.valid = false;
-            self.out_active.d.next = false;
-            self.out_fetch.d.next = false;
-            self.out_header.d.next = false;
         }
         self.all_busy.next = (self.free.q.val() & self.all_slots.val()) == 0;
         self.idle.next = (self.free.q.val() & self.all_slots.val()) == self.all_slots.val();

@@ -1,0 +1,206 @@
+//! FoundMax: a [`BarrelPort`](crate::hw::barrel_port::BarrelPort)'s found
+//! distances, K per query slot, and the maximum of one slot's list with the lowest
+//! entry holding it — what the paper's MaxFinder (§4.4) gives a QueryModule, for
+//! the one slot per cycle the port's datapath handles.
+//!
+//! The MaxFinder needs one cycle per distance bit and one instance per
+//! QueryModule; here the K entries of a slot are K LUT-RAMs read at once (one
+//! entry per slot in each) into a tree of comparators pipelined over three
+//! stages: the read and the first level (B), two levels (C), the rest (M). One
+//! tree per port, a new slot every cycle, the maximum two cycles after the read.
+//! On a tie the lower entry wins, which is knn.rs's rule ("the lowest list slot
+//! among ties"); entries at and past the slot's k hold nothing and read as zero,
+//! so a real entry (below them) wins every tie with them.
+//!
+//! The tree is flat: leaves 0..P (P a power of two, at least 8), node `P + i`
+//! over nodes `2i` and `2i + 1`; each stage's winners are the next stage's leaves.
+
+use crate::hw::config::{low_mask, CoreConfig, Count, Dist, ModuleIndex};
+use crate::hw::lut_ram::{LutRam, RamIndex};
+use rust_hdl::prelude::*;
+
+#[derive(LogicBlock)]
+pub struct FoundMax {
+    pub clock: Signal<In, Clock>,
+    /// Write `write_dist` into entry `write_pos` of slot `write_slot`.
+    pub write_enable: Signal<In, bool>,
+    pub write_slot: Signal<In, ModuleIndex>,
+    pub write_pos: Signal<In, RamIndex>,
+    pub write_dist: Signal<In, Dist>,
+    /// Read the first `read_k` entries of slot `read_slot` (stage B; a write of
+    /// the cycle before shows).
+    pub read_slot: Signal<In, ModuleIndex>,
+    pub read_k: Signal<In, Count>,
+    /// Two cycles after the read (stage M): the maximum and its lowest entry.
+    pub max: Signal<Out, Dist>,
+    pub max_pos: Signal<Out, RamIndex>,
+    dist_mask: Constant<Dist>,
+    entry_index: Vec<Constant<RamIndex>>,
+    /// One LUT-RAM per entry (padded to P with never-written ones).
+    found_dist: Vec<LutRam>,
+    b_node: Vec<Signal<Local, Dist>>,
+    b_node_ix: Vec<Signal<Local, RamIndex>>,
+    _b_leaves: usize,
+    _b_inner: usize,
+    _b_out: usize,
+    c_leaf: Vec<DFF<Dist>>,
+    c_leaf_ix: Vec<DFF<RamIndex>>,
+    c_node: Vec<Signal<Local, Dist>>,
+    c_node_ix: Vec<Signal<Local, RamIndex>>,
+    _c_leaves: usize,
+    _c_inner: usize,
+    _c_out: usize,
+    m_leaf: Vec<DFF<Dist>>,
+    m_leaf_ix: Vec<DFF<RamIndex>>,
+    m_node: Vec<Signal<Local, Dist>>,
+    m_node_ix: Vec<Signal<Local, RamIndex>>,
+    _m_leaves: usize,
+    _m_inner: usize,
+    _m_root: usize,
+}
+
+/// `n` default signals or registers.
+fn many<T: Default>(n: usize) -> Vec<T> {
+    (0..n).map(|_| T::default()).collect()
+}
+
+impl FoundMax {
+    pub fn new(cfg: &CoreConfig) -> Self {
+        let q = cfg.queries_per_port;
+        let db = cfg.dist_bits();
+        // One level in B, two in C: at least 8 leaves.
+        let p = cfg.k.next_power_of_two().max(8);
+        FoundMax {
+            clock: Default::default(),
+            write_enable: Default::default(),
+            write_slot: Default::default(),
+            write_pos: Default::default(),
+            write_dist: Default::default(),
+            read_slot: Default::default(),
+            read_k: Default::default(),
+            max: Default::default(),
+            max_pos: Default::default(),
+            dist_mask: Constant::new(Dist::from(low_mask(db))),
+            entry_index: (0..p)
+                .map(|i| Constant::new(RamIndex::from(i as u64)))
+                .collect(),
+            found_dist: (0..p)
+                .map(|i| {
+                    if i < cfg.k {
+                        LutRam::new(q, db)
+                    } else {
+                        LutRam::new(1, 1)
+                    }
+                })
+                .collect(),
+            b_node: many(p + p / 2),
+            b_node_ix: many(p + p / 2),
+            _b_leaves: p,
+            _b_inner: p / 2,
+            _b_out: p,
+            c_leaf: many(p / 2),
+            c_leaf_ix: many(p / 2),
+            c_node: many(p / 2 + p / 4 + p / 8),
+            c_node_ix: many(p / 2 + p / 4 + p / 8),
+            _c_leaves: p / 2,
+            _c_inner: p / 4 + p / 8,
+            _c_out: p / 2 + p / 4,
+            m_leaf: many(p / 8),
+            m_leaf_ix: many(p / 8),
+            m_node: many(p / 4 - 1),
+            m_node_ix: many(p / 4 - 1),
+            _m_leaves: p / 8,
+            _m_inner: p / 8 - 1,
+            _m_root: p / 4 - 2,
+        }
+    }
+}
+
+impl Logic for FoundMax {
+    #[hdl_gen]
+    fn update(&mut self) {
+        for i in 0..self.found_dist.len() {
+            self.found_dist[i].clock.next = self.clock.val();
+            self.found_dist[i].write_enable.next =
+                self.write_enable.val() && (self.write_pos.val() == self.entry_index[i].val());
+            self.found_dist[i].write_index.next = self.write_slot.val();
+            self.found_dist[i].write_data.next = self.write_dist.val() & self.dist_mask.val();
+            self.found_dist[i].read_index.next = self.read_slot.val();
+        }
+        // Stage B: the read and the first level.
+        for i in 0..self.found_dist.len() {
+            self.b_node[i].next = 0.into();
+            if self.entry_index[i].val() < self.read_k.val() {
+                self.b_node[i].next = self.found_dist[i].read_data.val() & self.dist_mask.val();
+            }
+            self.b_node_ix[i].next = self.entry_index[i].val();
+        }
+        for p in self._b_leaves..(self._b_leaves + 1) {
+            for i in 0..self._b_inner {
+                // The larger of two; on a tie the lower entry (knn.rs: "the lowest
+                // list slot among ties").
+                if self.b_node[2 * i + 1].val() > self.b_node[2 * i].val() {
+                    self.b_node[p + i].next = self.b_node[2 * i + 1].val();
+                    self.b_node_ix[p + i].next = self.b_node_ix[2 * i + 1].val();
+                } else {
+                    self.b_node[p + i].next = self.b_node[2 * i].val();
+                    self.b_node_ix[p + i].next = self.b_node_ix[2 * i].val();
+                }
+            }
+        }
+        for p in self._b_out..(self._b_out + 1) {
+            for j in 0..self.c_leaf.len() {
+                self.c_leaf[j].clock.next = self.clock.val();
+                self.c_leaf_ix[j].clock.next = self.clock.val();
+                self.c_leaf[j].d.next = self.b_node[p + j].val();
+                self.c_leaf_ix[j].d.next = self.b_node_ix[p + j].val();
+            }
+        }
+
+        // Stage C: two more levels.
+        for j in 0..self.c_leaf.len() {
+            self.c_node[j].next = self.c_leaf[j].q.val();
+            self.c_node_ix[j].next = self.c_leaf_ix[j].q.val();
+        }
+        for n in self._c_leaves..(self._c_leaves + 1) {
+            for i in 0..self._c_inner {
+                if self.c_node[2 * i + 1].val() > self.c_node[2 * i].val() {
+                    self.c_node[n + i].next = self.c_node[2 * i + 1].val();
+                    self.c_node_ix[n + i].next = self.c_node_ix[2 * i + 1].val();
+                } else {
+                    self.c_node[n + i].next = self.c_node[2 * i].val();
+                    self.c_node_ix[n + i].next = self.c_node_ix[2 * i].val();
+                }
+            }
+        }
+        for p in self._c_out..(self._c_out + 1) {
+            for j in 0..self.m_leaf.len() {
+                self.m_leaf[j].clock.next = self.clock.val();
+                self.m_leaf_ix[j].clock.next = self.clock.val();
+                self.m_leaf[j].d.next = self.c_node[p + j].val();
+                self.m_leaf_ix[j].d.next = self.c_node_ix[p + j].val();
+            }
+        }
+
+        // Stage M: the rest, and the root.
+        for j in 0..self.m_leaf.len() {
+            self.m_node[j].next = self.m_leaf[j].q.val();
+            self.m_node_ix[j].next = self.m_leaf_ix[j].q.val();
+        }
+        for n in self._m_leaves..(self._m_leaves + 1) {
+            for i in 0..self._m_inner {
+                if self.m_node[2 * i + 1].val() > self.m_node[2 * i].val() {
+                    self.m_node[n + i].next = self.m_node[2 * i + 1].val();
+                    self.m_node_ix[n + i].next = self.m_node_ix[2 * i + 1].val();
+                } else {
+                    self.m_node[n + i].next = self.m_node[2 * i].val();
+                    self.m_node_ix[n + i].next = self.m_node_ix[2 * i].val();
+                }
+            }
+        }
+        for r in self._m_root..(self._m_root + 1) {
+            self.max.next = self.m_node[r].val();
+            self.max_pos.next = self.m_node_ix[r].val();
+        }
+    }
+}
