@@ -577,7 +577,10 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.readout.result.ready.next = self.result.ready.val();
 
         // Slots: taken by a load, freed by their last beat.
-        self.free.d.next = self.still_free.val() | self.readout.freed.val();
+        // (Masked to the Q slots: the bits above are constant, and synthesis should
+        // see it without a SAT solver.)
+        self.free.d.next =
+            (self.still_free.val() | self.readout.freed.val()) & self.all_slots.val();
         if self.reset.val() {
             self.free.d.next = self.all_slots.val();
             self.load_pick.d.next = 0.into();

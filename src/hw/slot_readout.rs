@@ -266,7 +266,7 @@ impl Logic for SlotReadout {
             | bit_cast::<16, 8>(self.out_entry_next.val());
         self.found_even.read_index.next = self.out_found_index.val();
         self.found_odd.read_index.next = self.out_found_index.val();
-        self.out_entry.d.next = self.out_entry_next.val();
+        self.out_entry.d.next = self.out_entry_next.val() & self.pair_mask.val();
         self.result_register.clock.next = self.clock.val();
         self.result_register.reset.next = self.reset.val();
         self.result_register.inbound.valid.next =
