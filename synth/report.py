@@ -21,6 +21,11 @@ STOPPED = "photon-fpga: nextpnr stopped after"
 # 2026-11-27); router2 (negotiated congestion, as in VPR) is nextpnr's router for large
 # designs. Smaller rows keep router1, the router their rows were made with.
 ROUTER2_TREES = 3
+# Rows routed with router1 whatever their size: router2 stopped at once on the T = 8
+# barrel array's global clock ("Failed to route arc 0.0 of net 'clock$TRELLIS_IO_IN'
+# ... to G_CLKI_TDCC0", seed 1, 2026-11-27), which fills 55 % of the LUT4s, where
+# router1 still routes (T = 2 cell: 52 %).
+ROUTER1_ROWS = ("barrel",)
 
 SIM_QUERIES = 3000
 # PHOTON_FPGA_STEPS=sim: only the simulations (minutes), then the report.
@@ -296,7 +301,7 @@ def row(name, opts, trees, steps, export_error=None):
         # The first row: every seed. An array: the seeds in turn until one routes (a
         # congested placement may not route on one seed and route on the next). Any
         # other row: the first seed.
-        router = "router2" if trees >= ROUTER2_TREES else "router1"
+        router = "router2" if trees >= ROUTER2_TREES and not any(r in name for r in ROUTER1_ROWS) else "router1"
         first = name == CONFIGS[0][0]
         e = ecp5(d, [core, shell], SEEDS if first or trees > 1 else SEEDS[:1], router, "ecp5" not in steps,
                  first_routed=not first)

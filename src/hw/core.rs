@@ -9,7 +9,8 @@
 //!   be loaded after the previous one finished, with or without reset; `ready` is
 //!   a register, set the cycle after the core became idle.
 //! * `query`: [`QueryBeat`]s, accepted once a map is loaded and no load is pending.
-//! * `result`: [`ResultBeat`] packets, a header then one beat per found photon.
+//! * `result`: [`ResultBeat`] packets, a header then the found photons, one a beat
+//!   (SearchPort) or two (BarrelPort).
 //!   Results of different queries may leave out of order; beats of one result are
 //!   contiguous.
 //!
