@@ -221,12 +221,18 @@ fn tree_module_wide_word() {
     tree_module_against_model::<64>(47, 12);
 }
 
+/// One clock cycle of a block with a `clock` input: settle, rising edge, falling
+/// edge (the blocks' benches below share it).
+fn clock_cycle<B: Block>(uut: &mut B, clock: fn(&mut B) -> &mut Signal<In, Clock>) {
+    settle(uut);
+    clock(uut).next = true.into();
+    settle(uut);
+    clock(uut).next = false.into();
+    settle(uut);
+}
+
 fn clock_cell(uut: &mut CellBound) {
-    settle(uut);
-    uut.clock.next = true.into();
-    settle(uut);
-    uut.clock.next = false.into();
-    settle(uut);
+    clock_cycle(uut, |u| &mut u.clock);
 }
 
 /// CellBound on random root-to-leaf walks: down visits, ascent steps that enter a
@@ -304,14 +310,6 @@ fn cell_bound_sums_the_offsets_of_the_cell() {
     assert!(checked == 3000);
 }
 
-fn tick_ram(uut: &mut BlockRam) {
-    settle(uut);
-    uut.clock.next = true.into();
-    settle(uut);
-    uut.clock.next = false.into();
-    settle(uut);
-}
-
 /// BlockRam against a Vec model: random writes and reads of other entries, the
 /// read data registered (the entry at last cycle's index), only `width` bits kept.
 #[test]
@@ -336,7 +334,7 @@ fn block_ram_against_model() {
             uut.write_index.next = w.into();
             uut.write_data.next = data.into();
             uut.read_index.next = rd.into();
-            tick_ram(&mut uut);
+            clock_cycle(&mut uut, |u| &mut u.clock);
             // Registered: the entry at the index of the cycle just ended.
             assert_eq!(uut.read_data.val().to_u64(), model[rd as usize]);
             if we {
@@ -345,18 +343,10 @@ fn block_ram_against_model() {
             // Holding the index holds the data; the write shows a cycle later.
             uut.write_enable.next = false;
             uut.read_index.next = w.into();
-            tick_ram(&mut uut);
+            clock_cycle(&mut uut, |u| &mut u.clock);
             assert_eq!(uut.read_data.val().to_u64(), model[w as usize]);
         }
     }
-}
-
-fn tick_max(uut: &mut FoundMax) {
-    settle(uut);
-    uut.clock.next = true.into();
-    settle(uut);
-    uut.clock.next = false.into();
-    settle(uut);
 }
 
 /// FoundMax against a model: random found lists (small distances, so ties are
@@ -398,7 +388,7 @@ fn found_max_is_the_lowest_maximum() {
             let max = *list.iter().max().unwrap();
             let pos = list.iter().position(|&x| x == max).unwrap();
             expected.push_back((max, pos));
-            tick_max(&mut uut);
+            clock_cycle(&mut uut, |u| &mut u.clock);
             model[ws][wp] = d;
             // Two edges after its read (this step's tick is the second for the
             // read of the step before).
