@@ -176,3 +176,37 @@ fn candidates_restrict_the_search() {
     let (max, filter, slot, _) = b.find(0b01110);
     assert_eq!((max, filter, slot), (100, 0b01000, 0b01000));
 }
+
+#[test]
+fn a_write_with_start_takes_part_and_candidates_are_read_a_cycle_later() {
+    // The QueryModule appends the K-th photon in the cycle it starts the search
+    // and its occupied mask has that slot only from the next cycle on.
+    let mut b = Bench::<32>::new(12);
+    for (s, &d) in [30u64, 700, 9].iter().enumerate() {
+        b.write(s, d);
+    }
+    b.uut.write_enable.next = true;
+    b.uut.write_slot.next = (1u64 << 3).into();
+    b.uut.write_dist.next = 2000u64.into();
+    b.uut.start.next = true;
+    b.uut.candidates.next = 0b0111u64.into();
+    b.settle();
+    b.tick();
+    b.uut.write_enable.next = false;
+    b.uut.start.next = false;
+    b.uut.candidates.next = 0b1111u64.into();
+    b.settle();
+    let mut cycles = 0;
+    while b.uut.busy.val() {
+        cycles += 1;
+        assert!(cycles <= 64, "MaxFinder never finished");
+        b.tick();
+    }
+    let got = (
+        b.uut.max_dist.val().to_u64(),
+        b.uut.filter.val().to_u64(),
+        b.uut.max_slot.val().to_u64(),
+    );
+    assert_eq!(got, model(&[30, 700, 9, 2000]));
+    assert_eq!(cycles, 13);
+}

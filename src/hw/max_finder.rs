@@ -46,9 +46,11 @@ pub struct MaxFinder<const S: usize> {
     pub write_enable: Signal<In, bool>,
     pub write_slot: Signal<In, SlotMask<S>>,
     pub write_dist: Signal<In, Dist>,
-    /// Start a search over the slots set in `candidates`; may coincide with a write
-    /// (the rows are read from the next cycle on).
+    /// Start a search; may coincide with a write (the rows are read from the next
+    /// cycle on). Not while `busy`.
     pub start: Signal<In, bool>,
+    /// The slots that take part, read in the cycle after `start` (the priming
+    /// cycle: a slot appended with `start` is then already in the caller's mask).
     pub candidates: Signal<In, SlotMask<S>>,
     /// High from the cycle after `start` for one cycle per distance bit, plus one.
     pub busy: Signal<Out, bool>,
@@ -157,14 +159,17 @@ impl<const S: usize> Logic for MaxFinder<S> {
         if self.priming.q.val() {
             self.priming_weight.next = self.top_row.val();
         }
-        if self.start.val() {
-            self.filter_reg.d.next = self.candidates.val() & self.slot_mask.val();
+        // `start` itself only sets `busy` and `priming` (issue 11: as the clock
+        // enable of the filter and row registers, S bits wide, the insertion's
+        // `start` was the paper core's critical path on ECP5). The priming cycle
+        // loads the filter from `candidates` and clears the maximum; an idle
+        // MaxFinder holds `gather_bit` at the top row, so the priming cycle gathers
+        // it. `start` never comes while busy (the QueryModule waits in MAX_FIND).
+        self.priming.d.next = self.start.val();
+        if !self.busy_reg.q.val() {
             self.gather_bit.d.next = self.top_bit.val();
-            self.weight.d.next = 0.into();
-            self.priming.d.next = true;
-            self.max_reg.d.next = 0.into();
-            self.busy_reg.d.next = true;
-        } else if self.busy_reg.q.val() {
+        }
+        if self.busy_reg.q.val() {
             // The gathered row is examined in the next cycle.
             self.row_reg.d.next = self.gathered.val();
             // The weight of the row gathered now, one-hot, from the top row down:
@@ -172,8 +177,10 @@ impl<const S: usize> Logic for MaxFinder<S> {
             // so no multiplexer.
             self.weight.d.next = (self.weight.q.val() >> 1) | self.priming_weight.val();
             self.gather_bit.d.next = (self.gather_bit.q.val() - 1) & self.row_index_mask.val();
-            self.priming.d.next = false;
-            if !self.priming.q.val() {
+            if self.priming.q.val() {
+                self.filter_reg.d.next = self.candidates.val() & self.slot_mask.val();
+                self.max_reg.d.next = 0.into();
+            } else {
                 if self.row_and_filter.val().any() {
                     self.filter_reg.d.next = self.row_and_filter.val();
                     self.max_reg.d.next = self.max_reg.q.val() | self.weight.q.val();
@@ -182,6 +189,9 @@ impl<const S: usize> Logic for MaxFinder<S> {
                     self.busy_reg.d.next = false;
                 }
             }
+        }
+        if self.start.val() {
+            self.busy_reg.d.next = true;
         }
         self.busy.next = self.busy_reg.q.val();
         self.max_dist.next = self.max_reg.q.val();

@@ -462,9 +462,9 @@ impl<const S: usize> Logic for QueryModule<S> {
                                 (self.append_slot.q.val() << 1) & self.slot_mask.val();
                             self.one_left.d.next = (self.count.q.val() + 2) == self.k_reg.q.val();
                             if self.one_left.q.val() {
+                                // (The MaxFinder reads `candidates` a cycle later,
+                                // when `occupied` has the appended slot.)
                                 self.max_finder.start.next = true;
-                                self.max_finder.candidates.next =
-                                    self.occupied.q.val() | self.append_slot.q.val();
                                 self.state.d.next = QueryState::MaxFind;
                             }
                         }
