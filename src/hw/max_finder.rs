@@ -159,27 +159,33 @@ impl<const S: usize> Logic for MaxFinder<S> {
         if self.priming.q.val() {
             self.priming_weight.next = self.top_row.val();
         }
-        // `start` itself only sets `busy` and `priming` (issue 11: as the clock
-        // enable of the filter and row registers, S bits wide, the insertion's
-        // `start` was the paper core's critical path on ECP5). The priming cycle
-        // loads the filter from `candidates` and clears the maximum; an idle
-        // MaxFinder holds `gather_bit` at the top row, so the priming cycle gathers
-        // it. `start` never comes while busy (the QueryModule waits in MAX_FIND).
-        self.priming.d.next = self.start.val();
-        if !self.busy_reg.q.val() {
-            self.gather_bit.d.next = self.top_bit.val();
-        }
+        // `start` reaches neither the row register nor the filter (issue 11: as the
+        // clock enable of the S-wide row register, `start`, the end of the
+        // QueryModule's insertion, was the paper core's critical path on ECP5): the
+        // gathered row is taken whenever busy (`start` never comes while busy: the
+        // QueryModule waits in MAX_FIND), and the filter is loaded from
+        // `candidates` in the priming cycle. The clears at `start` are the
+        // flip-flops' synchronous resets, no LUT (clearing `max_reg` in the priming
+        // cycle instead costs 17 LUTs per QueryModule in yosys xc6v).
         if self.busy_reg.q.val() {
             // The gathered row is examined in the next cycle.
             self.row_reg.d.next = self.gathered.val();
+        }
+        if self.start.val() {
+            self.gather_bit.d.next = self.top_bit.val();
+            self.weight.d.next = 0.into();
+            self.priming.d.next = true;
+            self.max_reg.d.next = 0.into();
+            self.busy_reg.d.next = true;
+        } else if self.busy_reg.q.val() {
             // The weight of the row gathered now, one-hot, from the top row down:
             // a shift whose top bit comes from `priming` (the weight is zero then),
             // so no multiplexer.
             self.weight.d.next = (self.weight.q.val() >> 1) | self.priming_weight.val();
             self.gather_bit.d.next = (self.gather_bit.q.val() - 1) & self.row_index_mask.val();
+            self.priming.d.next = false;
             if self.priming.q.val() {
                 self.filter_reg.d.next = self.candidates.val() & self.slot_mask.val();
-                self.max_reg.d.next = 0.into();
             } else {
                 if self.row_and_filter.val().any() {
                     self.filter_reg.d.next = self.row_and_filter.val();
@@ -189,9 +195,6 @@ impl<const S: usize> Logic for MaxFinder<S> {
                     self.busy_reg.d.next = false;
                 }
             }
-        }
-        if self.start.val() {
-            self.busy_reg.d.next = true;
         }
         self.busy.next = self.busy_reg.q.val();
         self.max_dist.next = self.max_reg.q.val();
