@@ -81,7 +81,6 @@ pub struct BarrelPort<const W: usize> {
     /// `Traversal::Cell`: prune on the far cell's distance, restore its offsets.
     cell_mode: Constant<bool>,
     all_slots: Constant<ModuleMask>,
-    one_slot: Constant<ModuleMask>,
     one_level: Constant<LevelMask>,
     /// The widths the configuration needs (every register is loaded through them).
     dist_mask: Constant<Dist>,
@@ -187,7 +186,6 @@ impl<const W: usize> BarrelPort<W> {
             search: SearchModule::new(cfg),
             cell_mode: Constant::new(cell),
             all_slots: Constant::new(ModuleMask::from(low_mask(q as u32))),
-            one_slot: Constant::new(ModuleMask::from(1u64)),
             one_level: Constant::new(LevelMask::from(1u64)),
             dist_mask: Constant::new(Dist::from(low_mask(db))),
             addr_mask: Constant::new(Addr::from(low_mask(cfg.address_bits))),

@@ -32,6 +32,10 @@ pub struct PortArbiter {
     /// arbiter → read address path limits a port's clock).
     at_or_below_last: DFF<ModuleMask>,
     above_last: Signal<Local, ModuleMask>,
+    above_less: Signal<Local, ModuleMask>,
+    requests_less: Signal<Local, ModuleMask>,
+    /// Every bit at or below `grant` (all bits when nothing is granted).
+    next_at_or_below: Signal<Local, ModuleMask>,
     /// The `n` requesters that exist: the registers' other bits are constant zero,
     /// which synthesis sees only through this mask.
     mask: Constant<ModuleMask>,
@@ -51,6 +55,9 @@ impl PortArbiter {
             last_grant: Default::default(),
             at_or_below_last: Default::default(),
             above_last: Default::default(),
+            above_less: Default::default(),
+            requests_less: Default::default(),
+            next_at_or_below: Default::default(),
             mask: Constant::new(ModuleMask::from(u64::MAX >> (64 - n))),
         }
     }
@@ -68,17 +75,27 @@ impl Logic for PortArbiter {
     fn update(&mut self) {
         dff_setup!(self, clock, last_grant, at_or_below_last);
         self.above_last.next = self.requests.val() & (!self.at_or_below_last.q.val());
+        // For a mask x, x - 1 gives both the lowest set bit, x & !(x - 1), and every
+        // bit at or below it, x ^ (x - 1) (all bits when x = 0): the next
+        // `at_or_below_last` comes from the same carry chain as the grant, beside
+        // it, not from a second subtraction after it (issue 11: request → grant →
+        // `(grant << 1) - 1` was two carry chains in series, a port's critical path).
+        self.above_less.next = self.above_last.val() - 1;
+        self.requests_less.next = self.requests.val() - 1;
         if self.hold.val() {
             self.grant.next = self.last_grant.q.val();
+            self.next_at_or_below.next = (self.last_grant.q.val() << 1) - 1;
         } else if self.above_last.val().any() {
-            self.grant.next = self.above_last.val() & ((!self.above_last.val()) + 1);
+            self.grant.next = self.above_last.val() & (!self.above_less.val());
+            self.next_at_or_below.next = self.above_last.val() ^ self.above_less.val();
         } else {
-            self.grant.next = self.requests.val() & ((!self.requests.val()) + 1);
+            self.grant.next = self.requests.val() & (!self.requests_less.val());
+            self.next_at_or_below.next = self.requests.val() ^ self.requests_less.val();
         }
         self.granted.next = self.requests.val().any();
         if self.advance.val() {
             self.last_grant.d.next = self.grant.val() & self.mask.val();
-            self.at_or_below_last.d.next = ((self.grant.val() << 1) - 1) & self.mask.val();
+            self.at_or_below_last.d.next = self.next_at_or_below.val() & self.mask.val();
         }
     }
 }

@@ -23,6 +23,9 @@ module top(clock,requests,advance,hold,grant,granted);
     
     // Local signals
     reg  [31:0] above_last;
+    reg  [31:0] above_less;
+    reg  [31:0] requests_less;
+    reg  [31:0] next_at_or_below;
     
     // Sub module instances
     top$last_grant last_grant(
@@ -43,19 +46,24 @@ module top(clock,requests,advance,hold,grant,granted);
         last_grant$d = last_grant$q;
         at_or_below_last$d = at_or_below_last$q;
         above_last = requests & (~at_or_below_last$q);
+        above_less = above_last - 32'h1;
+        requests_less = requests - 32'h1;
         if (hold) begin
             grant = last_grant$q;
+            next_at_or_below = (last_grant$q << 32'h1) - 32'h1;
         end
         else if (|above_last) begin
-            grant = above_last & ((~above_last) + 32'h1);
+            grant = above_last & (~above_less);
+            next_at_or_below = above_last ^ above_less;
         end
         else begin
-            grant = requests & ((~requests) + 32'h1);
+            grant = requests & (~requests_less);
+            next_at_or_below = requests ^ requests_less;
         end
         granted = |requests;
         if (advance) begin
             last_grant$d = grant & mask;
-            at_or_below_last$d = ((grant << 32'h1) - 32'h1) & mask;
+            at_or_below_last$d = next_at_or_below & mask;
         end
     end
     

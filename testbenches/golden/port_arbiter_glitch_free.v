@@ -23,6 +23,9 @@ module top(clock,requests,advance,hold,grant,granted);
     
     // Local signals
     reg  [31:0] above_last;
+    reg  [31:0] above_less;
+    reg  [31:0] requests_less;
+    reg  [31:0] next_at_or_below;
     
     // Sub module instances
     top$last_grant last_grant(
@@ -42,7 +45,10 @@ module top(clock,requests,advance,hold,grant,granted);
     reg [31:0] last_grant$d__xs;
     reg [31:0] at_or_below_last$d__xs;
     reg [31:0] above_last__xs;
+    reg [31:0] above_less__xs;
+    reg [31:0] requests_less__xs;
     reg [31:0] grant__xs;
+    reg [31:0] next_at_or_below__xs;
     reg granted__xs;
     always @(*) begin
         last_grant$clock__xs = clock;
@@ -50,26 +56,34 @@ module top(clock,requests,advance,hold,grant,granted);
         last_grant$d__xs = last_grant$q;
         at_or_below_last$d__xs = at_or_below_last$q;
         above_last__xs = requests & (~at_or_below_last$q);
+        above_less__xs = above_last__xs - 32'h1;
+        requests_less__xs = requests - 32'h1;
         if (hold) begin
             grant__xs = last_grant$q;
+            next_at_or_below__xs = (last_grant$q << 32'h1) - 32'h1;
         end
         else if (|above_last__xs) begin
-            grant__xs = above_last__xs & ((~above_last__xs) + 32'h1);
+            grant__xs = above_last__xs & (~above_less__xs);
+            next_at_or_below__xs = above_last__xs ^ above_less__xs;
         end
         else begin
-            grant__xs = requests & ((~requests) + 32'h1);
+            grant__xs = requests & (~requests_less__xs);
+            next_at_or_below__xs = requests ^ requests_less__xs;
         end
         granted__xs = |requests;
         if (advance) begin
             last_grant$d__xs = grant__xs & mask;
-            at_or_below_last$d__xs = ((grant__xs << 32'h1) - 32'h1) & mask;
+            at_or_below_last$d__xs = next_at_or_below__xs & mask;
         end
         last_grant$clock = last_grant$clock__xs;
         at_or_below_last$clock = at_or_below_last$clock__xs;
         last_grant$d = last_grant$d__xs;
         at_or_below_last$d = at_or_below_last$d__xs;
         above_last = above_last__xs;
+        above_less = above_less__xs;
+        requests_less = requests_less__xs;
         grant = grant__xs;
+        next_at_or_below = next_at_or_below__xs;
         granted = granted__xs;
     end
     
