@@ -176,9 +176,14 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchArray<S, W> {
             if self.stage_valid[i].q.val() && self.trees[i].query.ready.val() {
                 self.stage_valid[i].d.next = false;
             }
+            // An empty stage takes the inbound data every cycle (only its valid bit
+            // waits for the dispatch), so the data's clock enable is the stage's
+            // own flip-flop, not the round robin (as in the core).
+            if !self.stage_valid[i].q.val() {
+                self.stage_data[i].d.next = self.dispatch.sinks[i].data.val();
+            }
             if self.dispatch.sinks[i].valid.val() && !self.stage_valid[i].q.val() {
                 self.stage_valid[i].d.next = true;
-                self.stage_data[i].d.next = self.dispatch.sinks[i].data.val();
             }
             if self.reset.val() {
                 self.stage_valid[i].d.next = false;

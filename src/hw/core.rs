@@ -285,7 +285,10 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
         self.query.ready.next = self.dispatch.inbound.ready.val();
         self.dispatch.hold.next = (!self.loaded.q.val()) || self.load.valid.val();
         // Each port's stage: empty and the port has a pick → ready; the staged
-        // query moves into the port when the port takes it.
+        // query moves into the port when the port takes it. An empty stage takes
+        // the inbound data every cycle and only its valid bit waits for the
+        // dispatch (issue 11: the dispatch decision → the stage data's clock
+        // enable, fanned out over the die, was a critical path on ECP5).
         self.dispatch.sinks[0].ready.next =
             self.a_query_ready.val() && (!self.stage_a_valid.q.val());
         self.dispatch.sinks[1].ready.next =
@@ -293,16 +296,20 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
         if self.stage_a_valid.q.val() && self.a_query_ready.val() {
             self.stage_a_valid.d.next = false;
         }
+        if !self.stage_a_valid.q.val() {
+            self.stage_a_data.d.next = self.dispatch.sinks[0].data.val();
+        }
         if self.dispatch.sinks[0].valid.val() && self.dispatch.sinks[0].ready.val() {
             self.stage_a_valid.d.next = true;
-            self.stage_a_data.d.next = self.dispatch.sinks[0].data.val();
         }
         if self.stage_b_valid.q.val() && self.b_query_ready.val() {
             self.stage_b_valid.d.next = false;
         }
+        if !self.stage_b_valid.q.val() {
+            self.stage_b_data.d.next = self.dispatch.sinks[1].data.val();
+        }
         if self.dispatch.sinks[1].valid.val() && self.dispatch.sinks[1].ready.val() {
             self.stage_b_valid.d.next = true;
-            self.stage_b_data.d.next = self.dispatch.sinks[1].data.val();
         }
 
         // Result packets of both ports, merged.
