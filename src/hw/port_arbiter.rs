@@ -32,8 +32,14 @@ pub struct PortArbiter {
     /// arbiter → read address path limits a port's clock).
     at_or_below_last: DFF<ModuleMask>,
     above_last: Signal<Local, ModuleMask>,
-    above_less: Signal<Local, ModuleMask>,
-    requests_less: Signal<Local, ModuleMask>,
+    /// {requests, above_last} (bits 2n-1..n, n-1..0), that minus one, its lowest
+    /// set bit and every bit at or below that.
+    both: Signal<Local, Bits<64>>,
+    both_less: Signal<Local, Bits<64>>,
+    lowest: Signal<Local, Bits<64>>,
+    upto: Signal<Local, Bits<64>>,
+    /// n, the requesters.
+    n: Constant<Bits<6>>,
     /// Every bit at or below `grant` (all bits when nothing is granted).
     next_at_or_below: Signal<Local, ModuleMask>,
     /// The `n` requesters that exist: the registers' other bits are constant zero,
@@ -55,8 +61,11 @@ impl PortArbiter {
             last_grant: Default::default(),
             at_or_below_last: Default::default(),
             above_last: Default::default(),
-            above_less: Default::default(),
-            requests_less: Default::default(),
+            both: Default::default(),
+            both_less: Default::default(),
+            lowest: Default::default(),
+            upto: Default::default(),
+            n: Constant::new(Bits::<6>::from(n as u64)),
             next_at_or_below: Default::default(),
             mask: Constant::new(ModuleMask::from(u64::MAX >> (64 - n))),
         }
@@ -75,22 +84,30 @@ impl Logic for PortArbiter {
     fn update(&mut self) {
         dff_setup!(self, clock, last_grant, at_or_below_last);
         self.above_last.next = self.requests.val() & (!self.at_or_below_last.q.val());
-        // For a mask x, x - 1 gives both the lowest set bit, x & !(x - 1), and every
-        // bit at or below it, x ^ (x - 1) (all bits when x = 0): the next
-        // `at_or_below_last` comes from the same carry chain as the grant, beside
-        // it, not from a second subtraction after it (issue 11: request → grant →
-        // `(grant << 1) - 1` was two carry chains in series, a port's critical path).
-        self.above_less.next = self.above_last.val() - 1;
-        self.requests_less.next = self.requests.val() - 1;
+        // Round robin as one "lowest set bit" over 2n bits, {requests, above_last}
+        // (issue 11: a mux between the two lowest bits, selected by a reduction
+        // over `above_last`, and a second subtraction for the next mask were a
+        // port's critical path). For x = that word, x & !(x - 1) is the lowest set
+        // bit (in the low half if anything is above the last grant, else in the
+        // high half: the grant is the OR of the halves) and x ^ (x - 1) every bit
+        // at or below it; its bit n tells which half, and the next
+        // `at_or_below_last` is that half (all ones when nothing is requested).
+        self.both.next = (bit_cast::<64, 32>(self.requests.val()) << self.n.val())
+            | bit_cast::<64, 32>(self.above_last.val());
+        self.both_less.next = self.both.val() - 1;
+        self.lowest.next = self.both.val() & (!self.both_less.val());
+        self.upto.next = self.both.val() ^ self.both_less.val();
         if self.hold.val() {
             self.grant.next = self.last_grant.q.val();
             self.next_at_or_below.next = (self.last_grant.q.val() << 1) - 1;
-        } else if self.above_last.val().any() {
-            self.grant.next = self.above_last.val() & (!self.above_less.val());
-            self.next_at_or_below.next = self.above_last.val() ^ self.above_less.val();
         } else {
-            self.grant.next = self.requests.val() & (!self.requests_less.val());
-            self.next_at_or_below.next = self.requests.val() ^ self.requests_less.val();
+            self.grant.next = (bit_cast::<32, 64>(self.lowest.val()) & self.mask.val())
+                | bit_cast::<32, 64>(self.lowest.val() >> self.n.val());
+            if self.upto.val().get_bit(self.n.val().index()) {
+                self.next_at_or_below.next = bit_cast::<32, 64>(self.upto.val() >> self.n.val());
+            } else {
+                self.next_at_or_below.next = bit_cast::<32, 64>(self.upto.val());
+            }
         }
         self.granted.next = self.requests.val().any();
         if self.advance.val() {

@@ -11,6 +11,7 @@ module top(clock,requests,advance,hold,grant,granted);
     output reg  granted;
     
     // Constant declarations
+    localparam  n = 6'b100000;
     localparam  mask = 32'hffffffff;
     
     // Stub signals
@@ -23,8 +24,10 @@ module top(clock,requests,advance,hold,grant,granted);
     
     // Local signals
     reg  [31:0] above_last;
-    reg  [31:0] above_less;
-    reg  [31:0] requests_less;
+    reg  [63:0] both;
+    reg  [63:0] both_less;
+    reg  [63:0] lowest;
+    reg  [63:0] upto;
     reg  [31:0] next_at_or_below;
     
     // Sub module instances
@@ -46,19 +49,22 @@ module top(clock,requests,advance,hold,grant,granted);
         last_grant$d = last_grant$q;
         at_or_below_last$d = at_or_below_last$q;
         above_last = requests & (~at_or_below_last$q);
-        above_less = above_last - 32'h1;
-        requests_less = requests - 32'h1;
+        both = (((requests) & 64'hffffffffffffffff) << n) | ((above_last) & 64'hffffffffffffffff);
+        both_less = both - 32'h1;
+        lowest = both & (~both_less);
+        upto = both ^ both_less;
         if (hold) begin
             grant = last_grant$q;
             next_at_or_below = (last_grant$q << 32'h1) - 32'h1;
         end
-        else if (|above_last) begin
-            grant = above_last & (~above_less);
-            next_at_or_below = above_last ^ above_less;
-        end
         else begin
-            grant = requests & (~requests_less);
-            next_at_or_below = requests ^ requests_less;
+            grant = (((lowest) & 32'hffffffff) & mask) | ((lowest >> n) & 32'hffffffff);
+            if (upto[n]) begin
+                next_at_or_below = ((upto >> n) & 32'hffffffff);
+            end
+            else begin
+                next_at_or_below = ((upto) & 32'hffffffff);
+            end
         end
         granted = |requests;
         if (advance) begin

@@ -11,6 +11,7 @@ module top(clock,requests,advance,hold,grant,granted);
     output reg  granted;
     
     // Constant declarations
+    localparam  n = 6'b100000;
     localparam  mask = 32'hffffffff;
     
     // Stub signals
@@ -23,8 +24,10 @@ module top(clock,requests,advance,hold,grant,granted);
     
     // Local signals
     reg  [31:0] above_last;
-    reg  [31:0] above_less;
-    reg  [31:0] requests_less;
+    reg  [63:0] both;
+    reg  [63:0] both_less;
+    reg  [63:0] lowest;
+    reg  [63:0] upto;
     reg  [31:0] next_at_or_below;
     
     // Sub module instances
@@ -45,8 +48,10 @@ module top(clock,requests,advance,hold,grant,granted);
     reg [31:0] last_grant$d__xs;
     reg [31:0] at_or_below_last$d__xs;
     reg [31:0] above_last__xs;
-    reg [31:0] above_less__xs;
-    reg [31:0] requests_less__xs;
+    reg [63:0] both__xs;
+    reg [63:0] both_less__xs;
+    reg [63:0] lowest__xs;
+    reg [63:0] upto__xs;
     reg [31:0] grant__xs;
     reg [31:0] next_at_or_below__xs;
     reg granted__xs;
@@ -56,19 +61,22 @@ module top(clock,requests,advance,hold,grant,granted);
         last_grant$d__xs = last_grant$q;
         at_or_below_last$d__xs = at_or_below_last$q;
         above_last__xs = requests & (~at_or_below_last$q);
-        above_less__xs = above_last__xs - 32'h1;
-        requests_less__xs = requests - 32'h1;
+        both__xs = (((requests) & 64'hffffffffffffffff) << n) | ((above_last__xs) & 64'hffffffffffffffff);
+        both_less__xs = both__xs - 32'h1;
+        lowest__xs = both__xs & (~both_less__xs);
+        upto__xs = both__xs ^ both_less__xs;
         if (hold) begin
             grant__xs = last_grant$q;
             next_at_or_below__xs = (last_grant$q << 32'h1) - 32'h1;
         end
-        else if (|above_last__xs) begin
-            grant__xs = above_last__xs & (~above_less__xs);
-            next_at_or_below__xs = above_last__xs ^ above_less__xs;
-        end
         else begin
-            grant__xs = requests & (~requests_less__xs);
-            next_at_or_below__xs = requests ^ requests_less__xs;
+            grant__xs = (((lowest__xs) & 32'hffffffff) & mask) | ((lowest__xs >> n) & 32'hffffffff);
+            if (upto__xs[n]) begin
+                next_at_or_below__xs = ((upto__xs >> n) & 32'hffffffff);
+            end
+            else begin
+                next_at_or_below__xs = ((upto__xs) & 32'hffffffff);
+            end
         end
         granted__xs = |requests;
         if (advance) begin
@@ -80,8 +88,10 @@ module top(clock,requests,advance,hold,grant,granted);
         last_grant$d = last_grant$d__xs;
         at_or_below_last$d = at_or_below_last$d__xs;
         above_last = above_last__xs;
-        above_less = above_less__xs;
-        requests_less = requests_less__xs;
+        both = both__xs;
+        both_less = both_less__xs;
+        lowest = lowest__xs;
+        upto = upto__xs;
         grant = grant__xs;
         next_at_or_below = next_at_or_below__xs;
         granted = granted__xs;
