@@ -159,10 +159,10 @@ impl<const S: usize> Logic for MaxFinder<S> {
         if self.priming.q.val() {
             self.priming_weight.next = self.top_row.val();
         }
-        // `start` reaches neither the row register nor the filter (issue 11: as the
-        // clock enable of the S-wide row register, `start`, the end of the
-        // QueryModule's insertion, was the paper core's critical path on ECP5): the
-        // gathered row is taken whenever busy (`start` never comes while busy: the
+        // `start` reaches neither the row register nor the filter (issue 11: in
+        // their clock enables, S bits wide, `start`, the end of the QueryModule's
+        // insertion, was the paper core's critical path on ECP5): the busy
+        // registers do not depend on it (`start` never comes while busy: the
         // QueryModule waits in MAX_FIND), and the filter is loaded from
         // `candidates` in the priming cycle. The clears at `start` are the
         // flip-flops' synchronous resets, no LUT (clearing `max_reg` in the priming
@@ -170,14 +170,6 @@ impl<const S: usize> Logic for MaxFinder<S> {
         if self.busy_reg.q.val() {
             // The gathered row is examined in the next cycle.
             self.row_reg.d.next = self.gathered.val();
-        }
-        if self.start.val() {
-            self.gather_bit.d.next = self.top_bit.val();
-            self.weight.d.next = 0.into();
-            self.priming.d.next = true;
-            self.max_reg.d.next = 0.into();
-            self.busy_reg.d.next = true;
-        } else if self.busy_reg.q.val() {
             // The weight of the row gathered now, one-hot, from the top row down:
             // a shift whose top bit comes from `priming` (the weight is zero then),
             // so no multiplexer.
@@ -195,6 +187,15 @@ impl<const S: usize> Logic for MaxFinder<S> {
                     self.busy_reg.d.next = false;
                 }
             }
+        }
+        // Last, so that only these registers see `start` (as their synchronous set
+        // or reset).
+        if self.start.val() {
+            self.gather_bit.d.next = self.top_bit.val();
+            self.weight.d.next = 0.into();
+            self.priming.d.next = true;
+            self.max_reg.d.next = 0.into();
+            self.busy_reg.d.next = true;
         }
         self.busy.next = self.busy_reg.q.val();
         self.max_dist.next = self.max_reg.q.val();
