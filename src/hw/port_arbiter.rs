@@ -4,7 +4,8 @@
 //! them are busy.
 //!
 //! Round robin on one-hot masks: requests above the last grant win first, else the
-//! lowest request wraps around; "lowest set bit" is `x & (!x + 1)`. The turn moves
+//! lowest request wraps around; both at once as the lowest set bit of one 2n-bit
+//! word, `x & !(x - 1)` (see `update`). The turn moves
 //! only when the user says the grant was used (`advance`, e.g. a stream beat moved),
 //! as in verilog-axis' `arbiter` with ARB_BLOCK_ACK; `hold` keeps granting the last
 //! grant (a packet in progress, [`crate::hw::packet_merge`]). The same block picks
