@@ -46,17 +46,26 @@ impl<const S: usize> Bench<S> {
         self.tick();
         self.uut.start.next = false;
         self.settle();
+        let busy_cycles = self.run();
+        let (max, filter, slot) = self.result();
+        (max, filter, slot, busy_cycles)
+    }
+    /// Clock until not busy; the cycles it was busy.
+    fn run(&mut self) -> u32 {
         let mut busy_cycles = 0;
         while self.uut.busy.val() {
             busy_cycles += 1;
             assert!(busy_cycles <= 64, "MaxFinder never finished");
             self.tick();
         }
+        busy_cycles
+    }
+    /// (max, filter, max slot one-hot).
+    fn result(&self) -> (u64, u64, u64) {
         (
             self.uut.max_dist.val().to_u64(),
             self.uut.filter.val().to_u64(),
             self.uut.max_slot.val().to_u64(),
-            busy_cycles,
         )
     }
 }
@@ -196,17 +205,8 @@ fn a_write_with_start_takes_part_and_candidates_are_read_a_cycle_later() {
     b.uut.start.next = false;
     b.uut.candidates.next = 0b1111u64.into();
     b.settle();
-    let mut cycles = 0;
-    while b.uut.busy.val() {
-        cycles += 1;
-        assert!(cycles <= 64, "MaxFinder never finished");
-        b.tick();
-    }
-    let got = (
-        b.uut.max_dist.val().to_u64(),
-        b.uut.filter.val().to_u64(),
-        b.uut.max_slot.val().to_u64(),
-    );
+    let cycles = b.run();
+    let got = b.result();
     assert_eq!(got, model(&[30, 700, 9, 2000]));
     assert_eq!(cycles, 13);
 }
