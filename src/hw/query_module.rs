@@ -39,22 +39,6 @@ use crate::hw::stream::{QueryBeat, ReadRequest, ReadResult};
 use crate::hw::traversal::Traversal;
 use rust_hdl::prelude::*;
 
-#[derive(Copy, Clone, Debug, PartialEq, Eq, LogicState)]
-pub enum QueryState {
-    /// Free: waiting for a query from the dispatcher.
-    Idle,
-    /// Requesting a TreeModule read of `address`.
-    Ready,
-    /// Read granted; waiting for the SearchModule's result.
-    Wait,
-    /// The MaxFinder is computing the new R.
-    MaxFind,
-    /// Climbing the remembered path, one level per cycle, without reads.
-    Ascend,
-    /// Search over; the result waits to be streamed out.
-    Done,
-}
-
 #[derive(LogicBlock)]
 pub struct QueryModule<const S: usize> {
     pub clock: Signal<In, Clock>,
@@ -105,7 +89,25 @@ pub struct QueryModule<const S: usize> {
     count_mask: Constant<Count>,
     visited_mask: Constant<ReadCount>,
     slot_mask: Constant<SlotMask<S>>,
-    state: DFF<QueryState>,
+    /// The state, one-hot (issue 11): a flip-flop per state, so that each state's
+    /// next value is a small function of its own inputs. yosys keeps a rust-hdl
+    /// enum's binary code (its register has an initial value, so `fsm` does not
+    /// recode it), and there the insertion's next state (WAIT, a result for this
+    /// module in range → MAX_FIND) was the paper core's ECP5 critical path on all
+    /// three seeds (8 nets, 99.4 MHz). IDLE is the power-up state: no bit set.
+    /// READY: requesting a TreeModule read of `address`.
+    st_ready: DFF<bool>,
+    /// WAIT: read granted; waiting for the SearchModule's result.
+    st_wait: DFF<bool>,
+    /// MAX_FIND: the MaxFinder is computing the new R.
+    st_max_find: DFF<bool>,
+    /// ASCEND: climbing the remembered path, one level per cycle, without reads.
+    st_ascend: DFF<bool>,
+    /// DONE: search over; the result waits to be streamed out.
+    st_done: DFF<bool>,
+    /// Not IDLE: loaded and not yet read out (so `free` is a flip-flop, not a gate
+    /// over the five states in front of the port's pick of a free module).
+    st_taken: DFF<bool>,
     radius_reg: DFF<Dist>,
     full_reg: DFF<bool>,
     k_reg: DFF<Count>,
@@ -165,10 +167,11 @@ pub struct QueryModule<const S: usize> {
     /// The bound `parent_within` was computed from: the far cell's distance,
     /// `cell_dist` on entering it.
     parent_bound: DFF<Dist>,
-    /// The next append fills the list (`count + 1 = k`), registered for the same
-    /// reason: the comparison before the insertion's next state was the other
-    /// critical path (11 nets).
-    one_left: DFF<bool>,
+    /// The next insertion runs the MaxFinder: the list is full or one photon short
+    /// (`full ∨ count + 1 = k`), registered for the same reason: the comparison
+    /// before the insertion's next state was the other critical path (11 nets),
+    /// and one flip-flop instead of two is one input less in front of MAX_FIND.
+    runs_max: DFF<bool>,
     level_index_mask: Constant<RamIndex>,
     max_finder: MaxFinder<S>,
     result_mine: Signal<Local, bool>,
@@ -226,7 +229,12 @@ impl<const S: usize> QueryModule<S> {
             count_mask: Constant::new(Count::from(low_mask(cfg.count_bits()))),
             visited_mask: Constant::new(ReadCount::from(low_mask(cfg.visited_bits()))),
             slot_mask: Constant::new(SlotMask::<S>::from(low_mask(cfg.k as u32))),
-            state: Default::default(),
+            st_ready: Default::default(),
+            st_wait: Default::default(),
+            st_max_find: Default::default(),
+            st_ascend: Default::default(),
+            st_done: Default::default(),
+            st_taken: Default::default(),
             radius_reg: Default::default(),
             full_reg: Default::default(),
             k_reg: Default::default(),
@@ -256,7 +264,7 @@ impl<const S: usize> QueryModule<S> {
             grand_at: Default::default(),
             parent_within: Default::default(),
             parent_bound: Default::default(),
-            one_left: Default::default(),
+            runs_max: Default::default(),
             level_index_mask: Constant::new(RamIndex::from(low_mask(bits_for(
                 cfg.address_bits as u64,
             )))),
@@ -279,7 +287,12 @@ impl<const S: usize> Logic for QueryModule<S> {
         dff_setup!(
             self,
             clock,
-            state,
+            st_ready,
+            st_wait,
+            st_max_find,
+            st_ascend,
+            st_done,
+            st_taken,
             radius_reg,
             full_reg,
             k_reg,
@@ -301,7 +314,7 @@ impl<const S: usize> Logic for QueryModule<S> {
             parent_within,
             parent_pending,
             parent_bound,
-            one_left
+            runs_max
         );
         self.found.clock.next = self.clock.val();
         self.found_dist.clock.next = self.clock.val();
@@ -312,7 +325,7 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.parent_level.next = self.level.q.val() >> 1;
         // Its pending bit next cycle: while climbing, the grandparent's; otherwise
         // the parent stays (WAIT changes only the current level's bit).
-        if self.state.q.val() == QueryState::Ascend {
+        if self.st_ascend.q.val() {
             self.parent_pending.d.next = (self.pending.q.val() & (self.level.q.val() >> 2)).any();
         } else {
             self.parent_pending.d.next = (self.pending.q.val() & self.parent_level.val()).any();
@@ -325,12 +338,12 @@ impl<const S: usize> Logic for QueryModule<S> {
         // the cycle it is read: WAIT writes the current level, not its parent.
         self.path.read_index.next = self.parent_at.q.val();
         self.path_up.read_index.next = self.grand_at.q.val();
-        if self.state.q.val() == QueryState::Ascend {
+        if self.st_ascend.q.val() {
             self.ahead_dist.next = self.path_up.read_data.val();
         } else {
             self.ahead_dist.next = self.path.read_data.val();
         }
-        if self.state.q.val() == QueryState::MaxFind {
+        if self.st_max_find.q.val() {
             self.ahead_radius.next = self.max_finder.max_dist.val() & self.dist_mask.val();
             self.ahead_full.next = true;
         } else {
@@ -351,9 +364,8 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.cell_state.write_index.next = self.level_at.q.val();
         self.cell_state.visit.next = false;
         self.cell_state.read_index.next = self.parent_at.q.val();
-        self.cell_state.step.next = self.cell_bound.val()
-            && (self.state.q.val() == QueryState::Ascend)
-            && !self.level.q.val().get_bit(0);
+        self.cell_state.step.next =
+            self.cell_bound.val() && self.st_ascend.q.val() && !self.level.q.val().get_bit(0);
         self.cell_state.enter.next = self.parent_pending.q.val() && self.parent_within.q.val();
         self.cell_state.enter_bound.next = self.parent_bound.q.val();
         self.max_finder.clock.next = self.clock.val();
@@ -364,7 +376,7 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.result_mine.next = self.result_valid.val();
         // A photon enters the list: appended while not full, else into the max slot.
         self.insert.next = false;
-        if self.state.q.val() == QueryState::Wait {
+        if self.st_wait.q.val() {
             self.insert.next = self.result_mine.val() && self.result.val().in_range;
         }
         if self.full_reg.q.val() {
@@ -403,116 +415,126 @@ impl<const S: usize> Logic for QueryModule<S> {
             self.path_up.write_data.next = self.result.val().axis_dist & self.dist_mask.val();
         }
 
-        match self.state.q.val() {
-            QueryState::Idle => {
-                // A free module waits for `load` (below).
+        // Each state's work on the datapath. An if-else chain, as the `case` of a
+        // binary state was: a register written in two states then gets one
+        // multiplexer with its own value as the last input, which yosys turns into
+        // a clock enable and, for the bits the masks clear, into no flip-flop at
+        // all (separate `if`s kept all 24 address bits).
+        if self.st_ready.q.val() {
+            if self.read_grant.val() {
+                self.visited.d.next = (self.visited.q.val() + 1) & self.visited_mask.val();
             }
-            QueryState::Ready => {
-                if self.read_grant.val() {
-                    self.visited.d.next = (self.visited.q.val() + 1) & self.visited_mask.val();
-                    self.state.d.next = QueryState::Wait;
-                }
-            }
-            QueryState::Wait => {
-                if self.result_mine.val() {
-                    self.search_done.d.next = self.result.val().done;
-                    self.ascending.d.next = false;
-                    if self.remember.val() {
-                        // Remember this level; go down, or climb (after the MaxFinder).
-                        self.path.write_enable.next = true;
-                        self.path_up.write_enable.next = true;
-                        self.cell_state.visit.next = self.cell_bound.val();
-                        if self.result.val().far_pending {
-                            self.pending.d.next = (self.pending.q.val() | self.level.q.val())
-                                & self.pending_mask.val();
-                        } else {
-                            self.pending.d.next = self.pending.q.val() & (!self.level.q.val());
-                        }
-                        if self.result.val().next_up {
-                            self.ascending.d.next = true;
-                        } else {
-                            self.address.d.next =
-                                self.result.val().next_address & self.addr_mask.val();
-                            self.level.d.next = (self.level.q.val() << 1) & self.level_mask.val();
-                            self.grand_at.d.next = self.parent_at.q.val();
-                            self.parent_at.d.next = self.level_at.q.val();
-                            self.level_at.d.next =
-                                (self.level_at.q.val() + 1) & self.level_index_mask.val();
-                        }
+        } else if self.st_wait.q.val() {
+            if self.result_mine.val() {
+                self.search_done.d.next = self.result.val().done;
+                self.ascending.d.next = false;
+                if self.remember.val() {
+                    // Remember this level; go down, or climb (after the MaxFinder).
+                    self.path.write_enable.next = true;
+                    self.path_up.write_enable.next = true;
+                    self.cell_state.visit.next = self.cell_bound.val();
+                    if self.result.val().far_pending {
+                        self.pending.d.next =
+                            (self.pending.q.val() | self.level.q.val()) & self.pending_mask.val();
+                    } else {
+                        self.pending.d.next = self.pending.q.val() & (!self.level.q.val());
+                    }
+                    if self.result.val().next_up {
+                        self.ascending.d.next = true;
                     } else {
                         self.address.d.next = self.result.val().next_address & self.addr_mask.val();
-                        self.up.d.next = self.result.val().next_up;
-                        self.came_from_right.d.next = self.result.val().next_came_from_right;
+                        self.level.d.next = (self.level.q.val() << 1) & self.level_mask.val();
+                        self.grand_at.d.next = self.parent_at.q.val();
+                        self.parent_at.d.next = self.level_at.q.val();
+                        self.level_at.d.next =
+                            (self.level_at.q.val() + 1) & self.level_index_mask.val();
                     }
-                    if self.result.val().done {
-                        self.state.d.next = QueryState::Done;
-                    } else if self.remember.val() && self.result.val().next_up {
-                        self.state.d.next = QueryState::Ascend;
-                    } else {
-                        self.state.d.next = QueryState::Ready;
-                    }
-                    if self.insert.val() {
-                        if self.full_reg.q.val() {
-                            self.max_finder.start.next = true;
-                            self.state.d.next = QueryState::MaxFind;
-                        } else {
-                            self.count.d.next = (self.count.q.val() + 1) & self.count_mask.val();
-                            self.occupied.d.next = self.occupied.q.val() | self.append_slot.q.val();
-                            self.append_slot.d.next =
-                                (self.append_slot.q.val() << 1) & self.slot_mask.val();
-                            self.one_left.d.next = (self.count.q.val() + 2) == self.k_reg.q.val();
-                            if self.one_left.q.val() {
-                                // (The MaxFinder reads `candidates` a cycle later,
-                                // when `occupied` has the appended slot.)
-                                self.max_finder.start.next = true;
-                                self.state.d.next = QueryState::MaxFind;
-                            }
-                        }
-                    }
-                }
-            }
-            QueryState::MaxFind => {
-                if !self.max_finder.busy.val() {
-                    self.radius_reg.d.next = self.max_finder.max_dist.val() & self.dist_mask.val();
-                    self.full_reg.d.next = true;
-                    self.max_slot.d.next = self.max_finder.max_slot.val();
-                    if self.search_done.q.val() {
-                        self.state.d.next = QueryState::Done;
-                    } else if self.ascending.q.val() {
-                        self.state.d.next = QueryState::Ascend;
-                    } else {
-                        self.state.d.next = QueryState::Ready;
-                    }
-                }
-            }
-            QueryState::Ascend => {
-                // One level per cycle, with R as it is now (after every insertion).
-                // At the root (level 0: one flip-flop, not an address comparison).
-                if self.level.q.val().get_bit(0) {
-                    self.search_done.d.next = true;
-                    self.state.d.next = QueryState::Done;
-                } else if self.parent_pending.q.val() && self.parent_within.q.val() {
-                    // Enter the far child: the sibling of the node we came from.
-                    self.address.d.next = (self.address.q.val() ^ 1) & self.addr_mask.val();
-                    self.pending.d.next = self.pending.q.val() & (!self.parent_level.val());
-                    self.ascending.d.next = false;
-                    self.state.d.next = QueryState::Ready;
                 } else {
-                    self.address.d.next = (self.address.q.val() >> 1) & self.addr_mask.val();
-                    self.level.d.next = self.parent_level.val() & self.level_mask.val();
-                    self.level_at.d.next = self.parent_at.q.val();
-                    self.parent_at.d.next = self.grand_at.q.val();
-                    if self.grand_at.q.val().any() {
-                        self.grand_at.d.next =
-                            (self.grand_at.q.val() - 1) & self.level_index_mask.val();
-                    }
+                    self.address.d.next = self.result.val().next_address & self.addr_mask.val();
+                    self.up.d.next = self.result.val().next_up;
+                    self.came_from_right.d.next = self.result.val().next_came_from_right;
+                }
+                if self.insert.val() && !self.full_reg.q.val() {
+                    self.count.d.next = (self.count.q.val() + 1) & self.count_mask.val();
+                    self.occupied.d.next = self.occupied.q.val() | self.append_slot.q.val();
+                    self.append_slot.d.next =
+                        (self.append_slot.q.val() << 1) & self.slot_mask.val();
+                    self.runs_max.d.next =
+                        self.runs_max.q.val() || ((self.count.q.val() + 2) == self.k_reg.q.val());
                 }
             }
-            QueryState::Done => {
-                if self.result_taken.val() {
-                    self.state.d.next = QueryState::Idle;
+        } else if self.st_max_find.q.val() {
+            if !self.max_finder.busy.val() {
+                self.radius_reg.d.next = self.max_finder.max_dist.val() & self.dist_mask.val();
+                self.full_reg.d.next = true;
+                self.max_slot.d.next = self.max_finder.max_slot.val();
+            }
+        } else if self.st_ascend.q.val() {
+            // One level per cycle, with R as it is now (after every insertion).
+            // At the root (level 0: one flip-flop, not an address comparison).
+            if self.level.q.val().get_bit(0) {
+                self.search_done.d.next = true;
+            } else if self.parent_pending.q.val() && self.parent_within.q.val() {
+                // Enter the far child: the sibling of the node we came from.
+                self.address.d.next = (self.address.q.val() ^ 1) & self.addr_mask.val();
+                self.pending.d.next = self.pending.q.val() & (!self.parent_level.val());
+                self.ascending.d.next = false;
+            } else {
+                self.address.d.next = (self.address.q.val() >> 1) & self.addr_mask.val();
+                self.level.d.next = self.parent_level.val() & self.level_mask.val();
+                self.level_at.d.next = self.parent_at.q.val();
+                self.parent_at.d.next = self.grand_at.q.val();
+                if self.grand_at.q.val().any() {
+                    self.grand_at.d.next =
+                        (self.grand_at.q.val() - 1) & self.level_index_mask.val();
                 }
             }
+        }
+        // The state transitions, one `if` per state: exactly one state bit is set
+        // while loaded, so each bit's next value depends only on the states that
+        // enter or leave it (not on a priority over all five).
+        if self.st_ready.q.val() && self.read_grant.val() {
+            self.st_ready.d.next = false;
+            self.st_wait.d.next = true;
+        }
+        if self.st_wait.q.val() && self.result_mine.val() {
+            self.st_wait.d.next = false;
+            if self.insert.val() && self.runs_max.q.val() {
+                // The list is full (the photon replaced the max) or this append
+                // fills it: a new R. (The MaxFinder reads `candidates` a cycle
+                // later, when `occupied` has the appended slot.)
+                self.max_finder.start.next = true;
+                self.st_max_find.d.next = true;
+            } else if self.result.val().done {
+                self.st_done.d.next = true;
+            } else if self.remember.val() && self.result.val().next_up {
+                self.st_ascend.d.next = true;
+            } else {
+                self.st_ready.d.next = true;
+            }
+        }
+        if self.st_max_find.q.val() && !self.max_finder.busy.val() {
+            self.st_max_find.d.next = false;
+            if self.search_done.q.val() {
+                self.st_done.d.next = true;
+            } else if self.ascending.q.val() {
+                self.st_ascend.d.next = true;
+            } else {
+                self.st_ready.d.next = true;
+            }
+        }
+        if self.st_ascend.q.val() {
+            if self.level.q.val().get_bit(0) {
+                self.st_ascend.d.next = false;
+                self.st_done.d.next = true;
+            } else if self.parent_pending.q.val() && self.parent_within.q.val() {
+                self.st_ascend.d.next = false;
+                self.st_ready.d.next = true;
+            }
+        }
+        if self.st_done.q.val() && self.result_taken.val() {
+            self.st_done.d.next = false;
+            self.st_taken.d.next = false;
         }
         // Load a query. The port loads only a free module (its registered pick,
         // `SearchPort`), so `load` implies IDLE and is tested alone: the clear of
@@ -528,7 +550,7 @@ impl<const S: usize> Logic for QueryModule<S> {
                 self.radius_reg.d.next = self.load_query.val().radius & self.dist_mask.val();
             }
             self.k_reg.d.next = self.load_query.val().k & self.count_mask.val();
-            self.one_left.d.next = (self.load_query.val().k & self.count_mask.val()) == 1;
+            self.runs_max.d.next = (self.load_query.val().k & self.count_mask.val()) == 1;
             self.full_reg.d.next = false;
             self.count.d.next = 0.into();
             self.append_slot.d.next = 1.into();
@@ -546,15 +568,25 @@ impl<const S: usize> Logic for QueryModule<S> {
             }
             self.pending.d.next = 0.into();
             self.ascending.d.next = false;
-            self.state.d.next = QueryState::Ready;
+            self.st_taken.d.next = true;
+            self.st_ready.d.next = true;
+            self.st_wait.d.next = false;
+            self.st_max_find.d.next = false;
+            self.st_ascend.d.next = false;
+            self.st_done.d.next = false;
         }
         if self.reset.val() {
-            self.state.d.next = QueryState::Idle;
+            self.st_taken.d.next = false;
+            self.st_ready.d.next = false;
+            self.st_wait.d.next = false;
+            self.st_max_find.d.next = false;
+            self.st_ascend.d.next = false;
+            self.st_done.d.next = false;
         }
 
-        self.free.next = self.state.q.val() == QueryState::Idle;
-        self.read_request.next = self.state.q.val() == QueryState::Ready;
-        self.finished.next = self.state.q.val() == QueryState::Done;
+        self.free.next = !self.st_taken.q.val();
+        self.read_request.next = self.st_ready.q.val();
+        self.finished.next = self.st_done.q.val();
         // The read and its context, zero unless granted (the port ORs its modules).
         self.read.next.query_module = 0.into();
         self.read.next.address = 0.into();
