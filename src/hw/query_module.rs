@@ -1,5 +1,6 @@
-//! QueryModule (paper §4.2): the controller of one query. It holds the radius R, the full flag, the count, the traversal state, the found-index list and
-//! (inside its MaxFinder, bit-transposed) the found-distance list, K entries each.
+//! QueryModule (paper §4.2): the controller of one query. It holds the radius R, the
+//! full flag, the count, the traversal state, the found-index list and (inside its
+//! MaxFinder, bit-transposed) the found-distance list, K entries each.
 //!
 //! Per photon: request a read (READY), wait for the SearchModule's answer (WAIT),
 //! then insert: while not full, append to slot `count`; when that fills the list, run
@@ -7,10 +8,8 @@
 //! range (d < R) overwrites the max slot and the MaxFinder runs again (MAX_FIND).
 //! This is knn.rs's `FoundList` step for step, so slots and read counts match.
 //!
-//! The query's coordinates and id are not here (issue 11): only the SearchModule
-//! needs the coordinates and only the read-out the id, so the port keeps them once,
-//! in LUT-RAM indexed by QueryModule (`SearchModule`, `SearchPort`), instead of
-//! Q sets of registers and an OR tree over Q modules.
+//! The query's coordinates and id are not here (issue 11): the port keeps them once,
+//! in LUT-RAM indexed by QueryModule, for the SearchModule and the read-out.
 //!
 //! The ascent (`CoreConfig::traversal`, see `hw::traversal`):
 //! * `Reread` (the paper's): an "up" result is just the next read, of the parent.
@@ -20,14 +19,12 @@
 //!   pending far child within R is read next (the sibling of the node we came
 //!   from); otherwise climb on, until the root ends the search.
 //!
-//! Where the lists live (issue 11): the found-index list (K × H bits), a copy of the
-//! found distances for the read-out (K × distance bits) and the path memory
-//! ((H − 1) × distance bits) are each written one entry per cycle and read one
-//! entry at a time by this module alone, so each is a small LUT-RAM of its own
-//! ([`LutRam`]: no flip-flop per bit, no read multiplexer); a memory shared by the
-//! port would need Q ports. The pending bits and the one-hot level stay registers
-//! (all bits are tested at once), as do the MaxFinder's distances (a row across all
-//! slots is read per cycle, which no RAM port gives).
+//! Where the lists live (issue 11): the found-index list, a copy of the found
+//! distances for the read-out and the path memory are each written and read one
+//! entry per cycle by this module alone, so each is a small LUT-RAM of its own
+//! ([`LutRam`]: no flip-flop per bit, no read multiplexer). The pending bits and the
+//! one-hot level stay registers (all bits are tested at once), as do the MaxFinder's
+//! distances (a row across all slots is read per cycle, which no RAM port gives).
 
 use crate::hw::cell_bound::CellBound;
 use crate::hw::config::{
@@ -60,11 +57,9 @@ pub struct QueryModule<const S: usize> {
     pub result_taken: Signal<In, bool>,
     /// This module is the one being read out (its id, count and reads appear).
     pub out_enable: Signal<In, bool>,
-    /// The entry being read out (the same for every module of the port) and whether
-    /// this module's entries are being read out (a flip-flop of the port's, so that
-    /// the read-out path is the LUT-RAM read and one gate; issue 11: a one-hot slot
-    /// gated per module and encoded here was the 2 × 12 core's critical path,
-    /// 89.4 MHz).
+    /// The entry being read out (the same for every module) and whether it is this
+    /// module's (a port flip-flop: the read-out path is the LUT-RAM read and one
+    /// gate; a one-hot slot encoded here was the critical path at 89.4 MHz).
     pub out_entry: Signal<In, RamIndex>,
     pub out_reading: Signal<In, bool>,
     pub out_count: Signal<Out, Count>,
@@ -76,15 +71,14 @@ pub struct QueryModule<const S: usize> {
     remember: Constant<bool>,
     /// `Traversal::Cell`: prune on the distance to the far child's cell.
     cell_bound: Constant<bool>,
-    /// The configured widths, so that synthesis drops the path memory's constant
-    /// bits: distance bits of the metric, H levels, H - 1 levels that can be pending.
+    /// The widths the configuration needs (issue 11): every register is loaded
+    /// through its mask, so synthesis drops the bits above (a flip-flop whose input
+    /// is constant or itself): distance bits of the metric, H levels, H − 1 that
+    /// can be pending, heap address (H bits), counts (0..=K), photon reads (H + 1
+    /// bits), the K slots that exist.
     dist_mask: Constant<Dist>,
     level_mask: Constant<LevelMask>,
     pending_mask: Constant<LevelMask>,
-    /// The widths the configuration needs (issue 11): every register is loaded
-    /// through its mask, so synthesis drops the bits above (a flip-flop whose input
-    /// is constant or itself). Heap address (H bits), counts (0..=K), photon reads
-    /// (H + 1 bits), the K slots that exist.
     addr_mask: Constant<Addr>,
     count_mask: Constant<Count>,
     visited_mask: Constant<ReadCount>,
@@ -92,21 +86,16 @@ pub struct QueryModule<const S: usize> {
     /// The state, one-hot (issue 11): a flip-flop per state, so that each state's
     /// next value is a small function of its own inputs. yosys keeps a rust-hdl
     /// enum's binary code (its register has an initial value, so `fsm` does not
-    /// recode it), and there the insertion's next state (WAIT, a result for this
-    /// module in range → MAX_FIND) was the paper core's ECP5 critical path on all
-    /// three seeds (8 nets, 99.4 MHz). IDLE is the power-up state: no bit set.
-    /// READY: requesting a TreeModule read of `address`.
+    /// recode it), and there the insertion's next state was the paper core's ECP5
+    /// critical path on all three seeds (8 nets, 99.4 MHz). IDLE (power-up): none
+    /// set. READY requests a read of `address`; WAIT waits for its result; MAX_FIND
+    /// runs the MaxFinder; ASCEND climbs the remembered path a level per cycle;
+    /// DONE waits for the read-out. `st_taken` = not IDLE, a flip-flop for `free`.
     st_ready: DFF<bool>,
-    /// WAIT: read granted; waiting for the SearchModule's result.
     st_wait: DFF<bool>,
-    /// MAX_FIND: the MaxFinder is computing the new R.
     st_max_find: DFF<bool>,
-    /// ASCEND: climbing the remembered path, one level per cycle, without reads.
     st_ascend: DFF<bool>,
-    /// DONE: search over; the result waits to be streamed out.
     st_done: DFF<bool>,
-    /// Not IDLE: loaded and not yet read out (so `free` is a flip-flop, not a gate
-    /// over the five states in front of the port's pick of a free module).
     st_taken: DFF<bool>,
     radius_reg: DFF<Dist>,
     full_reg: DFF<bool>,
@@ -133,44 +122,37 @@ pub struct QueryModule<const S: usize> {
     /// level (`CoreConfig::path_levels` entries), in LUT-RAM: its axis distance, or
     /// with `Traversal::Cell` the distance to its cell.
     path: LutRam,
-    /// The same entries again, read at `grand_at` (issue 11): the registered
-    /// pruning test reads the parent's entry while waiting and the grandparent's
-    /// while climbing; with one memory the read index was chosen by the state in
-    /// front of the LUT-RAM (the 2 × 12 core's ECP5 critical path, seed 1,
-    /// 95.7 MHz). Two copies read at two registers, the choice after the read.
+    /// The same entries again, read at `grand_at` (issue 11): the pruning test
+    /// reads the parent's entry while waiting and the grandparent's while climbing;
+    /// choosing the read index in front of one LUT-RAM was the critical path
+    /// (95.7 MHz). Two copies read at two registers, the choice after the read.
     path_up: LutRam,
     /// `Traversal::Cell`: the query's offsets from its cell, and the rest of each
     /// level ([`CellBound`]; one-entry memories never written otherwise).
     cell_state: CellBound,
     /// The found-index list: K heap addresses, in LUT-RAM.
     found: LutRam,
-    /// The found distances again, for the read-out only (the MaxFinder's copy is
-    /// read a row at a time).
+    /// The found distances again, for the read-out (the MaxFinder's are read by row).
     found_dist: LutRam,
     /// Entry index of each slot, to turn a one-hot mask into a RAM index.
     slot_index: Vec<Constant<RamIndex>>,
     insert_index: Signal<Local, RamIndex>,
-    /// The path memory's entries of `level` and of its parent level, kept in
-    /// registers beside the one-hot level (issue 11: so that ASCEND's read of the
-    /// parent's entry starts from flip-flops, not from a one-hot encoder).
+    /// The path-memory entries of `level` and its parent, in registers (issue 11:
+    /// ASCEND's read of the parent's starts from flip-flops, not a one-hot encoder).
     level_at: DFF<RamIndex>,
     parent_at: DFF<RamIndex>,
-    /// The entry above `parent_at` (saturating at the root's): the parent's entry
-    /// of the next cycle while climbing.
+    /// The entry above `parent_at` (saturating): the next parent's while climbing.
     grand_at: DFF<RamIndex>,
-    /// ASCEND's pruning test, registered (issue 11): whether the parent's remembered
-    /// axis distance is within R, compared a cycle ahead for the parent the module
-    /// will be at and the R it will have. Compared in the same cycle it was the
-    /// 2 × 12 core's ECP5 critical path (path-memory index → LUT-RAM read → radius
-    /// comparison → next state, 10 nets, 82.8 MHz).
+    /// ASCEND's pruning test, registered (issue 11): the parent's remembered bound
+    /// within R, compared a cycle ahead for the parent and R the module will have
+    /// (in the same cycle it was the critical path, 10 nets, 82.8 MHz).
     parent_within: DFF<bool>,
     /// The bound `parent_within` was computed from: the far cell's distance,
     /// `cell_dist` on entering it.
     parent_bound: DFF<Dist>,
-    /// The next insertion runs the MaxFinder: the list is full or one photon short
-    /// (`full ∨ count + 1 = k`), registered for the same reason: the comparison
-    /// before the insertion's next state was the other critical path (11 nets),
-    /// and one flip-flop instead of two is one input less in front of MAX_FIND.
+    /// The next insertion runs the MaxFinder: full or one photon short (`full ∨
+    /// count + 1 = k`), registered: the comparison before the insertion's next
+    /// state was a critical path (11 nets); one flip-flop is one input to MAX_FIND.
     runs_max: DFF<bool>,
     level_index_mask: Constant<RamIndex>,
     max_finder: MaxFinder<S>,
@@ -180,8 +162,7 @@ pub struct QueryModule<const S: usize> {
     /// ASCEND: the parent's level and pending bit.
     parent_level: Signal<Local, LevelMask>,
     /// The parent's pending bit, registered a cycle ahead like `parent_within`
-    /// (the AND-OR over the pending bits before ASCEND's next state was the
-    /// critical path of seed 2, 92.1 MHz).
+    /// (the AND-OR over the pending bits was a critical path, 92.1 MHz).
     parent_pending: DFF<bool>,
     /// For the registered pruning test: the entry the parent will have next cycle
     /// (read from the path memory), the R and the full flag it will be tested with.
@@ -333,9 +314,8 @@ impl<const S: usize> Logic for QueryModule<S> {
         // The pruning test a cycle ahead. ASCEND is entered from WAIT (R and the
         // parent unchanged: an insertion that changes R goes through MAX_FIND) or
         // from MAX_FIND (the parent unchanged, R = the MaxFinder's maximum, full);
-        // while climbing, the next parent is the entry above (`grand_at`) and R
-        // stays. In any other cycle the value is not used. No entry is written in
-        // the cycle it is read: WAIT writes the current level, not its parent.
+        // while climbing, the next parent is `grand_at` and R stays. No entry is
+        // written in the cycle it is read (WAIT writes the current level).
         self.path.read_index.next = self.parent_at.q.val();
         self.path_up.read_index.next = self.grand_at.q.val();
         if self.st_ascend.q.val() {
@@ -415,16 +395,21 @@ impl<const S: usize> Logic for QueryModule<S> {
             self.path_up.write_data.next = self.result.val().axis_dist & self.dist_mask.val();
         }
 
-        // Each state's work on the datapath. An if-else chain, as the `case` of a
-        // binary state was: a register written in two states then gets one
-        // multiplexer with its own value as the last input, which yosys turns into
-        // a clock enable and, for the bits the masks clear, into no flip-flop at
-        // all (separate `if`s kept all 24 address bits).
-        if self.st_ready.q.val() {
-            if self.read_grant.val() {
-                self.visited.d.next = (self.visited.q.val() + 1) & self.visited_mask.val();
-            }
-        } else if self.st_wait.q.val() {
+        // Each state's work on the datapath. WAIT and ASCEND write the same
+        // registers, so they are one if-else: a register then gets one multiplexer
+        // with its own value last, which yosys makes a clock enable and, for the
+        // bits the masks clear, no flip-flop at all (separate `if`s kept all 24
+        // address bits). READY and MAX_FIND, with registers of their own, stay out
+        // of it, so WAIT's and ASCEND's clock enables do not test them.
+        if self.st_ready.q.val() && self.read_grant.val() {
+            self.visited.d.next = (self.visited.q.val() + 1) & self.visited_mask.val();
+        }
+        if self.st_max_find.q.val() && !self.max_finder.busy.val() {
+            self.radius_reg.d.next = self.max_finder.max_dist.val() & self.dist_mask.val();
+            self.full_reg.d.next = true;
+            self.max_slot.d.next = self.max_finder.max_slot.val();
+        }
+        if self.st_wait.q.val() {
             if self.result_mine.val() {
                 self.search_done.d.next = self.result.val().done;
                 self.ascending.d.next = false;
@@ -463,12 +448,6 @@ impl<const S: usize> Logic for QueryModule<S> {
                         self.runs_max.q.val() || ((self.count.q.val() + 2) == self.k_reg.q.val());
                 }
             }
-        } else if self.st_max_find.q.val() {
-            if !self.max_finder.busy.val() {
-                self.radius_reg.d.next = self.max_finder.max_dist.val() & self.dist_mask.val();
-                self.full_reg.d.next = true;
-                self.max_slot.d.next = self.max_finder.max_slot.val();
-            }
         } else if self.st_ascend.q.val() {
             // One level per cycle, with R as it is now (after every insertion).
             // At the root (level 0: one flip-flop, not an address comparison).
@@ -490,9 +469,8 @@ impl<const S: usize> Logic for QueryModule<S> {
                 }
             }
         }
-        // The state transitions, one `if` per state: exactly one state bit is set
-        // while loaded, so each bit's next value depends only on the states that
-        // enter or leave it (not on a priority over all five).
+        // The state transitions, one `if` per state: one state bit is set, so each
+        // bit's next value depends only on the states that enter or leave it.
         if self.st_ready.q.val() && self.read_grant.val() {
             self.st_ready.d.next = false;
             self.st_wait.d.next = true;
@@ -500,9 +478,8 @@ impl<const S: usize> Logic for QueryModule<S> {
         if self.st_wait.q.val() && self.result_mine.val() {
             self.st_wait.d.next = false;
             if self.insert.val() && self.runs_max.q.val() {
-                // The list is full (the photon replaced the max) or this append
-                // fills it: a new R. (The MaxFinder reads `candidates` a cycle
-                // later, when `occupied` has the appended slot.)
+                // Full (the photon replaced the max) or this append fills the list:
+                // a new R (`candidates` is read a cycle later, with the new slot).
                 self.max_finder.start.next = true;
                 self.st_max_find.d.next = true;
             } else if self.result.val().done {
@@ -536,11 +513,9 @@ impl<const S: usize> Logic for QueryModule<S> {
             self.st_done.d.next = false;
             self.st_taken.d.next = false;
         }
-        // Load a query. The port loads only a free module (its registered pick,
-        // `SearchPort`), so `load` implies IDLE and is tested alone: the clear of
-        // every register is then one net per module, where `load && IDLE` made
-        // yosys build a gate per flip-flop for its synchronous reset (105 LUTs of a
-        // 2 × 12 core's QueryModule, issue 11).
+        // Load a query. The port loads only a free module, so `load` implies IDLE
+        // and is tested alone: the clear is one net per module, where `load && IDLE`
+        // made yosys build a gate per flip-flop (105 LUTs per module, issue 11).
         if self.load.val() {
             // A radius beyond every possible distance is the largest one:
             // the same photons are within it, in a register of distance bits.
