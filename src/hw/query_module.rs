@@ -159,7 +159,7 @@ pub struct QueryModule<const S: usize> {
     result_mine: Signal<Local, bool>,
     insert: Signal<Local, bool>,
     insert_slot: Signal<Local, SlotMask<S>>,
-    /// ASCEND: the parent's level and pending bit.
+    /// ASCEND's view of the parent level.
     parent_level: Signal<Local, LevelMask>,
     /// The parent's pending bit, registered a cycle ahead like `parent_within`
     /// (the AND-OR over the pending bits was a critical path, 92.1 MHz).
@@ -302,7 +302,6 @@ impl<const S: usize> Logic for QueryModule<S> {
         self.path.clock.next = self.clock.val();
         self.path_up.clock.next = self.clock.val();
         self.cell_state.clock.next = self.clock.val();
-        // ASCEND's view of the parent level.
         self.parent_level.next = self.level.q.val() >> 1;
         // Its pending bit next cycle: while climbing, the grandparent's; otherwise
         // the parent stays (WAIT changes only the current level's bit).
@@ -543,6 +542,7 @@ impl<const S: usize> Logic for QueryModule<S> {
             }
             self.pending.d.next = 0.into();
             self.ascending.d.next = false;
+            // READY alone (as the binary `= Ready`): one bit set, whatever came before.
             self.st_taken.d.next = true;
             self.st_ready.d.next = true;
             self.st_wait.d.next = false;
