@@ -826,7 +826,13 @@ def render_headline(res):
         if not r.headline or r.status:
             continue
         x, e, s, f = r.xc6v, r.ecp5, r.sim, r.figures
-        area = f"{x.luts:,} + {x.lutram} / {x.ffs:,}" if x else "not synthesised"
+        u = (e.used or {}) if e else {}
+        if x:
+            area = f"{x.luts:,} + {x.lutram} / {x.ffs:,}"
+        elif "Total LUT4s" in u and "Total DFFs" in u:
+            area = f"ECP5: {u['Total LUT4s'][0]:,} LUT4s / {u['Total DFFs'][0]:,} FFs [P&R]"
+        else:
+            area = "not synthesised"
         clock = f"{e.best():.1f} MHz" if e and not e.error else "–"
         q = f.get("queries_per_s")
         v = f.get("vs_kiddo")
