@@ -4,9 +4,11 @@
 
 use assert_cmd::Command;
 use photon_fpga::host::gather::{FloatBackend, GatherBackend, GatherParams, Gathered, Neighbour};
-use photon_fpga::host::study::hwcost::{cost, parse_report};
+use photon_fpga::host::study::hwcost::{cost, SynthResults};
 use photon_fpga::host::study::metrics::{host_radius, radius_rel_error, recall, rel_rmse};
+use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::traversal::Traversal;
 use rand::{Rng, SeedableRng};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -250,33 +252,129 @@ fn error_measures_against_hand_and_brute_force() {
     }
 }
 
+fn results() -> SynthResults {
+    SynthResults::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("synth/results.json")).unwrap()
+}
+
 #[test]
-fn report_rows_give_clocks_and_areas_with_their_source() {
-    let text =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("synth/REPORT.md"))
-            .unwrap();
-    let rows = parse_report(&text);
-    // The paper core's K = 10, 10-bit, L1 rows are there; the variants are not.
-    assert!(rows
-        .iter()
-        .all(|r| !r.name.contains("re-read") && !r.name.contains("Table 2")));
-    let c = cost(&rows, 10, 10, Metric::L1);
-    if let Some(f) = c.fmax_mhz {
-        assert!(c.fmax_source.starts_with("placed-and-routed"), "{c:?}");
-        assert!(text.contains(&format!("{f:.1}")));
+fn results_rows_give_clocks_and_areas_with_their_source() {
+    let all = results();
+    let rows = all.study_rows(Traversal::default(), Controller::default());
+    // Only single-tree, pipelined cores of the study's own traversal and controller.
+    for r in &rows {
+        let o = &all.rows.iter().find(|x| x.name == r.name).unwrap().options;
+        assert_eq!(
+            (o.trees, o.pipelined, o.traversal, o.controller),
+            (1, true, Traversal::default(), Controller::default()),
+            "{}",
+            r.name
+        );
     }
-    // A configuration REPORT.md lacks is never given its own numbers.
+    let c = cost(&rows, 10, 10, Metric::L1);
+    let f = c
+        .fmax_mhz
+        .expect("the paper core has a placed-and-routed clock");
+    assert!(c.fmax_source.starts_with("placed-and-routed"), "{c:?}");
+    // That clock is the best seed of a matching record.
+    assert!(all.rows.iter().any(|r| r.options.k == 10
+        && r.options.bits == 10
+        && r.options.metric == Metric::L1
+        && r.ecp5
+            .as_ref()
+            .is_some_and(|e| e.fmax_mhz.iter().all(|&s| s <= f) && e.fmax_mhz.contains(&f))));
+    // A configuration the results lack is never given its own numbers.
     let other = cost(&rows, 32, 13, Metric::L2);
     assert_eq!(other.luts, "not in REPORT.md");
     assert!(other.fmax_mhz.is_none() || other.fmax_source.starts_with("assumed"));
-    // A synthetic report: a matching row with a clock, parsed exactly.
-    let synthetic =
-        "| configuration | T | LUTs | FFs | ECP5 fmax MHz (seeds) |\n|---|---|---|---|---|\n\
-                     | squared L2 | 1 | 1,234 | 567 | 40.5 (40.5, 39.0) |\n";
-    let rows = parse_report(synthetic);
+    // A synthetic record: matched by its options, not its name; a cell-traversal
+    // record of the same k, bits and metric is not the study's core.
+    let record = |name: &str, traversal: &str, fmax: &str| {
+        format!(
+            r#"{{"name": "{name}", "options": {{"k": 10, "bits": 10, "address_bits": 10,
+            "queries_per_port": 7, "metric": "l2", "traversal": "{traversal}",
+            "controller": "modules", "trees": 1, "pipelined": true}},
+            "xc6v": {{"luts": 1234, "lutram": 0, "ffs": 567}},
+            "ecp5": {{"fmax_mhz": [{fmax}], "error": null}}, "status": null}}"#
+        )
+    };
+    let text = format!(
+        r#"{{"schema": 1, "rows": [{}, {}]}}"#,
+        record("cell one", "cell", "99.0"),
+        record("any name", "remember", "39.0, 40.5")
+    );
+    let synthetic = SynthResults::parse(&text, Path::new("x.json")).unwrap();
+    let rows = synthetic.study_rows(Traversal::default(), Controller::default());
     let c = cost(&rows, 10, 10, Metric::L2);
     assert_eq!(
         (c.fmax_mhz, c.luts.as_str(), c.ffs.as_str()),
         (Some(40.5), "1,234", "567")
+    );
+    assert!(c.area_source.contains("'any name' (2 x 7)"), "{c:?}");
+    // Bad data is refused with the file's name.
+    let bad = text.replace("\"l2\"", "\"l3\"");
+    let e = SynthResults::parse(&bad, Path::new("x.json")).unwrap_err();
+    assert!(
+        e.to_string().contains("x.json") && e.to_string().contains("l3"),
+        "{e}"
+    );
+}
+
+/// The committed study (docs/study.csv, made by `photon-fpga study --out docs`)
+/// took its clocks and areas from these results: every hardware point's columns
+/// are what `cost` gives now, so the selection by options picks the rows the study
+/// used (and a rerun synthesis that changes them shows here until the study is rerun).
+#[test]
+fn committed_study_used_these_results() {
+    let rows = results().study_rows(Traversal::default(), Controller::default());
+    let mut r =
+        csv::Reader::from_path(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/study.csv"))
+            .unwrap();
+    let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
+    let col = |n: &str| header.iter().position(|h| h == n).unwrap();
+    let mut checked = 0;
+    for rec in r.records() {
+        let rec = rec.unwrap();
+        if rec[col("fmax_mhz")].starts_with("n/a") {
+            continue;
+        }
+        let metric = match &rec[col("metric")] {
+            "l1" => Metric::L1,
+            "l2" => Metric::L2,
+            m => panic!("metric {m}"),
+        };
+        let c = cost(
+            &rows,
+            rec[col("k")].parse().unwrap(),
+            rec[col("bits")].parse().unwrap(),
+            metric,
+        );
+        let want: f64 = rec[col("fmax_mhz")].parse().unwrap();
+        assert_eq!(c.fmax_mhz, Some(want), "{rec:?}");
+        assert_eq!(c.fmax_source, &rec[col("fmax_source")], "{rec:?}");
+        assert_eq!(c.luts, &rec[col("luts")], "{rec:?}");
+        assert_eq!(c.ffs, &rec[col("ffs")], "{rec:?}");
+        assert_eq!(c.area_source, &rec[col("area_source")], "{rec:?}");
+        checked += 1;
+    }
+    assert!(checked > 0);
+}
+
+/// REPORT.md and README.md's results table are the render of synth/results.json
+/// (`synth/report.py render --check`), so neither can drift from the data.
+#[test]
+fn report_and_readme_are_the_render_of_results_json() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    // python3 is one of the test tools (as yosys and verilator are): missing, this
+    // fails rather than skips.
+    let out = std::process::Command::new("python3")
+        .args(["synth/report.py", "render", "--check"])
+        .current_dir(root)
+        .output()
+        .unwrap_or_else(|e| panic!("python3 is needed to check synth/REPORT.md: {e}"));
+    assert!(
+        out.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
     );
 }

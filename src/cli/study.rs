@@ -1,17 +1,19 @@
-//! `photon-fpga study` (issue 12): the accuracy/throughput sweep, its table and
+//! `photon-fpga study`: the accuracy/throughput sweep, its table and
 //! Pareto plot, and the paper's Figs. 3–6 from the project's own runs.
 
 use crate::cli::set_threads;
 use clap::Args;
 use indicatif::ProgressBar;
-use photon_fpga::host::error::{Error, Result};
+use photon_fpga::host::error::Result;
 use photon_fpga::host::render::scene::Scene;
-use photon_fpga::host::study::hwcost::parse_report;
+use photon_fpga::host::study::hwcost::SynthResults;
 use photon_fpga::host::study::plan::{Plan, HW_MAX_K};
 use photon_fpga::host::study::report::{self, OutDir};
 use photon_fpga::host::study::{figures, sweep};
+use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::rtl::native::Engine;
+use photon_fpga::hw::traversal::Traversal;
 use std::path::{Path, PathBuf};
 
 #[derive(Args)]
@@ -23,8 +25,9 @@ pub struct StudyArgs {
     /// 32x32, 3000 photons, bits 6/10/16, k = 10.
     #[arg(long)]
     pub quick: bool,
-    /// The synthesis report the clocks and areas come from.
-    #[arg(long, default_value = "synth/REPORT.md")]
+    /// The synthesis results the clocks and areas come from (synth/report.py's
+    /// data; REPORT.md is rendered from it).
+    #[arg(long, default_value = "synth/results.json")]
     pub report: PathBuf,
     /// Simulator for the core's reads per cycle (default: Verilator when installed
     /// and not --quick, else rust-hdl's native simulation).
@@ -47,13 +50,10 @@ pub fn study(args: &StudyArgs) -> Result<()> {
     set_threads(args.threads)?;
     // Everything that can be refused is refused before the sweep: the report, the
     // scene, the output directory.
-    let report_text = std::fs::read_to_string(&args.report).map_err(|e| {
-        Error::new(format!(
-            "{}: cannot read the synthesis report ({e}); give --report FILE",
-            args.report.display()
-        ))
-    })?;
-    let rows = parse_report(&report_text);
+    // The study simulates the default core (QueryModules, the default traversal):
+    // only rows of that core give it a clock and an area.
+    let rows =
+        SynthResults::read(&args.report)?.study_rows(Traversal::default(), Controller::default());
     let scene = match &args.scene {
         Some(p) => {
             let name = p

@@ -1,15 +1,22 @@
 //! What a configuration costs in hardware: reads per cycle from a simulation of the
 //! core on a sample of the study's own queries, and the clock and area that
-//! `synth/REPORT.md` has for it (never invented: a configuration REPORT.md lacks
-//! says so, and a clock borrowed from another row is labelled *assumed*).
+//! `synth/results.json` (rendered as `synth/REPORT.md`) has for it, read with serde
+//! and selected by the rows' core options (never invented: a configuration the
+//! results lack says so, and a clock borrowed from another row is labelled
+//! *assumed*).
 
 use crate::host::error::{Error, Result};
 use crate::host::gather::{GatherBackend, GatherParams, RtlBackend};
 use crate::host::map::knn;
 use crate::host::map::quantize::{GridPoint, Point};
 use crate::hw::config::ReadProfile;
+use crate::hw::controller::Controller;
 use crate::hw::metric::Metric;
 use crate::hw::rtl::native::{Engine, SimOptions};
+use crate::hw::traversal::Traversal;
+use serde::{Deserialize, Deserializer};
+use std::fmt;
+use std::path::Path;
 
 /// One simulated gather of a sample of queries.
 #[derive(Clone, Debug, PartialEq)]
@@ -133,110 +140,187 @@ pub fn simulate(
     })
 }
 
-/// A configuration row of `synth/REPORT.md` that has results for the current
-/// Verilog.
+/// `synth/results.json` as `synth/report.py` writes it: the fields the study reads
+/// (serde ignores the others).
+#[derive(Clone, Debug, Deserialize)]
+pub struct SynthResults {
+    pub schema: u32,
+    pub rows: Vec<SynthRow>,
+}
+
+/// One configuration's record.
+#[derive(Clone, Debug, Deserialize)]
+pub struct SynthRow {
+    pub name: String,
+    pub options: SynthOptions,
+    /// yosys xc6v cell counts, if synthesised.
+    pub xc6v: Option<SynthXc6v>,
+    /// nextpnr ECP5-85k place and route, if run.
+    pub ecp5: Option<SynthEcp5>,
+    /// Why the row has no results, if it has none.
+    pub status: Option<String>,
+}
+
+/// A core's elaboration-time options (export-verilog's and bench-core's).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+pub struct SynthOptions {
+    pub k: usize,
+    pub bits: u32,
+    pub address_bits: u32,
+    /// None: export-verilog's default (the issue interval).
+    pub queries_per_port: Option<usize>,
+    #[serde(deserialize_with = "metric")]
+    pub metric: Metric,
+    #[serde(deserialize_with = "traversal")]
+    pub traversal: Traversal,
+    #[serde(deserialize_with = "controller")]
+    pub controller: Controller,
+    pub trees: usize,
+    pub pipelined: bool,
+}
+
+/// The value of `all` whose name (its `Display`, the CLI's spelling) is the string
+/// being read.
+fn named<'de, D: Deserializer<'de>, T: fmt::Display + Copy>(
+    d: D,
+    all: &[T],
+) -> std::result::Result<T, D::Error> {
+    let s = String::deserialize(d)?;
+    all.iter()
+        .copied()
+        .find(|v| v.to_string() == s)
+        .ok_or_else(|| {
+            let names: Vec<String> = all.iter().map(|v| v.to_string()).collect();
+            serde::de::Error::custom(format!("unknown value {s:?} (one of {})", names.join(", ")))
+        })
+}
+
+fn metric<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Metric, D::Error> {
+    named(d, &[Metric::L1, Metric::L2])
+}
+
+fn traversal<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Traversal, D::Error> {
+    named(
+        d,
+        &[Traversal::Remember, Traversal::Reread, Traversal::Cell],
+    )
+}
+
+fn controller<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Controller, D::Error> {
+    named(d, &[Controller::Modules, Controller::Barrel])
+}
+
+#[derive(Clone, Debug, Deserialize)]
+pub struct SynthXc6v {
+    pub luts: u64,
+    pub lutram: u64,
+    pub ffs: u64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+pub struct SynthEcp5 {
+    /// The fmax (MHz) of every seed that gave one.
+    pub fmax_mhz: Vec<f64>,
+    /// Why no seed gave a clock.
+    pub error: Option<String>,
+}
+
+/// The schema of `synth/results.json` this reader understands.
+pub const RESULTS_SCHEMA: u32 = 1;
+
+impl SynthResults {
+    /// Parse `text`, the contents of `path` (named in the errors).
+    pub fn parse(text: &str, path: &Path) -> Result<SynthResults> {
+        let r: SynthResults = serde_json::from_str(text)
+            .map_err(|e| Error::new(format!("{}: {e}", path.display())))?;
+        if r.schema != RESULTS_SCHEMA {
+            return Err(Error::new(format!(
+                "{}: schema {}, this build reads schema {RESULTS_SCHEMA}",
+                path.display(),
+                r.schema
+            )));
+        }
+        Ok(r)
+    }
+
+    /// Read and parse `path`.
+    pub fn read(path: &Path) -> Result<SynthResults> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Error::new(format!(
+                "{}: cannot read the synthesis report ({e}); give --report FILE",
+                path.display()
+            ))
+        })?;
+        SynthResults::parse(&text, path)
+    }
+
+    /// The single-core rows with results whose core runs the study's search: the
+    /// same traversal and controller, pipelined (the variants kept for before/after
+    /// timing are not swept). A core's clock and area depend on these options, so a
+    /// row of another traversal or controller would misstate them.
+    pub fn study_rows(&self, traversal: Traversal, controller: Controller) -> Vec<ReportRow> {
+        self.rows
+            .iter()
+            .filter(|r| {
+                let o = &r.options;
+                r.status.is_none()
+                    && o.trees == 1
+                    && o.pipelined
+                    && o.traversal == traversal
+                    && o.controller == controller
+            })
+            .map(|r| ReportRow {
+                name: r.name.clone(),
+                k: r.options.k,
+                bits: r.options.bits,
+                metric: r.options.metric,
+                queries_per_port: r.options.queries_per_port,
+                luts: r.xc6v.as_ref().map_or("?".into(), |x| {
+                    let mut s = thousands(x.luts);
+                    if x.lutram > 0 {
+                        s += &format!(" + {} LUT-RAM", x.lutram);
+                    }
+                    s
+                }),
+                ffs: r.xc6v.as_ref().map_or("?".into(), |x| thousands(x.ffs)),
+                fmax_mhz: r
+                    .ecp5
+                    .as_ref()
+                    .filter(|e| e.error.is_none())
+                    .and_then(|e| e.fmax_mhz.iter().copied().reduce(f64::max)),
+            })
+            .collect()
+    }
+}
+
+/// `n` with a comma every three digits, as REPORT.md prints counts.
+fn thousands(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// A configuration of `synth/results.json` with results, as the study uses it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReportRow {
-    /// The row's name, e.g. `half Q (2x11)`.
+    /// The row's name, e.g. `paper, worst-case Q (2x21)`.
     pub name: String,
     pub k: usize,
     pub bits: u32,
     pub metric: Metric,
-    pub queries_per_port: usize,
-    /// As written (e.g. `14,898 + 88 LUT-RAM`).
+    /// None: export-verilog's default (the issue interval).
+    pub queries_per_port: Option<usize>,
+    /// As REPORT.md prints it (e.g. `9,870 + 206 LUT-RAM`).
     pub luts: String,
     pub ffs: String,
     /// Best placed-and-routed ECP5-85k clock, if the row has one.
     pub fmax_mhz: Option<f64>,
-}
-
-/// The paper core's configuration (K = 10, 10-bit, L1, 2 x 21), which REPORT.md's
-/// rows name only where they differ from it.
-const PAPER: (usize, u32, Metric, usize) = (10, 10, Metric::L1, 21);
-
-/// The number after `key` in `s` (`K=50` → 50), if any.
-fn number_after(s: &str, key: &str) -> Option<u64> {
-    let at = s.find(key)? + key.len();
-    let digits: String = s[at..].chars().take_while(|c| c.is_ascii_digit()).collect();
-    digits.parse().ok()
-}
-
-/// The configuration rows of REPORT.md's first table that have synthesis results,
-/// for one tree, and that the study's sweep can match (the ascent and pipelining
-/// variants are not swept and are left out, as is the paper's own Table 2 row).
-pub fn parse_report(text: &str) -> Vec<ReportRow> {
-    let table: Vec<Vec<String>> = text
-        .lines()
-        .skip_while(|l| !l.starts_with("| configuration"))
-        .take_while(|l| l.starts_with('|'))
-        .map(|l| {
-            l.trim()
-                .trim_matches('|')
-                .split('|')
-                .map(|c| c.trim().to_string())
-                .collect()
-        })
-        .collect();
-    let Some(header) = table.first() else {
-        return vec![];
-    };
-    let col = |name: &str| header.iter().position(|h| h.starts_with(name));
-    let (Some(c_luts), Some(c_ffs), Some(c_fmax), Some(c_t)) =
-        (col("LUTs"), col("FFs"), col("ECP5 fmax"), col("T"))
-    else {
-        return vec![];
-    };
-    let mut rows = vec![];
-    for r in table.iter().skip(2) {
-        let name = r[0].trim_matches('*').to_string();
-        let skip = ["Table 2", "re-read", "unpipelined", "trees"];
-        if r.len() <= c_fmax
-            || skip.iter().any(|s| name.contains(s))
-            || r[c_t] != "1"
-            || r[c_luts].starts_with("n/a")
-            || r[c_luts].is_empty()
-        {
-            continue;
-        }
-        let (mut k, mut bits, mut metric, mut q) = PAPER;
-        if let Some(v) = number_after(&name, "K=") {
-            k = v as usize;
-        }
-        if let Some(at) = name.find("-bit") {
-            let head: String = name[..at]
-                .chars()
-                .rev()
-                .take_while(|c| c.is_ascii_digit())
-                .collect();
-            bits = head
-                .chars()
-                .rev()
-                .collect::<String>()
-                .parse()
-                .unwrap_or(bits);
-        }
-        if name.contains("L2") {
-            metric = Metric::L2;
-        }
-        if let Some(v) = number_after(&name, "2x") {
-            q = v as usize;
-        }
-        let fmax_mhz = r[c_fmax]
-            .split_whitespace()
-            .next()
-            .and_then(|v| v.parse::<f64>().ok());
-        rows.push(ReportRow {
-            name,
-            k,
-            bits,
-            metric,
-            queries_per_port: q,
-            luts: r[c_luts].clone(),
-            ffs: r[c_ffs].clone(),
-            fmax_mhz,
-        });
-    }
-    rows
 }
 
 /// The clock and area of one study point, each with where it comes from.
@@ -265,7 +349,9 @@ pub fn cost(rows: &[ReportRow], k: usize, bits: u32, metric: Metric) -> Cost {
             r.ffs.clone(),
             format!(
                 "synthesised (yosys xc6v), REPORT.md '{}' (2 x {})",
-                r.name, r.queries_per_port
+                r.name,
+                r.queries_per_port
+                    .map_or("the issue interval".into(), |q| q.to_string())
             ),
         ),
         None => (none.clone(), none.clone(), none.clone()),
