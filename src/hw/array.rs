@@ -12,12 +12,12 @@
 //! * result: the trees' result streams merged round-robin between packets (the
 //!   core's [`PacketMerge`]).
 //!
-//! Why a stage per tree (issue 11): without it the dispatch is one combinational
-//! path from one tree's free-module registers through its ready, the array's round
-//! robin and into another tree's query stage — across the die on the ECP5-85k, the
-//! T = 4 array's critical path (57.1 MHz, 17.5 ns, 15 of them routing). With the
-//! stage, the array's round robin sees only the stages' own valid flip-flops, and a
-//! tree's ready reaches only its own stage.
+//! Why a stage per tree: without it the dispatch is one combinational path from
+//! one tree's free-module registers through its ready, the array's round robin and
+//! into another tree's query stage — across the die once the trees are placed
+//! apart, and so a large array's critical path. With the stage, the array's round
+//! robin sees only the stages' own valid flip-flops, and a tree's ready reaches
+//! only its own stage.
 //!
 //! Photon reads per cycle scale with T (2T BlockRAM ports) for T times the area and
 //! BlockRAM; the ports and their meaning are those of the core, so the host driver,
@@ -61,7 +61,7 @@ pub struct PhotonSearchArray<const S: usize, const W: usize> {
     stage_data: Vec<DFF<QueryBeat>>,
     stages_empty: Signal<Local, bool>,
     load_ready_all: Signal<Local, bool>,
-    /// `load.ready`, registered like each core's (issue 11): the AND over the
+    /// `load.ready`, registered like each core's: the AND over the
     /// trees' ready registers and the stages, a cycle ahead and with no query
     /// entering a stage, so the broadcast load's enable starts from one flip-flop
     /// instead of a path across every tree. (Each tree's `load_ready` is then still

@@ -5,7 +5,7 @@
 //! every cycle while the others wait. [`Controller::Barrel`] keeps the Q queries as
 //! slots in memory and runs them through one pipelined datapath per port
 //! ([`BarrelPort`](crate::hw::barrel_port::BarrelPort)): the same reads, a
-//! fraction of the logic (issue 11: the QueryModules were 90 % of a core's LUTs).
+//! fraction of the logic (a core's QueryModules hold nearly all of its LUTs).
 
 use std::fmt;
 

@@ -2,7 +2,7 @@
 //! (sum of the three axis distances: squared L2 or L1, no square root). It runs in
 //! parallel with AxisDist/NextIndex. The in-range test against the radius of the
 //! QueryModule that issued the read is the SearchModule's next stage, on the
-//! registered distance (issue 11: a carry chain fewer in this one).
+//! registered distance, so this stage ends after one carry chain.
 
 use crate::hw::config::{low_mask, Coord, Dist};
 use crate::hw::metric::Metric;

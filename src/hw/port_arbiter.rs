@@ -29,8 +29,8 @@ pub struct PortArbiter {
     pub granted: Signal<Out, bool>,
     last_grant: DFF<ModuleMask>,
     /// Every bit at or below the last grant, kept in a register beside it so that
-    /// the grant starts from flip-flops, not from a subtraction (issue 11: the
-    /// arbiter → read address path limits a port's clock).
+    /// the grant starts from flip-flops, not from a subtraction (the arbiter → read
+    /// address path bounds a port's clock).
     at_or_below_last: DFF<ModuleMask>,
     above_last: Signal<Local, ModuleMask>,
     /// {requests, above_last} (bits 2n-1..n, n-1..0), that minus one, its lowest
@@ -85,10 +85,10 @@ impl Logic for PortArbiter {
     fn update(&mut self) {
         dff_setup!(self, clock, last_grant, at_or_below_last);
         self.above_last.next = self.requests.val() & (!self.at_or_below_last.q.val());
-        // Round robin as one "lowest set bit" over 2n bits, {requests, above_last}
-        // (issue 11: a mux between the two lowest bits, selected by a reduction
-        // over `above_last`, and a second subtraction for the next mask were a
-        // port's critical path). For x = that word, x & !(x - 1) is the lowest set
+        // Round robin as one "lowest set bit" over 2n bits, {requests, above_last}:
+        // one subtraction, where a mux between two lowest bits (selected by a
+        // reduction over `above_last`) and a second subtraction for the next mask
+        // would be a longer path. For x = that word, x & !(x - 1) is the lowest set
         // bit (in the low half if anything is above the last grant, else in the
         // high half: the grant is the OR of the halves) and x ^ (x - 1) every bit
         // at or below it; its bit n tells which half, and the next

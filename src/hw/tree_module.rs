@@ -13,8 +13,8 @@
 //! (the core loads a map only while every QueryModule is free, `core.rs`), so what a
 //! read returns when both ports hit one address in one cycle does not matter.
 //! Without it yosys builds the Verilog's read-first collision rule out of an address
-//! comparator and a bypass multiplexer on port B, which put port B's read address on
-//! the critical path of the 2 × 11 core on the ECP5 (75.4 MHz, issue 11).
+//! comparator and a bypass multiplexer on port B, which puts port B's read address
+//! on the core's critical path.
 
 use crate::hw::config::{Addr, Word};
 use rust_hdl::prelude::*;

@@ -1,4 +1,4 @@
-//! The area of the L1 gather region on a surface (issue 12, item 3).
+//! The area of the L1 gather region on a surface (Jensen's density estimate).
 //!
 //! Jensen's density estimate divides the gathered flux by the area of the gather
 //! region on the surface. With the L1 metric (our reading of the paper's "absolute

@@ -169,7 +169,7 @@ pub fn query_points(queries: &[QueryPoint]) -> Vec<Point> {
 /// by the query's tangent plane is a polygon (`l1_area::l1_section_area`): the
 /// diamond 2r² on axis-aligned surfaces such as the Cornell box's walls, down to
 /// the regular hexagon (3√3/4)·r² ≈ 1.30·r² for the normal (1,1,1)/√3; with 2r²
-/// everywhere tilted surfaces came out up to 35% dark (issue 12).
+/// everywhere would bias tilted surfaces dark by up to 35 %.
 ///
 /// Only photons arriving from the query's side count (dot(dir, normal) < 0): photons
 /// hitting the other face of a thin wall, or another surface behind, must not leak
@@ -210,7 +210,7 @@ pub fn radiance(
                 }
             }
             // A region too small for f32 (area below ~1e-38) is as degenerate as
-            // r = 0: black, never inf or NaN (issue 12, all k photons at one point).
+            // r = 0 (all k photons at one point): black, never inf or NaN.
             let l = q.albedo * flux * (std::f32::consts::FRAC_1_PI / area as f32);
             if l.is_finite() {
                 l

@@ -1,4 +1,4 @@
-//! The study's error measures (issue 12), each a plain function of two results so
+//! The study's error measures, each a plain function of two results so
 //! the tests can check it against an independent computation.
 
 use crate::host::gather::{canonical_order, Gathered, Neighbour};

@@ -1,13 +1,13 @@
-//! `photon-fpga study` (issue 12): speed against error. Every point of a sweep over
+//! `photon-fpga study`: speed against error. Every point of a sweep over
 //! coordinate bits, metric, k and photon count gets its image error (against the
 //! float render with the same photons and queries and against a converged float
 //! reference), kNN recall and gather-radius error beside its cost in photon reads,
 //! the software search's measured speed and the hardware's simulated reads per
-//! cycle times the clock `synth/REPORT.md` gives; plus the paper's Figs. 3–6
+//! cycle times the clock `synth/results.json` gives; plus the paper's Figs. 3–6
 //! from the project's own runs.
 //!
 //! One job per file: `plan` (what is swept), `metrics` (the error measures),
-//! `hwcost` (simulated reads per cycle and `synth/REPORT.md`), `sweep` (the runs),
+//! `hwcost` (simulated reads per cycle and `synth/results.json`), `sweep` (the runs),
 //! `figures` (Figs. 3–6 data), `plots` and `report` (the files written).
 
 pub mod figures;

@@ -11,8 +11,8 @@ pub const HW_MAX_K: usize = 64;
 /// Widest coordinate the core holds per axis (`src/hw/photon_word.rs`: <= 15 bits).
 pub const HW_MAX_BITS: u32 = 15;
 
-/// The scene the study's second row of results comes from (issue 12: "a
-/// caustic-heavy or long/flat one, where an isotropic grid matters").
+/// The scene the study's second row of results comes from: long and flat, with a
+/// caustic, where an isotropic grid spends its bits on the length.
 pub fn corridor() -> Scene {
     Scene::from_toml_str(
         include_str!("../../../scenes/corridor.toml"),

@@ -1,4 +1,4 @@
-//! The study's plots (issue 12): the Pareto plot of error against hardware
+//! The study's plots: the Pareto plot of error against hardware
 //! throughput and the paper's Figs. 3–6, drawn with plotters into an RGB buffer
 //! and encoded with the `image` crate. The font is bundled (DejaVu Sans,
 //! `assets/`), so the plots look the same on any machine.

@@ -1,4 +1,4 @@
-//! The study's files (issue 12): `study.csv` (every point), `STUDY.md` (the tables
+//! The study's files: `study.csv` (every point), `STUDY.md` (the tables
 //! with a provenance legend), `pareto.png` and `fig3.png`…`fig6.png`, written into
 //! a staging directory beside the output and moved into place only when all of
 //! them are done, so a failed study leaves nothing behind.

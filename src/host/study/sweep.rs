@@ -1,8 +1,8 @@
-//! The sweep (issue 12, item 1): for every scene, photon count, metric, k and
+//! The sweep: for every scene, photon count, metric, k and
 //! coordinate bits, the quantized search's image error, recall and radius error
 //! against the float search on the same photons and queries, its reads and
 //! distance tests per query, its measured speed, and the core's simulated reads
-//! per cycle with the clock and area REPORT.md has.
+//! per cycle with the clock and area `synth/results.json` has.
 
 use crate::host::error::{Error, Result};
 use crate::host::gather::{FloatBackend, GatherBackend, GatherParams, Gathered, QuantizedMap};

@@ -90,8 +90,8 @@ pub trait Dut {
     /// The rising clock edge.
     fn rising_edge(&mut self) -> Result<(), HwError>;
     /// Settle passes so far (every block's `update`, repeated until nothing
-    /// changes), for simulators that settle by passes (native): the profile of
-    /// issue 14.
+    /// changes), for simulators that settle by passes (native): bench-core's
+    /// simulation profile.
     fn settle_passes(&self) -> Option<u64> {
         None
     }
