@@ -183,7 +183,7 @@ fn mean(v: impl Iterator<Item = u32>, n: usize) -> f64 {
     v.map(|x| x as f64).sum::<f64>() / n.max(1) as f64
 }
 
-/// Run the sweep of `plan`; `report` is REPORT.md's parsed rows.
+/// Run the sweep of `plan`; `report` is synth/results.json's rows for the study.
 pub fn run(plan: &Plan, report: &[ReportRow], bar: &ProgressBar) -> Result<Sweep> {
     let per_scene = plan.photons.len() * plan.metrics.len() * plan.ks.len() * plan.bits.len();
     bar.set_length((plan.scenes.len() * per_scene) as u64);
