@@ -117,9 +117,9 @@ CONFIGS = [
     Config("paper, worst-case Q (2x21)", PAPER21),
     Config("paper, cell traversal (2x14: Q fitted)", PAPER_CELL, headline=True),
     # The paper's ascent: every parent read again on the way up.
-    Config("paper, re-read ascent (before; 2x21)", replace(PAPER21, traversal="reread")),
+    Config("paper, re-read ascent (2x21)", replace(PAPER21, traversal="reread")),
     # No register on the BlockRAM read data nor on the result streams.
-    Config("paper, unpipelined (before; 2x21)", replace(PAPER21, pipelined=False)),
+    Config("paper, unpipelined (2x21)", replace(PAPER21, pipelined=False)),
     Config("K=50", CoreOptions(k=50)),
     Config("12-bit coordinates", CoreOptions(bits=12)),
     Config("squared L2", CoreOptions(metric="l2")),
