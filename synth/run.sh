@@ -1,14 +1,18 @@
 #!/usr/bin/env bash
-# Regenerate synth/REPORT.md: for each configuration of the core, Virtex-6 resources
-# (Debian yosys, synth_xilinx -family xc6v), ECP5 fmax (yowasp nextpnr-ecp5 --85k,
-# 3 seeds), photon reads per cycle from the rust-hdl simulation, and photons/s.
+# Regenerate synth/results.json and the files rendered from it (synth/REPORT.md,
+# README.md's results table): for each configuration of the core, Virtex-6
+# resources (Debian yosys, synth_xilinx -family xc6v), ECP5 fmax (yowasp
+# nextpnr-ecp5 --85k, 3 seeds), photon reads per cycle from the Verilator
+# simulation, and kiddo timed on the same queries.
 #
 #   synth/run.sh            # all configurations (long: hours on 2 cores)
 #   synth/run.sh paper      # only the rows whose name matches
-#   synth/run.sh none       # no runs: rewrite REPORT.md from the cached results
+#   synth/run.sh none       # no runs: rewrite results.json from the cached results
+#   python3 synth/report.py render   # no tools: re-render from results.json
 #
-# Results are cached per row by the hash of the Verilog they were made from, and
-# REPORT.md is rewritten after every step, so a run can be stopped and resumed.
+# Results are cached per row by the hash of the Verilog they were made from (rows
+# with nothing cached keep their record in results.json), and the files are
+# rewritten after every step, so a run can be stopped and resumed.
 # The cheap steps go first (the first row's fmax, then every row's yosys resources
 # and simulation, then the other rows' place and route). PHOTON_FPGA_JOBS (default
 # 2) rows run side by side; PHOTON_FPGA_SEEDS (default 1,2,3) sets the seeds;
