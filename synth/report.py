@@ -848,6 +848,7 @@ def render_headline(res):
           "copy each (`--trees T`)."]
     if fits:
         best = max(fits, key=lambda rd: rd[1].queries_per_s)
+        L.append("")
         L.append(f"If a Virtex-6 XC6VSX475T ran at the paper's {best[1].clock_mhz:.0f} MHz [assumed], "
                  f"{best[1].cores} of the '{best[0].name}' cores would fit by the yosys counts: "
                  f"{best[1].queries_per_s / 1e6:,.1f} M queries/s, {best[1].vs_kiddo:,.0f}x kiddo [syn × sim × "
