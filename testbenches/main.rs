@@ -13,6 +13,8 @@ mod hw_lut_ram;
 mod hw_max_finder;
 mod hw_packet_merge;
 mod hw_result_register;
+mod hw_search_module;
+mod hw_slot_readout;
 mod hw_slot_store;
 mod hw_throughput;
 mod hw_verilator;
