@@ -32,23 +32,23 @@ use crate::common::settle;
 
 /// What the bench expects of one read.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Expected {
-    module: usize,
-    address: u64,
-    in_range: bool,
-    distance: u64,
-    next_address: u64,
-    next_up: bool,
+pub(crate) struct Expected {
+    pub(crate) module: usize,
+    pub(crate) address: u64,
+    pub(crate) in_range: bool,
+    pub(crate) distance: u64,
+    pub(crate) next_address: u64,
+    pub(crate) next_up: bool,
     /// Only meaningful going up.
-    next_came_from_right: bool,
-    done: bool,
-    axis_dist: u64,
-    far_pending: bool,
-    axis: u64,
+    pub(crate) next_came_from_right: bool,
+    pub(crate) done: bool,
+    pub(crate) axis_dist: u64,
+    pub(crate) far_pending: bool,
+    pub(crate) axis: u64,
 }
 
 /// The software computation of one read of `tree` for a query at `q`.
-fn expect(
+pub(crate) fn expect(
     tree: &PackedTree,
     metric: Metric,
     module: usize,

@@ -12,6 +12,7 @@ mod hw_dispatcher;
 mod hw_lut_ram;
 mod hw_max_finder;
 mod hw_packet_merge;
+mod hw_query_module;
 mod hw_result_register;
 mod hw_search_module;
 mod hw_slot_readout;
