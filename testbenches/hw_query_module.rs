@@ -288,7 +288,7 @@ fn query_module_against_the_software_search() {
             k,
             ..CoreConfig::paper()
         };
-        query_module_against_software::<32>(cfg, &points, 25, seed);
+        query_module_against_software::<32>(cfg, &points, 40, seed);
     }
 }
 

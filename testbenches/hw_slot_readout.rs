@@ -309,6 +309,6 @@ fn slot_readout_against_a_packet_model() {
             metric,
             ..barrel
         };
-        readout_against_model(cfg, 400, p_ready, seed);
+        readout_against_model(cfg, 1000, p_ready, seed);
     }
 }
