@@ -1,0 +1,228 @@
+//! PacketMerge against a stream scoreboard: N sources, each with a queue of
+//! numbered packets of random length (a header, then zero or more photon beats,
+//! `last` on the final one) offered at random (each beat held until it is taken, as
+//! a valid/ready source must), and a sink that is ready at random. Checked every
+//! cycle from the block's documented behaviour: at most one source is ready, only
+//! while the sink is; a beat leaves only when a source's beat is taken, with that
+//! beat's data; once a packet's first beat left, its source keeps the output until
+//! its `last` (nothing else leaves in between); a new packet is chosen round-robin
+//! among the offering sources (the lowest above the last served, else the lowest).
+//! At the end every beat left exactly once, each source's packets in order and
+//! whole.
+
+use photon_fpga::hw::packet_merge::PacketMerge;
+use photon_fpga::hw::stream::ResultBeat;
+use rand::Rng;
+use rand_pcg::Pcg64;
+use rust_hdl::prelude::*;
+use std::collections::VecDeque;
+
+use crate::common::settle;
+
+/// Beat `b` of packet `p` (of `len` beats) from source `s`: the fields name it.
+fn packet_beat(s: usize, p: u64, b: u64, len: u64) -> ResultBeat {
+    ResultBeat {
+        header: b == 0,
+        last: b + 1 == len,
+        id: ((s as u64) << 24 | p).into(),
+        count: (len - 1).into(),
+        visited: b.into(),
+        address: (p * 3 + b).into(),
+        distance: (s as u64 * 1000 + b).into(),
+        pair: b % 2 == 1,
+        address2: (b * 5).into(),
+        distance2: p.into(),
+    }
+}
+
+fn packets(r: &mut Pcg64, s: usize, count: u64) -> Vec<Vec<ResultBeat>> {
+    (0..count)
+        .map(|p| {
+            let len = match r.gen_range(0..4) {
+                0 => 1,
+                1 => 2,
+                _ => r.gen_range(1..12),
+            };
+            (0..len).map(|b| packet_beat(s, p, b, len)).collect()
+        })
+        .collect()
+}
+
+fn merge_against_scoreboard(n: usize, per_source: u64, p_valid: f64, p_ready: f64, seed: u64) {
+    let mut uut = PacketMerge::new(n);
+    uut.connect_all();
+    check_all(&uut).expect("PacketMerge checks");
+    let mut r = crate::common::rng(seed);
+    let sent: Vec<Vec<Vec<ResultBeat>>> = (0..n).map(|s| packets(&mut r, s, per_source)).collect();
+    let mut queues: Vec<VecDeque<ResultBeat>> = sent
+        .iter()
+        .map(|ps| ps.iter().flatten().copied().collect())
+        .collect();
+    let total: usize = queues.iter().map(|q| q.len()).sum();
+    let mut offering = vec![false; n];
+    let mut merged: Vec<(usize, ResultBeat)> = Vec::new();
+    // The source of the packet in progress, and of the last beat that left.
+    let mut locked: Option<usize> = None;
+    let mut last: Option<usize> = None;
+
+    uut.reset.next = true;
+    settle(&mut uut);
+    uut.clock.next = true.into();
+    settle(&mut uut);
+    uut.clock.next = false.into();
+    uut.reset.next = false;
+    settle(&mut uut);
+
+    let mut cycles = 0;
+    while merged.len() < total {
+        cycles += 1;
+        assert!(
+            cycles < 100 * total,
+            "n = {n}: stuck after {} beats",
+            merged.len()
+        );
+        for s in 0..n {
+            offering[s] = !queues[s].is_empty() && (offering[s] || r.gen_bool(p_valid));
+            uut.sources[s].valid.next = offering[s];
+            uut.sources[s].data.next = if offering[s] {
+                queues[s][0]
+            } else {
+                packet_beat(s, 0xBAD, 0, 1)
+            };
+        }
+        let sink_ready = r.gen_bool(p_ready);
+        uut.merged.ready.next = sink_ready;
+        settle(&mut uut);
+
+        // Who the model lets through: the locked source, else round robin.
+        let lowest_from = |from: usize| (from..n).find(|&i| offering[i]);
+        let pick = match locked {
+            Some(s) => Some(s),
+            None => last
+                .and_then(|l| lowest_from(l + 1))
+                .or_else(|| lowest_from(0)),
+        };
+        let readies: Vec<bool> = (0..n).map(|s| uut.sources[s].ready.val()).collect();
+        for (s, &rd) in readies.iter().enumerate() {
+            assert!(
+                !rd || (sink_ready && pick == Some(s)),
+                "n = {n} cycle {cycles}: source {s} ready (sink {sink_ready}, pick {pick:?}, \
+                 locked {locked:?}, offering {offering:?})"
+            );
+        }
+        let taken: Vec<usize> = (0..n).filter(|&s| offering[s] && readies[s]).collect();
+        let out_valid = uut.merged.valid.val();
+        let expect_valid = pick.is_some_and(|s| offering[s]);
+        assert_eq!(
+            out_valid, expect_valid,
+            "n = {n} cycle {cycles}: merged valid (pick {pick:?}, offering {offering:?})"
+        );
+        if out_valid {
+            let s = pick.unwrap();
+            assert_eq!(
+                uut.merged.data.val(),
+                queues[s][0],
+                "n = {n} cycle {cycles}: data"
+            );
+        }
+        if out_valid && sink_ready {
+            assert_eq!(taken, vec![pick.unwrap()], "n = {n} cycle {cycles}: taken");
+        } else {
+            assert!(
+                taken.is_empty(),
+                "n = {n} cycle {cycles}: taken {taken:?} unsent"
+            );
+        }
+        for &s in &taken {
+            let b = queues[s].pop_front().unwrap();
+            merged.push((s, uut.merged.data.val()));
+            assert_eq!(merged.last().unwrap().1, b);
+            offering[s] = false;
+            locked = if b.last { None } else { Some(s) };
+            last = Some(s);
+        }
+        uut.clock.next = true.into();
+        settle(&mut uut);
+        uut.clock.next = false.into();
+        settle(&mut uut);
+    }
+
+    // The merged stream, cut at `last`: whole packets from one source each, and per
+    // source the packets it sent, in order.
+    let mut got: Vec<Vec<Vec<ResultBeat>>> = vec![Vec::new(); n];
+    let mut current: Vec<ResultBeat> = Vec::new();
+    let mut from: Option<usize> = None;
+    for &(s, b) in &merged {
+        assert!(
+            from.is_none_or(|f| f == s),
+            "n = {n}: a packet split by another source"
+        );
+        from = Some(s);
+        current.push(b);
+        if b.last {
+            got[s].push(std::mem::take(&mut current));
+            from = None;
+        }
+    }
+    assert!(current.is_empty());
+    assert_eq!(
+        got, sent,
+        "n = {n}: packets lost, duplicated, reordered or split"
+    );
+}
+
+#[test]
+fn packet_merge_against_a_stream_scoreboard() {
+    for (n, p_valid, p_ready, seed) in [
+        (1usize, 0.6, 0.6, 101u64),
+        (2, 0.9, 0.7, 102),
+        (3, 0.4, 0.5, 103),
+        (5, 1.0, 1.0, 104),
+        (8, 0.7, 0.3, 105),
+    ] {
+        merge_against_scoreboard(n, 120, p_valid, p_ready, seed);
+    }
+}
+
+/// A source that pauses inside its packet keeps the output: the others wait.
+#[test]
+fn a_paused_packet_keeps_the_merge() {
+    let mut uut = PacketMerge::new(2);
+    uut.connect_all();
+    check_all(&uut).unwrap();
+    let a: Vec<ResultBeat> = (0..3).map(|b| packet_beat(0, 1, b, 3)).collect();
+    let b = packet_beat(1, 2, 0, 1);
+    let tick = |uut: &mut PacketMerge| {
+        uut.clock.next = true.into();
+        settle(uut);
+        uut.clock.next = false.into();
+        settle(uut);
+    };
+    uut.merged.ready.next = true;
+    // Source 0's header leaves; then it pauses while source 1 offers a packet.
+    uut.sources[0].valid.next = true;
+    uut.sources[0].data.next = a[0];
+    uut.sources[1].valid.next = false;
+    settle(&mut uut);
+    assert!(uut.sources[0].ready.val() && uut.merged.data.val() == a[0]);
+    tick(&mut uut);
+    uut.sources[0].valid.next = false;
+    uut.sources[1].valid.next = true;
+    uut.sources[1].data.next = b;
+    for _ in 0..3 {
+        settle(&mut uut);
+        assert!(!uut.merged.valid.val() && !uut.sources[1].ready.val());
+        tick(&mut uut);
+    }
+    for beat in &a[1..] {
+        uut.sources[0].valid.next = true;
+        uut.sources[0].data.next = *beat;
+        settle(&mut uut);
+        assert!(uut.merged.valid.val() && uut.merged.data.val() == *beat);
+        assert!(!uut.sources[1].ready.val());
+        tick(&mut uut);
+    }
+    uut.sources[0].valid.next = false;
+    settle(&mut uut);
+    assert!(uut.merged.valid.val() && uut.merged.data.val() == b && uut.sources[1].ready.val());
+}
