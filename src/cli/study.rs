@@ -1,4 +1,4 @@
-//! `photon-fpga study` (issue 12): the accuracy/throughput sweep, its table and
+//! `photon-fpga study`: the accuracy/throughput sweep, its table and
 //! Pareto plot, and the paper's Figs. 3–6 from the project's own runs.
 
 use crate::cli::set_threads;

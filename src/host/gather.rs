@@ -494,7 +494,7 @@ impl GatherBackend for RtlBackend {
                 GridPoint::Outside(g) => outside.push((i, g)),
             }
         }
-        // Right-sized Q (issue 11): from what the software search costs on an even
+        // Right-sized Q, unless one was given: from what the software search costs on an even
         // sample of these queries, instead of the worst-case issue interval.
         let mut config = self.config;
         let profile: ReadProfile = hw
