@@ -30,7 +30,7 @@ enum Cmd {
     /// per query against the software search, cycles/s; --cpu times kiddo beside it.
     BenchCore(BenchCoreArgs),
     /// Speed against error: sweep bits, metric, k and photons; write the table,
-    /// the Pareto plot and the paper's Figs. 3-6 (issue 12).
+    /// the Pareto plot and the paper's Figs. 3-6.
     Study(StudyArgs),
 }
 

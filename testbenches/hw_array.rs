@@ -17,10 +17,11 @@ fn array_config(
     metric: Metric,
     trees: usize,
 ) -> CoreConfig {
-    CoreConfig {
-        trees,
-        ..small_config(layout, 8, k, q, metric)
-    }
+    small_config(layout, 8, k, q, metric)
+        .to_builder()
+        .trees(trees)
+        .build()
+        .expect("an array within the limits")
 }
 
 fn stalls(seed: u64) -> SimOptions {
@@ -109,10 +110,12 @@ fn reads_per_cycle_scale_with_trees() {
         .collect();
     let mut per_cycle = vec![];
     for trees in [1usize, 2] {
-        let cfg = CoreConfig {
-            trees,
-            ..CoreConfig::for_map(tree.image(), 10, Metric::L1).unwrap()
-        };
+        let cfg = CoreConfig::builder()
+            .k(10)
+            .metric(Metric::L1)
+            .trees(trees)
+            .build_for(tree.image())
+            .unwrap();
         let (results, stats) =
             run_gather(&cfg, tree.image(), &queries, &SimOptions::default()).unwrap();
         check_results(&cfg, &tree, &points, &queries, &results);
@@ -143,7 +146,14 @@ fn reads_per_cycle_scale_with_trees() {
 fn tree_count_is_checked() {
     let layout = PhotonLayout::new([5, 5, 5]);
     for trees in [0usize, 9] {
-        let cfg = array_config(layout, 4, 2, Metric::L2, trees);
+        // Refused when built, and by the simulator when set afterwards.
+        let mut cfg = array_config(layout, 4, 2, Metric::L2, 1);
+        let err = cfg.to_builder().trees(trees).build().unwrap_err();
+        assert!(
+            err.to_string().contains(&format!("trees = {trees}")),
+            "{err}"
+        );
+        cfg.trees = trees;
         let err = CoreSim::new(&cfg, &SimOptions::default())
             .err()
             .expect("refused");

@@ -358,11 +358,11 @@ fn block_ram_against_model() {
 fn found_max_is_the_lowest_maximum() {
     use photon_fpga::hw::config::CoreConfig;
     for (k, seed) in [(1usize, 61u64), (3, 62), (10, 63), (33, 64), (64, 65)] {
-        let cfg = CoreConfig {
-            k,
-            queries_per_port: 6,
-            ..CoreConfig::paper()
-        };
+        let cfg = CoreConfig::builder()
+            .k(k)
+            .modules_per_port(6)
+            .build()
+            .unwrap();
         let mut uut = FoundMax::new(&cfg);
         uut.connect_all();
         check_all(&uut).unwrap();

@@ -1,9 +1,11 @@
 //! CoreConfig: the paper's core, what `for_map` derives from a map, and the limits.
 
 use crate::common::*;
-use photon_fpga::hw::config::{CoreConfig, MAX_K, PORTS};
+use photon_fpga::hw::config::{CoreConfig, BARREL_SLOTS, MAX_K, PORTS};
+use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
+use photon_fpga::hw::traversal::Traversal;
 
 #[test]
 fn paper_core() {
@@ -95,4 +97,43 @@ fn limits_are_errors_not_panics() {
     // A map larger than the core.
     let big = pack(&vec![[1, 2, 3]; 1024], layout);
     assert!(CoreConfig::paper().check_map(big.image()).is_err());
+}
+
+/// The builder refuses every combination the datapath cannot build when it is
+/// built, naming the option and its value; Q is named after the controller.
+#[test]
+fn the_builder_refuses_bad_combinations_by_name() {
+    let err = |b: photon_fpga::hw::config_builder::CoreBuilder| b.build().unwrap_err().to_string();
+    let barrel = CoreConfig::builder().controller(Controller::Barrel);
+    let e = err(barrel.traversal(Traversal::Reread));
+    assert!(
+        e.contains("traversal = reread") && e.contains("barrel"),
+        "{e}"
+    );
+    let e = err(barrel.modules_per_port(8));
+    assert!(e.contains("modules_per_port = 8"), "{e}");
+    let e = err(CoreConfig::builder().slots_per_port(8));
+    assert!(e.contains("slots_per_port = 8"), "{e}");
+    let e = err(barrel.slots_per_port(33));
+    assert!(e.contains("slots_per_port = 33"), "{e}");
+    let e = err(CoreConfig::builder().modules_per_port(0));
+    assert!(e.contains("modules_per_port = 0"), "{e}");
+    assert!(err(CoreConfig::builder().k(MAX_K + 1)).contains(&format!("K = {}", MAX_K + 1)));
+    assert!(err(CoreConfig::builder().trees(9)).contains("trees = 9"));
+    assert!(err(CoreConfig::builder().address_bits(21)).contains("address_bits (H) = 21"));
+    let e = err(CoreConfig::builder().layout(PhotonLayout::new([16, 4, 4])));
+    assert!(e.contains("[16, 4, 4]"), "{e}");
+    // Q left unset: the controller's default; given: exactly that.
+    let b = barrel.build().unwrap();
+    assert_eq!(b.queries_per_port, BARREL_SLOTS);
+    assert_eq!(
+        barrel.slots_per_port(5).build().unwrap().queries_per_port,
+        5
+    );
+    let m = CoreConfig::builder().build().unwrap();
+    assert_eq!(m.queries_per_port, m.issue_interval());
+    // A configuration round-trips through its builder, also with the barrel port.
+    for cfg in [CoreConfig::paper(), b, barrel.trees(3).build().unwrap()] {
+        assert_eq!(cfg.to_builder().build().unwrap(), cfg);
+    }
 }

@@ -23,14 +23,19 @@ const EVERY_PORT: [(Traversal, Controller); 5] = [
 
 /// The QueryModule core and the barrel core with the cell traversal.
 fn both_controllers(cfg: CoreConfig) -> [CoreConfig; 2] {
-    [
-        cfg,
-        CoreConfig {
-            traversal: Traversal::Cell,
-            controller: Controller::Barrel,
-            ..cfg
-        },
-    ]
+    [cfg, variant(cfg, Traversal::Cell, Controller::Barrel)]
+}
+
+/// `cfg` with another traversal and controller, its Q kept (as QueryModules or
+/// query slots per port).
+fn variant(cfg: CoreConfig, traversal: Traversal, controller: Controller) -> CoreConfig {
+    cfg.to_builder()
+        .default_queries_per_port()
+        .controller(controller)
+        .traversal(traversal)
+        .queries_per_port(cfg.queries_per_port)
+        .build()
+        .expect("config")
 }
 
 /// A small core for the map: Q capped to keep the simulation quick.
@@ -39,9 +44,11 @@ fn small_core(
     k: usize,
     metric: Metric,
 ) -> CoreConfig {
-    let mut cfg = CoreConfig::for_map(tree.image(), k, metric).expect("config");
-    cfg.queries_per_port = cfg.queries_per_port.min(6);
-    cfg
+    let cfg = CoreConfig::for_map(tree.image(), k, metric).expect("config");
+    cfg.to_builder()
+        .modules_per_port(cfg.queries_per_port.min(6))
+        .build()
+        .expect("config")
 }
 
 fn run_case(
@@ -55,11 +62,7 @@ fn run_case(
     // Every traversal on QueryModules (the default path memory, the paper's
     // re-reads, the cell bound), and the two the barrel port runs.
     for (traversal, controller) in EVERY_PORT {
-        let cfg = CoreConfig {
-            traversal,
-            controller,
-            ..small_core(&tree, k, metric)
-        };
+        let cfg = variant(small_core(&tree, k, metric), traversal, controller);
         let (results, _) =
             run_gather(&cfg, tree.image(), queries, &SimOptions::default()).expect("sim");
         check_results(&cfg, &tree, points, queries, &results);
@@ -204,12 +207,14 @@ fn paper_config_matches_software() {
         q.k = cfg.k as u32;
         q.radius = u64::MAX;
     }
-    let barrel = CoreConfig {
-        traversal: Traversal::Cell,
-        controller: Controller::Barrel,
-        queries_per_port: BARREL_SLOTS,
-        ..cfg
-    };
+    let barrel = cfg
+        .to_builder()
+        .default_queries_per_port()
+        .traversal(Traversal::Cell)
+        .controller(Controller::Barrel)
+        .slots_per_port(BARREL_SLOTS)
+        .build()
+        .unwrap();
     for cfg in [cfg, barrel] {
         let (results, stats) =
             run_gather(&cfg, tree.image(), &queries, &SimOptions::default()).expect("sim");
@@ -455,10 +460,7 @@ fn pruned_ascent_reads_only_the_descent_path() {
     };
     for metric in [Metric::L1, Metric::L2] {
         for traversal in [Traversal::Remember, Traversal::Reread, Traversal::Cell] {
-            let cfg = CoreConfig {
-                traversal,
-                ..small_core(&tree, 3, metric)
-            };
+            let cfg = variant(small_core(&tree, 3, metric), traversal, Controller::Modules);
             let (results, _) =
                 run_gather(&cfg, tree.image(), &queries, &SimOptions::default()).expect("sim");
             for (q, res) in queries.iter().zip(&results) {

@@ -29,16 +29,18 @@ fn throughput(
     let points = random_points(&mut r, photons, layout);
     let tree = pack(&points, layout);
     let cfg = if paper_core {
-        CoreConfig {
-            metric,
-            pipelined: true,
-            trees: 1,
-            ..CoreConfig::paper()
-        }
+        CoreConfig::paper_builder()
+            .metric(metric)
+            .traversal(traversal)
+            .build()
     } else {
-        CoreConfig::for_map(tree.image(), 10, metric).expect("config")
-    };
-    let cfg = CoreConfig { traversal, ..cfg };
+        CoreConfig::builder()
+            .k(10)
+            .metric(metric)
+            .traversal(traversal)
+            .build_for(tree.image())
+    }
+    .expect("config");
     let qs: Vec<HwQuery> = (0..queries)
         .map(|i| HwQuery {
             id: i as u32,
@@ -126,13 +128,17 @@ fn fitted_q_keeps_every_port_reading() {
     let paper = CoreConfig::paper();
     let uniform = workload::uniform(paper.layout, 1023, 300, 5);
     let cornell = workload::cornell(60_000, usize::MAX, 10, 64, 6);
-    let mut cornell_cfg =
-        CoreConfig::for_map(cornell.tree.image(), 10, Metric::L1).expect("config");
-    cornell_cfg.traversal = Traversal::Remember;
-    let paper_cell = CoreConfig {
-        traversal: Traversal::Cell,
-        ..paper
-    };
+    let cornell_cfg = CoreConfig::builder()
+        .k(10)
+        .metric(Metric::L1)
+        .traversal(Traversal::Remember)
+        .build_for(cornell.tree.image())
+        .expect("config");
+    let paper_cell = paper
+        .to_builder()
+        .traversal(Traversal::Cell)
+        .build()
+        .unwrap();
     for (name, mut cfg, w) in [
         ("paper", paper, &uniform),
         ("paper, cell traversal", paper_cell, &uniform),
@@ -199,27 +205,21 @@ fn barrel_port_reads_nearly_every_cycle() {
     use photon_fpga::host::workload;
     use photon_fpga::hw::config::BARREL_SLOTS;
     use photon_fpga::hw::controller::Controller;
-    let paper = CoreConfig {
-        controller: Controller::Barrel,
-        queries_per_port: BARREL_SLOTS,
-        ..CoreConfig::paper()
-    };
+    let barrel = CoreConfig::builder()
+        .controller(Controller::Barrel)
+        .slots_per_port(BARREL_SLOTS);
+    let paper = barrel.build().unwrap();
     let uniform = workload::uniform(paper.layout, 1023, 600, 7);
     let cornell = workload::cornell(60_000, usize::MAX, 10, 64, 6);
-    let cornell_cfg = CoreConfig {
-        traversal: Traversal::Cell,
-        controller: Controller::Barrel,
-        queries_per_port: BARREL_SLOTS,
-        ..CoreConfig::for_map(cornell.tree.image(), 10, Metric::L1).expect("config")
-    };
+    let cornell_cfg = barrel
+        .traversal(Traversal::Cell)
+        .build_for(cornell.tree.image())
+        .expect("config");
     for (name, cfg, w) in [
         ("paper, remember", paper, &uniform),
         (
             "paper, cell",
-            CoreConfig {
-                traversal: Traversal::Cell,
-                ..paper
-            },
+            barrel.traversal(Traversal::Cell).build().unwrap(),
             &uniform,
         ),
         ("cornell, cell", cornell_cfg, &cornell),

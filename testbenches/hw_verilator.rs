@@ -35,17 +35,7 @@ fn both(cfg: &CoreConfig, points: &[[u32; 3]], queries: &[HwQuery], stall_seed: 
 #[test]
 #[cfg_attr(not(has_verilator), ignore = "needs verilator")]
 fn verilator_equals_the_native_simulation() {
-    let cfg = CoreConfig {
-        layout: PhotonLayout::new([7, 6, 5]),
-        address_bits: 7,
-        k: 5,
-        queries_per_port: 4,
-        metric: Metric::L2,
-        pipelined: true,
-        trees: 1,
-        traversal: Default::default(),
-        controller: Default::default(),
-    };
+    let cfg = small_config(PhotonLayout::new([7, 6, 5]), 7, 5, 4, Metric::L2);
     let mut r = rng(31);
     let points = random_points(&mut r, 100, cfg.layout);
     let queries = random_queries(&mut r, 40, cfg.layout, cfg.k, cfg.metric);
@@ -63,18 +53,21 @@ fn verilator_equals_the_native_simulation() {
         .collect();
     both(&cfg, &one, &q_one, Some(8));
     // A replicated array of two trees.
-    let array = CoreConfig { trees: 2, ..cfg };
+    let array = cfg.to_builder().trees(2).build().unwrap();
     both(&array, &points, &queries, Some(9));
-    // The barrel port (cell traversal), alone and in an array.
-    let barrel = CoreConfig {
-        traversal: Traversal::Cell,
-        controller: Controller::Barrel,
-        ..cfg
-    };
-    both(&barrel, &points, &queries, Some(10));
-    both(&barrel, &one, &q_one, Some(11));
+    // The barrel port (cell traversal, 4 slots), alone and in an array.
+    let barrel = CoreConfig::builder()
+        .layout(cfg.layout)
+        .address_bits(cfg.address_bits)
+        .k(cfg.k)
+        .metric(cfg.metric)
+        .traversal(Traversal::Cell)
+        .controller(Controller::Barrel)
+        .slots_per_port(4);
+    both(&barrel.build().unwrap(), &points, &queries, Some(10));
+    both(&barrel.build().unwrap(), &one, &q_one, Some(11));
     both(
-        &CoreConfig { trees: 2, ..barrel },
+        &barrel.trees(2).build().unwrap(),
         &points,
         &queries,
         Some(12),
@@ -133,17 +126,7 @@ fn port_trace(path: &std::path::Path, name: &str) -> Vec<(u64, String)> {
 #[test]
 #[cfg_attr(not(has_verilator), ignore = "needs verilator")]
 fn verilator_vcd_shows_the_native_handshakes() {
-    let cfg = CoreConfig {
-        layout: PhotonLayout::new([6, 6, 6]),
-        address_bits: 6,
-        k: 3,
-        queries_per_port: 3,
-        metric: Metric::L1,
-        pipelined: true,
-        trees: 1,
-        traversal: Default::default(),
-        controller: Default::default(),
-    };
+    let cfg = small_config(PhotonLayout::new([6, 6, 6]), 6, 3, 3, Metric::L1);
     let mut r = rng(32);
     let points = random_points(&mut r, 40, cfg.layout);
     let queries = random_queries(&mut r, 12, cfg.layout, cfg.k, cfg.metric);

@@ -2,6 +2,7 @@
 //! no undriven or multiply driven nets), Verilator lint and Icarus. Without those
 //! tools the tests are ignored (build.rs), and under CI=true a missing tool fails.
 
+use crate::common::small_config;
 use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
@@ -96,17 +97,13 @@ fn check_config(cfg: &CoreConfig) {
     ignore = "needs yosys, verilator and iverilog"
 )]
 fn small_core_verilog_is_clean() {
-    check_config(&CoreConfig {
-        layout: PhotonLayout::new([7, 6, 5]),
-        address_bits: 8,
-        k: 4,
-        queries_per_port: 3,
-        metric: Metric::L2,
-        pipelined: true,
-        trees: 1,
-        traversal: Default::default(),
-        controller: Default::default(),
-    });
+    check_config(&small_config(
+        PhotonLayout::new([7, 6, 5]),
+        8,
+        4,
+        3,
+        Metric::L2,
+    ));
 }
 
 #[test]
@@ -126,12 +123,14 @@ fn paper_core_verilog_is_clean() {
     ignore = "needs yosys, verilator and iverilog"
 )]
 fn barrel_core_verilog_is_clean() {
-    check_config(&CoreConfig {
-        traversal: Traversal::Cell,
-        controller: Controller::Barrel,
-        queries_per_port: 16,
-        ..CoreConfig::paper()
-    });
+    check_config(
+        &CoreConfig::builder()
+            .traversal(Traversal::Cell)
+            .controller(Controller::Barrel)
+            .slots_per_port(16)
+            .build()
+            .unwrap(),
+    );
 }
 
 /// The TreeModule alone maps to Virtex-6 BlockRAM (RAMB36E1/RAMB18E1), not LUTs.
@@ -201,10 +200,7 @@ fn parse_top_ports(verilog: &str) -> Vec<Port> {
 #[test]
 fn block_ports_are_the_exported_ports() {
     for trees in [1, 2] {
-        let cfg = CoreConfig {
-            trees,
-            ..CoreConfig::paper()
-        };
+        let cfg = CoreConfig::paper_builder().trees(trees).build().unwrap();
         let e = export_verilog(&cfg).unwrap();
         let parsed = parse_top_ports(&e.verilog);
         assert!(parsed.len() >= 14, "{parsed:?}");
@@ -310,24 +306,22 @@ fn a_small_map_synthesises_smaller_with_no_constant_flip_flops() {
 }
 
 fn small_smaller_than_large(controller: Controller) {
-    let small = CoreConfig {
-        layout: PhotonLayout::new([6, 6, 5]),
-        address_bits: 6,
-        k: 4,
-        queries_per_port: 2,
-        metric: Metric::L2,
-        pipelined: true,
-        trees: 1,
-        traversal: Traversal::Cell,
-        controller,
-    };
-    let large = CoreConfig {
-        layout: PhotonLayout::new([10, 10, 10]),
-        address_bits: 10,
-        k: 10,
-        metric: Metric::L1,
-        ..small
-    };
+    let small = CoreConfig::builder()
+        .layout(PhotonLayout::new([6, 6, 5]))
+        .address_bits(6)
+        .k(4)
+        .metric(Metric::L2)
+        .traversal(Traversal::Cell)
+        .controller(controller)
+        .queries_per_port(2);
+    let large = small
+        .layout(PhotonLayout::new([10, 10, 10]))
+        .address_bits(10)
+        .k(10)
+        .metric(Metric::L1)
+        .build()
+        .unwrap();
+    let small = small.build().unwrap();
     let (small_cells, small_ffs, small_after) = generic_synth(&small);
     let (large_cells, large_ffs, large_after) = generic_synth(&large);
     eprintln!(

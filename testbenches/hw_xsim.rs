@@ -146,9 +146,14 @@ fn cornell(photons: usize, bits: u32, k: usize, metric: Metric, nq: usize) -> (M
 /// H = 5, K = 3, Q = 2 per port, squared L2. Returns it with the Cornell map.
 fn small() -> (CoreConfig, Map) {
     let (m, qmap) = cornell(24, 6, 3, Metric::L2, 3);
-    let mut cfg = CoreConfig::for_map(qmap.tree.image(), 3, Metric::L2).unwrap();
-    cfg.address_bits = 5;
-    cfg.queries_per_port = 2;
+    let cfg = CoreConfig::builder()
+        .k(3)
+        .metric(Metric::L2)
+        .for_map(qmap.tree.image())
+        .address_bits(5)
+        .modules_per_port(2)
+        .build()
+        .unwrap();
     cfg.check_map(m.tree.image()).unwrap();
     (cfg, m)
 }
@@ -195,8 +200,12 @@ fn wide_cases() -> (CoreConfig, Vec<Case>) {
     let mut a = random_points(&mut r, 90, layout);
     a.extend(vec![[2049, 9, 4000]; 30]);
     let tree = pack(&a, layout);
-    let mut cfg = CoreConfig::for_map(tree.image(), 40, Metric::L1).unwrap();
-    cfg.queries_per_port = 3;
+    let cfg = CoreConfig::builder()
+        .k(40)
+        .metric(Metric::L1)
+        .modules_per_port(3)
+        .build_for(tree.image())
+        .unwrap();
     assert_eq!((cfg.slot_bits(), cfg.word_width()), (64, 64));
     let mut qa = random_queries(&mut r, 6, layout, cfg.k, cfg.metric);
     qa.extend(hard_queries(&a, &cfg, 6));
@@ -342,31 +351,33 @@ fn small_and_paper(sim: Simulator) {
     // The small config also unpipelined and with the paper's re-read ascent (the
     // "before" rows of synth/REPORT.md); every other config has the default ascent.
     let unregistered = {
-        let (mut cfg, cases) = small_cases();
-        cfg.pipelined = false;
-        cfg.traversal = Traversal::Reread;
-        (cfg, cases)
+        let (cfg, cases) = small_cases();
+        let b = cfg
+            .to_builder()
+            .pipelined(false)
+            .traversal(Traversal::Reread);
+        (b.build().unwrap(), cases)
     };
     // The cell-distance traversal (more QueryModule state, a wider path memory).
     let cell = {
-        let (mut cfg, cases) = small_cases();
-        cfg.traversal = Traversal::Cell;
-        (cfg, cases)
+        let (cfg, cases) = small_cases();
+        (
+            cfg.to_builder().traversal(Traversal::Cell).build().unwrap(),
+            cases,
+        )
     };
     // The barrel port: Q = 4 query slots behind one datapath per port, both
     // traversals it runs.
     let barrel = |traversal| {
-        let (mut cfg, cases) = small_cases();
-        cfg.traversal = traversal;
-        cfg.controller = Controller::Barrel;
-        cfg.queries_per_port = 4;
-        (cfg, cases)
+        let (cfg, cases) = small_cases();
+        let b = cfg.to_builder().default_queries_per_port();
+        let b = b.traversal(traversal).controller(Controller::Barrel);
+        (b.slots_per_port(4).build().unwrap(), cases)
     };
     // Two replicated trees (PhotonSearchArray) on the small config's cases.
     let array = {
-        let (mut cfg, cases) = small_cases();
-        cfg.trees = 2;
-        (cfg, cases)
+        let (cfg, cases) = small_cases();
+        (cfg.to_builder().trees(2).build().unwrap(), cases)
     };
     for (label, (cfg, cases)) in [
         ("small", small_cases()),

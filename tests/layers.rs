@@ -1,6 +1,6 @@
 //! The source tree's layering, checked from the code's own imports: lower layers
-//! never import higher ones, no two files import each other, no source file is
-//! longer than 600 lines. Layers, lowest first:
+//! never import higher ones, no two files import each other, the hardware uses no
+//! command-line crate, no source file is longer than 600 lines. Layers, lowest first:
 //!
 //! 0. `hw` — the blocks of the core (ground floor: imports nothing of ours above it)
 //! 1. `hw::rtl` — driver, native simulation, export, cross-simulation, shell
@@ -159,6 +159,43 @@ fn lower_layers_never_import_higher_ones_and_no_file_imports_its_importer() {
     assert!(problems.is_empty(), "layering:\n{}", problems.join("\n"));
     // The check itself sees imports: the rtl driver uses the blocks.
     assert!(imports["hw::rtl::driver"].contains("hw::config"));
+}
+
+/// The lines of `text` outside comments that name `word` as a path or crate
+/// (`word::`, `use word`, `extern crate word`), with their line numbers.
+fn uses_of(text: &str, word: &str) -> Vec<(usize, String)> {
+    text.lines()
+        .enumerate()
+        .filter_map(|(i, line)| {
+            let code = line.split("//").next().unwrap_or("");
+            let named = code
+                .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+                .any(|token| token == word);
+            named.then(|| (i + 1, line.trim().to_string()))
+        })
+        .collect()
+}
+
+/// The hardware layer (`src/hw`, `hw::rtl` included) knows no command line: the
+/// CLI's value names and help texts live in `src/cli`, which converts them.
+#[test]
+fn the_hardware_uses_no_clap() {
+    let mut files = vec![];
+    rust_files(&root().join("src/hw"), &mut files);
+    assert!(files.len() > 20, "src/hw not found");
+    let found: Vec<String> = files
+        .iter()
+        .flat_map(|f| {
+            let text = std::fs::read_to_string(f).unwrap();
+            uses_of(&text, "clap")
+                .into_iter()
+                .map(move |(n, l)| format!("{}:{n}: {l}", f.display()))
+        })
+        .collect();
+    assert!(found.is_empty(), "clap under src/hw:\n{}", found.join("\n"));
+    // The check itself sees a use: the CLI's value enums derive clap's trait.
+    let cli = std::fs::read_to_string(root().join("src/cli/values.rs")).unwrap();
+    assert!(!uses_of(&cli, "clap").is_empty());
 }
 
 #[test]

@@ -18,24 +18,29 @@ fn bin() -> Command {
 
 /// The PNG bytes of the same render through each of `backends`.
 fn renders(backends: &[&str], size: &str, photons: &str, k: &str) -> Vec<Vec<u8>> {
+    let runs: Vec<Vec<&str>> = backends.iter().map(|b| vec!["--backend", b]).collect();
+    let runs: Vec<&[&str]> = runs.iter().map(|r| r.as_slice()).collect();
+    renders_with(&runs, size, photons, k)
+        .into_iter()
+        .map(|(png, _)| png)
+        .collect()
+}
+
+/// The PNG bytes and stdout of the same render with each of `runs`' options.
+fn renders_with(runs: &[&[&str]], size: &str, photons: &str, k: &str) -> Vec<(Vec<u8>, String)> {
     let dir = tempfile::tempdir().unwrap();
-    backends
-        .iter()
-        .map(|backend| {
-            let out = dir.path().join(format!("{backend}.png"));
-            bin()
+    runs.iter()
+        .enumerate()
+        .map(|(i, args)| {
+            let out = dir.path().join(format!("{i}.png"));
+            let run = bin()
                 .args(["render", "--size", size, "--spp", "1", "--photons", photons])
-                .args([
-                    "--k",
-                    k,
-                    "--backend",
-                    backend,
-                    "--out",
-                    out.to_str().unwrap(),
-                ])
+                .args(["--k", k, "--out", out.to_str().unwrap()])
+                .args(*args)
                 .assert()
                 .success();
-            std::fs::read(&out).unwrap()
+            let stdout = String::from_utf8_lossy(&run.get_output().stdout).to_string();
+            (std::fs::read(&out).unwrap(), stdout)
         })
         .collect()
 }
@@ -46,6 +51,91 @@ fn rtl_render_is_byte_identical_to_sw() {
     assert!(pngs[0] == pngs[1], "rtl and sw renders differ");
 }
 
+/// The core options reach the simulated core: the default hardware core is the
+/// barrel controller with the cell traversal, and the paper's QueryModules, an
+/// array of trees and a chosen Q render the very image the software search does.
+#[test]
+fn rtl_render_runs_the_chosen_core() {
+    let runs: [&[&str]; 3] = [
+        &["--backend", "sw"],
+        &["--backend", "rtl"],
+        &["--backend", "rtl", "--controller", "modules"],
+    ];
+    let out = renders_with(&runs, "12x10", "1200", "5");
+    let core = |s: &str| {
+        s.lines()
+            .find(|l| l.starts_with("core: "))
+            .unwrap_or_else(|| panic!("no core line in {s}"))
+            .to_string()
+    };
+    assert!(
+        core(&out[1].1).contains("barrel controller"),
+        "{}",
+        out[1].1
+    );
+    assert!(core(&out[1].1).contains("cell traversal"), "{}", out[1].1);
+    assert!(
+        core(&out[2].1).contains("modules controller"),
+        "{}",
+        out[2].1
+    );
+    assert!(
+        core(&out[2].1).contains("remember traversal"),
+        "{}",
+        out[2].1
+    );
+    for (png, stdout) in &out[1..] {
+        assert!(*png == out[0].0, "rtl and sw renders differ: {stdout}");
+    }
+    let runs: [&[&str]; 2] = [
+        &["--backend", "sw", "--traversal", "reread"],
+        &[
+            "--backend",
+            "rtl",
+            "--controller",
+            "modules",
+            "--traversal",
+            "reread",
+        ],
+    ];
+    let rr = renders_with(&runs, "12x10", "1200", "5");
+    assert!(
+        rr[0].0 == out[0].0 && rr[1].0 == out[0].0,
+        "reread renders differ"
+    );
+    let runs: [&[&str]; 1] = [&["--backend", "rtl", "--trees", "2", "--slots-per-port", "6"]];
+    let arr = renders_with(&runs, "12x10", "1200", "5");
+    assert!(core(&arr[0].1).contains("T = 2 tree(s)"), "{}", arr[0].1);
+    assert!(core(&arr[0].1).contains("(Q = 6)"), "{}", arr[0].1);
+    assert!(arr[0].0 == out[0].0, "the array's render differs");
+}
+
+/// `render --backend verilator --controller barrel --traversal cell` is
+/// byte-identical to the software search.
+#[test]
+#[cfg_attr(not(has_verilator), ignore = "needs verilator")]
+fn verilator_barrel_cell_render_is_byte_identical_to_sw() {
+    let runs: [&[&str]; 2] = [
+        &["--backend", "sw"],
+        &[
+            "--backend",
+            "verilator",
+            "--controller",
+            "barrel",
+            "--traversal",
+            "cell",
+        ],
+    ];
+    let out = renders_with(&runs, "24x16", "4000", "8");
+    assert!(
+        out[0].0 == out[1].0,
+        "verilator barrel and sw renders differ"
+    );
+}
+
+/// `gather --backend rtl` returns the exact k nearest with every core: the default
+/// (barrel, cell), the barrel port with a chosen number of slots, and the paper's
+/// QueryModules in an array of two trees.
 #[test]
 fn rtl_gather_returns_the_exact_k_nearest() {
     let mut r = rand_pcg::Pcg64Mcg::seed_from_u64(9);
@@ -74,7 +164,22 @@ fn rtl_gather_returns_the_exact_k_nearest() {
     let (pp, qp) = (dir.path().join("p.csv"), dir.path().join("q.csv"));
     std::fs::write(&pp, csv(&photons)).unwrap();
     std::fs::write(&qp, format!("x,y,z\n{}", csv(&queries))).unwrap();
-    for (metric, k, radius) in [("l2", 5, None), ("l1", 9, Some("150"))] {
+    let cores: [&[&str]; 3] = [
+        &[],
+        &["--controller", "barrel", "--slots-per-port", "5"],
+        &[
+            "--controller",
+            "modules",
+            "--modules-per-port",
+            "3",
+            "--trees",
+            "2",
+        ],
+    ];
+    for ((metric, k, radius), core) in [("l2", 5, None), ("l1", 9, Some("150"))]
+        .into_iter()
+        .flat_map(|case| cores.iter().map(move |c| (case, *c)))
+    {
         let out = dir.path().join(format!("{metric}.csv"));
         let mut cmd = bin();
         cmd.args([
@@ -92,7 +197,8 @@ fn rtl_gather_returns_the_exact_k_nearest() {
             "--queries",
             qp.to_str().unwrap(),
         ])
-        .args(["--out", out.to_str().unwrap()]);
+        .args(["--out", out.to_str().unwrap()])
+        .args(core);
         if let Some(r) = radius {
             cmd.args(["--radius", r]);
         }
@@ -239,7 +345,7 @@ fn verilator_gather_equals_rtl_on_hard_cases() {
 fn bench_core_runs_both_engines_and_a_whole_cornell_stream() {
     let out = bin()
         .args(["bench-core", "--queries", "20", "--address-bits", "6"])
-        .args(["--queries-per-port", "3", "--both-engines"])
+        .args(["--modules-per-port", "3", "--both-engines"])
         .assert()
         .success();
     let text = String::from_utf8_lossy(&out.get_output().stdout).to_string();

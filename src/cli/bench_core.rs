@@ -2,13 +2,15 @@
 //! against the software search, with reads per cycle and per query, and (on request)
 //! kiddo and the software search timed on the same queries.
 
-use super::core_args::CoreArgs;
-use clap::Args;
+use super::core_args::{describe_q, CoreArgs};
+use super::values::{EngineArg, TraversalArg};
+use clap::{Args, ValueEnum};
 use photon_fpga::host::error::{Error, Result};
+use photon_fpga::host::limits;
 use photon_fpga::hw::rtl::native::{Engine, SimOptions};
 
 /// The query streams `bench-core` can run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum WorkloadKind {
     /// Uniform random photons and queries on the core's grid (the paper's workload).
     Uniform,
@@ -20,7 +22,7 @@ pub enum WorkloadKind {
 pub struct BenchCoreArgs {
     #[command(flatten)]
     core: CoreArgs,
-    /// Queries to stream through the core [default: 400 uniform ones; with
+    /// Queries to stream through the core, at least 1 [default: 400 uniform ones; with
     /// `--workload cornell` every eye-ray query of the image, or an even sample of
     /// this many].
     #[arg(long)]
@@ -28,10 +30,9 @@ pub struct BenchCoreArgs {
     /// Seed of the random photon map (2^H − 1 photons) and queries.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// The workload: `uniform` (a full random map of 2^H − 1 photons on the core's
-    /// grid, uniform queries: the paper's) or `cornell` (the Cornell box's photon map
-    /// from --cornell-photons emitted photons on a --bits grid, queried at the
-    /// eye-ray hits of a --cornell-size image; H and the per-axis widths follow the map).
+    /// The workload (with `cornell`, the map comes from --cornell-photons emitted
+    /// photons on a --bits grid, queried at the eye-ray hits of a --cornell-size
+    /// image; H and the per-axis widths follow the map).
     #[arg(long, value_enum, default_value_t = WorkloadKind::Uniform)]
     workload: WorkloadKind,
     /// Emitted photons of the `cornell` workload.
@@ -45,8 +46,9 @@ pub struct BenchCoreArgs {
     /// Eye samples per pixel of the `cornell` workload.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     cornell_spp: u32,
-    /// Clock of the core in MHz (e.g. a placed-and-routed fmax from synth/REPORT.md):
-    /// prints the core's queries/s = reads/cycle × fmax / reads per query.
+    /// Clock of the core in MHz, a finite number > 0 (e.g. a placed-and-routed fmax
+    /// from synth/REPORT.md): prints the core's queries/s = reads/cycle × fmax /
+    /// reads per query.
     #[arg(long)]
     fmax_mhz: Option<f64>,
     /// Also time kiddo (ImmutableKdTree, f32) and the software search on the same
@@ -55,12 +57,11 @@ pub struct BenchCoreArgs {
     cpu: bool,
     /// Size Q from this stream (`CoreConfig::fit_queries_per_port`: the mean read
     /// interval of the software model plus slack) instead of the worst case.
-    #[arg(long, conflicts_with = "queries_per_port")]
+    #[arg(long, conflicts_with_all = ["modules_per_port", "slots_per_port", "queries_per_port"])]
     fit_q: bool,
-    /// The simulator: rust-hdl's native simulation or the exported Verilog under
-    /// Verilator (built on first use, cached under target/verilator/).
-    #[arg(long, value_enum, default_value_t = Engine::Native)]
-    engine: Engine,
+    /// The simulator.
+    #[arg(long, value_enum, default_value_t = EngineArg::Native)]
+    engine: EngineArg,
     /// Also run the stream on the other engine and report both speeds (the results
     /// and cycle counts must agree).
     #[arg(long)]
@@ -76,7 +77,15 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     use photon_fpga::hw::config::ReadProfile;
     use photon_fpga::hw::rtl::driver::HwQuery;
     use photon_fpga::hw::rtl::native::CoreSim;
-    let mut cfg = args.core.config()?;
+    if args.queries == Some(0) {
+        return Err(Error::new("--queries must be at least 1, got 0"));
+    }
+    if let Some(f) = args.fmax_mhz {
+        limits::check_positive("--fmax-mhz", f)?;
+    }
+    let engine: Engine = args.engine.into();
+    let spec = args.core.builder()?;
+    let mut cfg = spec.build()?;
     let w = if args.workload == WorkloadKind::Cornell {
         let settings = photon_fpga::host::render::RenderSettings {
             width: args.cornell_size.0,
@@ -91,10 +100,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
             cfg.layout.bits[0],
             &settings,
         );
-        cfg.layout = w.tree.layout;
-        cfg.address_bits = w.tree.address_bits();
-        cfg.validate()?;
-        cfg.check_map(w.tree.image())?;
+        cfg = spec.build_for(w.tree.image())?;
         // Every query of the image, or an even sample of --queries of them.
         let want = args.queries.unwrap_or(w.queries.len());
         let step = (w.queries.len() / want.max(1)).max(1);
@@ -139,7 +145,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         }
     );
     let opts = SimOptions {
-        engine: args.engine,
+        engine,
         ..SimOptions::default()
     };
     let mut sim = CoreSim::new(&cfg, &opts)?;
@@ -154,7 +160,10 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     let mut sw_visited = 0u64;
     let mut sw_tested = 0u64;
     // Every traversal's reads on the same queries (software search).
-    let traversals = <Traversal as clap::ValueEnum>::value_variants();
+    let traversals: Vec<Traversal> = TraversalArg::value_variants()
+        .iter()
+        .map(|&t| t.into())
+        .collect();
     let mut each_visited = vec![0u64; traversals.len()];
     for (q, r) in queries.iter().zip(&results) {
         let f = search_with(tree, q.coords, cfg.k, max, cfg.metric, cfg.traversal);
@@ -193,12 +202,12 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         .map(|r| format!("{:.3}", *r as f64 / st.busy_cycles.max(1) as f64))
         .collect();
     println!(
-        "core: T = {} tree(s), H = {}, K = {}, {} x {} QueryModules per tree, {} metric, {}-bit distances, {} traversal, issue interval {}",
+        "core: {} controller, T = {} tree(s), H = {}, K = {}, {} per tree, {} metric, {}-bit distances, {} traversal, issue interval {}",
+        cfg.controller,
         cfg.trees,
         cfg.address_bits,
         cfg.k,
-        photon_fpga::hw::config::PORTS,
-        cfg.queries_per_port,
+        describe_q(&cfg),
         cfg.metric,
         cfg.dist_bits(),
         cfg.traversal,
@@ -240,7 +249,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     );
     println!(
         "simulation speed ({:?}): {:.0} cycles/s",
-        args.engine,
+        engine,
         cycles as f64 / secs
     );
     if let Some(p) = passes {
@@ -255,7 +264,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     if args.both_engines {
         // The same stream on the other simulator, side by side in this run: the
         // results and cycle counts must be equal.
-        let other = match args.engine {
+        let other = match engine {
             Engine::Native => Engine::Verilator,
             Engine::Verilator => Engine::Native,
         };
@@ -274,7 +283,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         if results2 != results || cycles2 != cycles {
             return Err(Error::new(format!(
                 "{other:?} disagrees with {:?}: {cycles2} against {cycles} cycles",
-                args.engine
+                engine
             )));
         }
         println!(

@@ -1,15 +1,126 @@
-//! The elaboration-time options of a core, shared by `export-verilog` and
-//! `bench-core`.
+//! The options of a core. [`CoreOpts`] (controller, Q, traversal, trees,
+//! pipelining) is shared by every command that builds one: `render` and `gather`
+//! (whose grid, K and metric follow the photon map and the gather), and
+//! `export-verilog` and `bench-core`, which also take the grid ([`CoreArgs`]).
+//! Both go through the one validated constructor, `CoreBuilder::build`.
 
+use super::values::{ControllerArg, MetricArg, TraversalArg};
 use clap::Args;
 use photon_fpga::host::error::{Error, Result};
-use photon_fpga::hw::config::{CoreConfig, BARREL_SLOTS};
+use photon_fpga::hw::config::{CoreConfig, MAX_HW_COORD_BITS, PORTS};
+use photon_fpga::hw::config_builder::CoreBuilder;
 use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::traversal::Traversal;
 
-/// The elaboration-time parameters of a core.
+/// The core's options that do not follow from the photon map.
+#[derive(Args, Clone, Debug, Default)]
+pub struct CoreOpts {
+    /// Who runs a port's queries [default: barrel for render and gather (the best
+    /// core measured, synth/REPORT.md); modules (the paper's) for export-verilog and
+    /// bench-core].
+    #[arg(long, value_enum)]
+    pub controller: Option<ControllerArg>,
+    /// How the search climbs back up the tree (changes read counts, never
+    /// neighbours) [default: cell with the barrel controller, else remember].
+    #[arg(long, value_enum)]
+    pub traversal: Option<TraversalArg>,
+    /// QueryModules per TreeModule port, with --controller modules [default: the
+    /// issue interval, so a busy port reads every cycle; render and gather fit it
+    /// to their queries].
+    #[arg(long, conflicts_with = "slots_per_port")]
+    pub modules_per_port: Option<usize>,
+    /// Query slots per TreeModule port, with --controller barrel [default: 16].
+    #[arg(long)]
+    pub slots_per_port: Option<usize>,
+    /// Q of the chosen controller (QueryModules or query slots per port), the name
+    /// older scripts use.
+    #[arg(long, hide = true, conflicts_with_all = ["modules_per_port", "slots_per_port"])]
+    pub queries_per_port: Option<usize>,
+    /// Replicated trees T (the paper's future work): T copies of the core, each with
+    /// its own copy of the map, behind one set of streams [default: 1].
+    #[arg(long)]
+    pub trees: Option<usize>,
+    /// Leave out the pipeline registers (BlockRAM read data, result streams): two
+    /// cycles less latency, longer critical paths. For before/after timing.
+    #[arg(long)]
+    pub unpipelined: bool,
+}
+
+impl CoreOpts {
+    /// The controller chosen, or `default`.
+    pub fn controller_or(&self, default: Controller) -> Controller {
+        self.controller.map_or(default, Into::into)
+    }
+
+    /// The traversal chosen, or the default for `controller`: the cell bound with
+    /// the barrel controller (the best core measured), else remember.
+    pub fn traversal_for(&self, controller: Controller) -> Traversal {
+        self.traversal.map_or(
+            if controller == Controller::Barrel {
+                Traversal::Cell
+            } else {
+                Traversal::default()
+            },
+            Into::into,
+        )
+    }
+
+    /// The first option given that only a simulated core uses, if any.
+    pub fn hardware_option_given(&self) -> Option<&'static str> {
+        [
+            (self.controller.is_some(), "--controller"),
+            (self.modules_per_port.is_some(), "--modules-per-port"),
+            (self.slots_per_port.is_some(), "--slots-per-port"),
+            (self.queries_per_port.is_some(), "--queries-per-port"),
+            (self.trees.is_some(), "--trees"),
+            (self.unpipelined, "--unpipelined"),
+        ]
+        .into_iter()
+        .find_map(|(given, name)| given.then_some(name))
+    }
+
+    /// These options on top of `base` (grid, K and metric), with the controller
+    /// `default_controller` unless one is chosen. Q given under the other
+    /// controller's name is refused here, naming both options.
+    pub fn builder(
+        &self,
+        base: CoreBuilder,
+        default_controller: Controller,
+    ) -> Result<CoreBuilder> {
+        let controller = self.controller_or(default_controller);
+        match (controller, self.modules_per_port, self.slots_per_port) {
+            (Controller::Modules, _, Some(q)) => {
+                return Err(Error::new(format!(
+                    "--slots-per-port {q} sets the barrel controller's query slots; \
+                     --controller modules takes --modules-per-port"
+                )))
+            }
+            (Controller::Barrel, Some(q), _) => {
+                return Err(Error::new(format!(
+                    "--modules-per-port {q} sets the modules controller's QueryModules; \
+                     --controller barrel takes --slots-per-port"
+                )))
+            }
+            _ => {}
+        }
+        let mut b = base
+            .controller(controller)
+            .traversal(self.traversal_for(controller))
+            .trees(self.trees.unwrap_or(1))
+            .pipelined(!self.unpipelined);
+        if let Some(q) = self
+            .modules_per_port
+            .or(self.slots_per_port)
+            .or(self.queries_per_port)
+        {
+            b = b.queries_per_port(q);
+        }
+        Ok(b)
+    }
+}
+
+/// A whole core: its grid, K and metric (the paper's by default) and [`CoreOpts`].
 #[derive(Args)]
 pub struct CoreArgs {
     /// Found-list depth K (the largest k a query may ask for).
@@ -21,59 +132,40 @@ pub struct CoreArgs {
     /// Tree height H: the TreeModule holds 2^H photon words.
     #[arg(long, default_value_t = CoreConfig::paper().address_bits)]
     address_bits: u32,
-    /// QueryModules per TreeModule port [default: the issue interval, so a busy
-    /// port reads every cycle].
-    #[arg(long)]
-    queries_per_port: Option<usize>,
-    /// Distance metric: l1 (the paper's 12-bit distance) or l2 (squared Euclidean).
-    #[arg(long, default_value_t = CoreConfig::paper().metric)]
-    metric: Metric,
-    /// Leave out the pipeline registers (BlockRAM read data, result streams): two
-    /// cycles less latency, longer critical paths. For before/after timing.
-    #[arg(long)]
-    unpipelined: bool,
-    /// How a QueryModule climbs back up: remember (path memory, no re-reads),
-    /// reread (the paper's re-read of every parent) or cell (remember, pruning on
-    /// the distance to the far child's cell: fewest reads, more LUTs).
-    #[arg(long, default_value_t = Traversal::default())]
-    traversal: Traversal,
-    /// Replicated trees T (the paper's future work): T copies of the core, each with
-    /// its own copy of the map, behind one set of streams (src/hw/array.rs).
-    #[arg(long, default_value_t = 1)]
-    trees: usize,
-    /// Who runs a port's queries: modules (the paper's Q QueryModules) or barrel
-    /// (Q query slots in memory behind one pipelined datapath per port; needs
-    /// --traversal remember or cell; Q defaults to 16 slots).
-    #[arg(long, default_value_t = Controller::default())]
-    controller: Controller,
+    /// Distance metric (the default, l1, is the paper's 12-bit distance).
+    #[arg(long, value_enum, default_value_t = CoreConfig::paper().metric.into())]
+    metric: MetricArg,
+    #[command(flatten)]
+    pub opts: CoreOpts,
 }
 
 impl CoreArgs {
-    pub fn config(&self) -> Result<CoreConfig> {
-        if !(1..=photon_fpga::hw::config::MAX_HW_COORD_BITS).contains(&self.bits) {
+    /// The options as a builder (the paper's controller unless one is chosen).
+    pub fn builder(&self) -> Result<CoreBuilder> {
+        if !(1..=MAX_HW_COORD_BITS).contains(&self.bits) {
             return Err(Error::new(format!(
-                "--bits {} is out of range (1..={})",
-                self.bits,
-                photon_fpga::hw::config::MAX_HW_COORD_BITS
+                "--bits {} is out of range (1..={MAX_HW_COORD_BITS})",
+                self.bits
             )));
         }
-        let mut cfg = CoreConfig {
-            layout: PhotonLayout::new([self.bits; 3]),
-            address_bits: self.address_bits,
-            k: self.k,
-            queries_per_port: 1,
-            metric: self.metric,
-            pipelined: !self.unpipelined,
-            trees: self.trees,
-            traversal: self.traversal,
-            controller: self.controller,
-        };
-        let default_q = match self.controller {
-            Controller::Modules => cfg.issue_interval(),
-            Controller::Barrel => BARREL_SLOTS,
-        };
-        cfg.queries_per_port = self.queries_per_port.unwrap_or(default_q);
-        cfg.validate()?;
-        Ok(cfg)
+        let base = CoreConfig::builder()
+            .layout(PhotonLayout::new([self.bits; 3]))
+            .address_bits(self.address_bits)
+            .k(self.k)
+            .metric(self.metric.into());
+        self.opts.builder(base, Controller::Modules)
     }
+
+    pub fn config(&self) -> Result<CoreConfig> {
+        Ok(self.builder()?.build()?)
+    }
+}
+
+/// "2 x 21 QueryModules" or "2 x 16 query slots": a port's Q under its name.
+pub fn describe_q(cfg: &CoreConfig) -> String {
+    let what = match cfg.controller {
+        Controller::Modules => "QueryModules",
+        Controller::Barrel => "query slots",
+    };
+    format!("{PORTS} x {} {what}", cfg.queries_per_port)
 }

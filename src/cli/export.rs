@@ -1,7 +1,7 @@
 //! `photon-fpga export-verilog`: the configured core's Verilog, its glitch-free
 //! rewrite for event-driven simulators and optionally a registered shell.
 
-use crate::cli::core_args::CoreArgs;
+use crate::cli::core_args::{describe_q, CoreArgs};
 use clap::Args;
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::output::Output;
@@ -56,13 +56,14 @@ pub fn export(args: &ExportArgs) -> Result<()> {
         );
     }
     println!(
-        "wrote {}: T = {} tree(s), H = {}, K = {}, {} x {} QueryModules per tree, {}-bit coordinates, {} metric, {}-bit distances",
+        "wrote {}: {} controller, {} traversal, T = {} tree(s), H = {}, K = {}, {} per tree, {}-bit coordinates, {} metric, {}-bit distances",
         path.display(),
+        cfg.controller,
+        cfg.traversal,
         cfg.trees,
         cfg.address_bits,
         cfg.k,
-        photon_fpga::hw::config::PORTS,
-        cfg.queries_per_port,
+        describe_q(&cfg),
         cfg.layout.bits[0],
         cfg.metric,
         cfg.dist_bits()

@@ -27,9 +27,9 @@ pub struct GatherArgs {
 
 pub fn gather(args: &GatherArgs) -> Result<()> {
     set_threads(args.opts.threads)?;
-    let params = args.opts.params(10);
-    params.validate(1)?;
     args.opts.check()?;
+    let params = args.opts.params(10)?;
+    params.validate(1)?;
     let inputs = [args.photons.as_path(), args.queries.as_path()];
     let out = Output::check(&args.out, &inputs)?;
     let vcd = args.opts.vcd(&inputs)?;

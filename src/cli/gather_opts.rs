@@ -1,11 +1,17 @@
 //! The options every gather shares (render and gather): k, radius, bits, metric,
-//! traversal, backend, VCD, threads; validated before any work starts.
+//! backend, capacity, VCD, threads and the core's options; validated before any
+//! work starts.
 
+use super::core_args::CoreOpts;
+use super::values::MetricArg;
 use clap::Args;
 use photon_fpga::host::error::{Error, Result};
-use photon_fpga::host::gather::{BackendKind, GatherParams, DEFAULT_CAPACITY};
+use photon_fpga::host::gather::{BackendKind, GatherParams, HW_CAPACITY};
+use photon_fpga::host::limits::MEMORY_CAPACITY;
 use photon_fpga::host::output::{Output, Staged};
-use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::config::{CoreConfig, MAX_ADDRESS_BITS, MAX_HW_COORD_BITS};
+use photon_fpga::hw::controller::Controller;
+use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::rtl::native::SimOptions;
 use photon_fpga::hw::traversal::Traversal;
 use std::path::PathBuf;
@@ -20,22 +26,20 @@ pub struct GatherOpts {
     #[arg(long, allow_negative_numbers = true)]
     pub radius: Option<f64>,
     /// Coordinate bits on the longest axis of the photon bounding box [default: 10]
-    /// (the quantized backends sw and rtl; an error with --backend float).
+    /// (the quantized backends sw, rtl and verilator; an error with --backend float).
     #[arg(long)]
     pub bits: Option<u32>,
-    /// Distance metric: l2 (squared Euclidean) or l1 (Manhattan).
-    #[arg(long, default_value_t = Metric::L2)]
-    pub metric: Metric,
-    /// How the search climbs back up: remember (each level's axis distance, no
-    /// re-reads) or reread (the paper's). Changes read counts, never neighbours.
-    #[arg(long, default_value_t = Traversal::default())]
-    pub traversal: Traversal,
-    /// Who answers the gathers: float, sw or rtl.
-    #[arg(long, default_value_t = BackendKind::Sw)]
+    /// Distance metric.
+    #[arg(long, value_enum, default_value_t = MetricArg::L2)]
+    pub metric: MetricArg,
+    /// Who answers the gathers.
+    #[arg(long, value_enum, default_value_t = BackendKind::Sw)]
     pub backend: BackendKind,
-    /// Largest photon map accepted.
-    #[arg(long, default_value_t = DEFAULT_CAPACITY)]
-    pub capacity: usize,
+    /// Largest photon map accepted [default: what the backend can hold: 2^20 - 1
+    /// photons for rtl and verilator (the core's 20 address bits), the memory
+    /// budget for float and sw].
+    #[arg(long)]
+    pub capacity: Option<usize>,
     /// With --backend rtl or verilator: stream the simulation's waveform to this
     /// VCD file (also: env PHOTON_FPGA_VCD=path).
     #[arg(long)]
@@ -43,6 +47,11 @@ pub struct GatherOpts {
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
+    /// The simulated core (--backend rtl or verilator); its grid, K and metric
+    /// follow the photon map and the gather. --traversal also steers the software
+    /// searches.
+    #[command(flatten, next_help_heading = "Core options")]
+    pub core: CoreOpts,
 }
 
 impl GatherOpts {
@@ -77,21 +86,64 @@ impl GatherOpts {
     pub fn check(&self) -> Result<()> {
         if self.backend == BackendKind::Float && self.bits.is_some() {
             return Err(Error::new(
-                "--bits sets the grid of the quantized backends (sw, rtl); \
+                "--bits sets the grid of the quantized backends (sw, rtl, verilator); \
                  --backend float searches the unquantized positions",
             ));
+        }
+        if !self.backend.simulates() {
+            if let Some(flag) = self.core.hardware_option_given() {
+                return Err(Error::new(format!(
+                    "{flag} configures the simulated core; --backend {} runs none \
+                     (give --backend rtl or verilator)",
+                    self.backend
+                )));
+            }
         }
         Ok(())
     }
 
-    pub fn params(&self, default_k: usize) -> GatherParams {
-        GatherParams {
-            k: self.k.unwrap_or(default_k),
-            radius: self.radius,
-            bits: self.bits.unwrap_or(10),
-            metric: self.metric,
-            traversal: self.traversal,
-            capacity: self.capacity,
+    /// The gather's parameters, the core's options included, checked as far as
+    /// they can be before the photon map exists: a core that cannot be built for
+    /// any map (a bad combination, K, Q, T out of range) is refused now.
+    pub fn params(&self, default_k: usize) -> Result<GatherParams> {
+        let hw = self.backend.simulates();
+        let k = self.k.unwrap_or(default_k);
+        let metric = self.metric.into();
+        let bits = self.bits.unwrap_or(10);
+        let controller = self.core.controller_or(Controller::Barrel);
+        let traversal = if hw {
+            self.core.traversal_for(controller)
+        } else {
+            self.core.traversal.map_or(Traversal::default(), Into::into)
+        };
+        let base = CoreConfig::builder().k(k).metric(metric);
+        let core = self.core.builder(base, controller)?;
+        let capacity = match (self.capacity, hw) {
+            (Some(c), true) if c > HW_CAPACITY => {
+                return Err(Error::new(format!(
+                    "--capacity {c} exceeds what --backend {} can hold: the core addresses \
+                     at most {HW_CAPACITY} photons ({MAX_ADDRESS_BITS} address bits)",
+                    self.backend
+                )))
+            }
+            (Some(c), _) => c,
+            (None, true) => HW_CAPACITY,
+            (None, false) => MEMORY_CAPACITY,
+        };
+        if hw && k >= 1 {
+            // The map sets the grid; any grid the quantizer can make is tried later.
+            core.layout(PhotonLayout::new([bits.clamp(1, MAX_HW_COORD_BITS); 3]))
+                .address_bits(1)
+                .build()?;
         }
+        Ok(GatherParams {
+            k,
+            radius: self.radius,
+            bits,
+            metric,
+            traversal,
+            capacity,
+            core,
+        })
     }
 }

@@ -8,6 +8,10 @@ pub mod gather;
 pub mod gather_opts;
 pub mod render;
 pub mod study;
+pub mod values;
+
+#[cfg(test)]
+mod help_test;
 
 use photon_fpga::host::error::{Error, Result};
 

@@ -69,9 +69,9 @@ impl Default for RenderArgs {
 pub fn render(args: &RenderArgs) -> Result<()> {
     set_threads(args.opts.threads)?;
     // A radiance estimate wants more photons than a plain gather.
-    let params = args.opts.params(32);
-    params.validate(1)?;
     args.opts.check()?;
+    let params = args.opts.params(32)?;
+    params.validate(1)?;
     // Everything that can be refused is refused before any photon is traced.
     if args.photons == 0 || args.photons > MAX_EMITTED {
         return Err(Error::new(format!(

@@ -2,6 +2,7 @@
 //! Pareto plot, and the paper's Figs. 3–6 from the project's own runs.
 
 use crate::cli::set_threads;
+use crate::cli::values::EngineArg;
 use clap::Args;
 use indicatif::ProgressBar;
 use photon_fpga::host::error::Result;
@@ -32,7 +33,7 @@ pub struct StudyArgs {
     /// Simulator for the core's reads per cycle (default: Verilator when installed
     /// and not --quick, else rust-hdl's native simulation).
     #[arg(long, value_enum)]
-    pub engine: Option<Engine>,
+    pub engine: Option<EngineArg>,
     /// Worker threads (results do not depend on it).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -66,6 +67,7 @@ pub fn study(args: &StudyArgs) -> Result<()> {
     let out = OutDir::check(&args.out)?;
     let engine = args
         .engine
+        .map(Engine::from)
         .unwrap_or(if !args.quick && on_path("verilator") {
             Engine::Verilator
         } else {

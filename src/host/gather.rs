@@ -6,7 +6,8 @@ use crate::host::error::{Error, Result};
 use crate::host::map::kdtree::{KdTree, PackedTree};
 use crate::host::map::knn::{self, FloatDist, Scalar};
 use crate::host::map::quantize::{GridPoint, Point, Quantizer};
-use crate::hw::config::{CoreConfig, ReadProfile};
+use crate::hw::config::{CoreConfig, ReadProfile, MAX_ADDRESS_BITS};
+use crate::hw::config_builder::CoreBuilder;
 use crate::hw::metric::Metric;
 use crate::hw::rtl::driver::{HwQuery, SimStats};
 use crate::hw::rtl::native::{run_gather, Engine, SimOptions};
@@ -23,10 +24,10 @@ pub enum BackendKind {
     /// The paper's search on the packed, quantized tree (the hardware's reference).
     #[default]
     Sw,
-    /// The rust-hdl simulation of the photon-search core.
+    /// The photon-search core in rust-hdl's own simulation.
     Rtl,
-    /// The exported Verilog of the core under Verilator (same results and cycles
-    /// as rtl, much faster).
+    /// The core's exported Verilog under Verilator (the same results and cycles as
+    /// rtl, much faster).
     Verilator,
 }
 
@@ -48,8 +49,10 @@ impl BackendKind {
     }
 }
 
-/// Default photon capacity: 2^20 − 1 photons, a 20-bit tree address.
-pub const DEFAULT_CAPACITY: usize = (1 << 20) - 1;
+/// Photons a simulated core holds at most: 2^H − 1 for the largest tree height H.
+pub const HW_CAPACITY: usize = (1 << MAX_ADDRESS_BITS) - 1;
+/// Default photon capacity of [`GatherParams`]: what every backend can hold.
+pub const DEFAULT_CAPACITY: usize = HW_CAPACITY;
 
 /// What every gather asks for.
 #[derive(Clone, Debug, PartialEq)]
@@ -65,6 +68,10 @@ pub struct GatherParams {
     pub traversal: Traversal,
     /// Largest photon map accepted.
     pub capacity: usize,
+    /// The simulated core's options (rtl, verilator): controller, Q, trees,
+    /// pipelining. Its grid and H follow the map; K, metric and traversal are the
+    /// fields above.
+    pub core: CoreBuilder,
 }
 
 impl Default for GatherParams {
@@ -76,6 +83,7 @@ impl Default for GatherParams {
             metric: Metric::L2,
             traversal: Traversal::default(),
             capacity: DEFAULT_CAPACITY,
+            core: CoreBuilder::default(),
         }
     }
 }
@@ -398,11 +406,16 @@ impl GatherBackend for SwBackend {
     }
 }
 
-/// The gathers run through the rust-hdl simulation of the photon-search core,
-/// configured for this map ("model only what the scene needs": `CoreConfig::for_map`).
+/// The gathers run through a simulation of the photon-search core (rust-hdl's
+/// native one for `rtl`, the exported Verilog under Verilator for `verilator`),
+/// with the options of `GatherParams::core` built for this map ("model only what
+/// the scene needs": `CoreBuilder::build_for`).
 pub struct RtlBackend {
     pub map: QuantizedMap,
     pub config: CoreConfig,
+    /// Q was not given: it is sized from each batch of queries
+    /// (`CoreConfig::fit_queries_per_port`).
+    pub fit_q: bool,
     pub options: SimOptions,
     /// Cycle and read counts of the gathers so far, summed over simulations.
     pub stats: Mutex<Vec<SimStats>>,
@@ -411,11 +424,16 @@ pub struct RtlBackend {
 impl RtlBackend {
     pub fn new(photons: &[Point], params: &GatherParams, options: SimOptions) -> Result<Self> {
         let map = QuantizedMap::new(photons, params)?;
-        let mut config = CoreConfig::for_map(map.tree.image(), params.k, params.metric)?;
-        config.traversal = params.traversal;
+        let config = params
+            .core
+            .k(params.k)
+            .metric(params.metric)
+            .traversal(params.traversal)
+            .build_for(map.tree.image())?;
         Ok(RtlBackend {
             map,
             config,
+            fit_q: params.core.given_queries_per_port().is_none(),
             options,
             stats: Mutex::new(Vec::new()),
         })
@@ -432,13 +450,23 @@ impl GatherBackend for RtlBackend {
 
     fn describe(&self) -> Option<String> {
         let c = &self.config;
+        let q = match c.controller {
+            crate::hw::controller::Controller::Modules => "QueryModules",
+            crate::hw::controller::Controller::Barrel => "query slots",
+        };
+        let fitted = if self.fit_q {
+            format!("Q fitted to the queries, at most {}", c.queries_per_port)
+        } else {
+            format!("Q = {}", c.queries_per_port)
+        };
         Some(format!(
-            "{}\ncore: H = {}, K = {}, {} x Q QueryModules (Q fitted to the queries, at most {}), {} metric, {}-bit distances, {} traversal",
+            "{}\ncore: {} controller, T = {} tree(s), H = {}, K = {}, {} x Q {q} ({fitted}), {} metric, {}-bit distances, {} traversal",
             self.map.describe(),
+            c.controller,
+            c.trees,
             c.address_bits,
             c.k,
             crate::hw::config::PORTS,
-            c.queries_per_port,
             c.metric,
             c.dist_bits(),
             c.traversal
@@ -466,7 +494,7 @@ impl GatherBackend for RtlBackend {
                 GridPoint::Outside(g) => outside.push((i, g)),
             }
         }
-        // Right-sized Q: from what the software search costs on an even
+        // Right-sized Q, unless one was given: from what the software search costs on an even
         // sample of these queries, instead of the worst-case issue interval.
         let mut config = self.config;
         let profile: ReadProfile = hw
@@ -478,7 +506,9 @@ impl GatherBackend for RtlBackend {
                     .read_profile()
             })
             .sum();
-        config.fit_queries_per_port(&profile);
+        if self.fit_q {
+            config.fit_queries_per_port(&profile);
+        }
         // Each query's answer depends only on the map and the query, not on which
         // QueryModule or simulation serves it, so independent simulations of the
         // core on chunks of the stream give the same results for any thread count.

@@ -44,6 +44,10 @@ pub fn check_gather_memory(queries: u64, k: usize, photons: u64, what: &str) -> 
 /// its packed word, permutation entry and the kd-tree build's working copy.
 const PHOTON_BYTES: u64 = 128;
 
+/// The largest photon capacity within [`MEMORY_BUDGET`]: the limit of the backends
+/// that search in the host's memory (float, sw).
+pub const MEMORY_CAPACITY: usize = (MEMORY_BUDGET / PHOTON_BYTES) as usize;
+
 /// Refuse a photon capacity whose map would not fit [`MEMORY_BUDGET`] (a render
 /// stores up to `--capacity` photons).
 pub fn check_photon_memory(capacity: usize) -> Result<()> {

@@ -27,7 +27,8 @@ pub const MAX_WORD_BITS: u32 = 64;
 pub const MAX_HW_COORD_BITS: u32 = 15;
 /// Widest distance (in the configured metric).
 pub const MAX_DIST_BITS: u32 = 32;
-/// Tree height H limit: 2^20 photon words (the host's default capacity, 2^20 - 1).
+/// Tree height H limit: 2^20 photon words, so a core holds at most 2^20 - 1 photons
+/// (the photon limit of the hardware backends).
 pub const MAX_ADDRESS_BITS: u32 = 20;
 /// Found-list depth limit: one bit per entry in a MaxFinder row, 64 bits wide at most.
 pub const MAX_K: usize = 64;
@@ -42,7 +43,8 @@ pub const WIDE_SLOTS: usize = 64;
 /// layout's word (see `TreeModule`).
 pub const NARROW_WORD: usize = 32;
 pub const WIDE_WORD: usize = 64;
-/// QueryModules per port limit (one bit per module in the 32-bit arbiter masks).
+/// Q limit, QueryModules or query slots per port (one bit per module or slot in the
+/// 32-bit arbiter and slot masks).
 pub const MAX_QUERIES_PER_PORT: usize = 32;
 /// TreeModule ports = SearchModules (paper §4.5: both BlockRAM ports are used).
 pub const PORTS: usize = 2;
@@ -99,7 +101,10 @@ impl std::iter::Sum for ReadProfile {
     }
 }
 
-/// Elaboration-time parameters of one core.
+/// Elaboration-time parameters of one core. Made and checked by
+/// [`CoreBuilder`](crate::hw::config_builder::CoreBuilder) (`CoreConfig::builder()`,
+/// `CoreConfig::paper()`, `CoreConfig::for_map`): a combination the datapath cannot
+/// build is refused there, naming the option and its value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CoreConfig {
     /// Per-axis coordinate widths and the packed word layout.
@@ -108,7 +113,12 @@ pub struct CoreConfig {
     pub address_bits: u32,
     /// Found-list depth K: the largest k a query may ask for.
     pub k: usize,
-    /// QueryModules sharing each TreeModule port.
+    /// Q, the queries one TreeModule port runs at once. With [`Controller::Modules`]
+    /// it is the number of QueryModules per port (each its own controller,
+    /// MaxFinder and found list, paper §4.2); with [`Controller::Barrel`] the number
+    /// of query slots per port (entries of the slot memories behind the port's one
+    /// datapath). `CoreBuilder::modules_per_port` and `CoreBuilder::slots_per_port`
+    /// set it under the name that applies.
     pub queries_per_port: usize,
     /// Distance metric of DistModule / AxisDistModule.
     pub metric: Metric,
@@ -130,47 +140,6 @@ pub struct CoreConfig {
 }
 
 impl CoreConfig {
-    /// The paper's core (§4, §5): 10-bit coordinates in a 32-bit word, K = 10, two
-    /// ports. The metric is L1, the paper's 12-bit "absolute distance": with a 12-bit
-    /// distance one QueryModule issues a read every `8 + 12 = 20` cycles here, 18
-    /// unpipelined (the paper's Verilog needed 21), and Q = 21 per port as in the paper keeps every
-    /// port busy with slack. H = 10 holds the paper's 1023-photon map.
-    pub fn paper() -> Self {
-        CoreConfig {
-            layout: PhotonLayout::paper(),
-            address_bits: 10,
-            k: 10,
-            queries_per_port: 21,
-            metric: Metric::L1,
-            pipelined: true,
-            trees: 1,
-            traversal: Traversal::default(),
-            controller: Controller::default(),
-        }
-    }
-
-    /// "Model only what the scene needs": the smallest core for `tree` and `k`
-    /// (H = the tree height, the tree's own coordinate widths, K = k) with Q set to
-    /// the issue interval of a QueryModule, so a port reads every cycle when all its
-    /// QueryModules are busy.
-    pub fn for_map(tree: TreeImage<'_>, k: usize, metric: Metric) -> Result<Self, HwError> {
-        let mut cfg = CoreConfig {
-            layout: tree.layout,
-            address_bits: tree.address_bits().max(1),
-            k,
-            queries_per_port: 1,
-            metric,
-            pipelined: true,
-            trees: 1,
-            traversal: Traversal::default(),
-            controller: Controller::default(),
-        };
-        cfg.queries_per_port = cfg.issue_interval().min(MAX_QUERIES_PER_PORT);
-        cfg.validate()?;
-        cfg.check_map(tree)?;
-        Ok(cfg)
-    }
-
     /// Bits of a distance in this metric and layout.
     pub fn dist_bits(&self) -> u32 {
         self.metric.dist_bits(self.layout.bits)
@@ -288,29 +257,33 @@ impl CoreConfig {
         1 << self.address_bits
     }
 
-    /// Check every limit of the fixed-width datapath.
+    /// Check every limit of the fixed-width datapath (`CoreBuilder::build` does; for
+    /// a configuration changed field by field since).
     pub fn validate(&self) -> Result<(), HwError> {
         let b = self.layout.bits;
         if b.iter().any(|&w| w == 0 || w > MAX_HW_COORD_BITS) {
             return Err(HwError::Config(format!(
-                "coordinate widths {b:?} unsupported (1..={MAX_HW_COORD_BITS} bits per axis)"
+                "layout bits = {b:?}: coordinate widths unsupported (1..={MAX_HW_COORD_BITS} bits per axis)"
             )));
         }
         if self.layout.word_bits() > MAX_WORD_BITS {
-            return Err(HwError::Config(format!("photon word of {} bits exceeds the {MAX_WORD_BITS}-bit TreeModule word (coordinate widths {b:?})",
+            return Err(HwError::Config(format!(
+                "layout bits = {b:?}: a photon word of {} bits exceeds the {MAX_WORD_BITS}-bit \
+                 TreeModule word",
                 self.layout.word_bits()
             )));
         }
         if self.dist_bits() > MAX_DIST_BITS {
             return Err(HwError::Config(format!(
-                "{} distance needs {} bits, the datapath has {MAX_DIST_BITS}",
+                "metric = {} on coordinate widths {b:?}: distances need {} bits, the \
+                 datapath has {MAX_DIST_BITS}",
                 self.metric,
                 self.dist_bits()
             )));
         }
         if self.address_bits == 0 || self.address_bits > MAX_ADDRESS_BITS {
             return Err(HwError::Config(format!(
-                "{} address bits unsupported (1..={MAX_ADDRESS_BITS}, at most {} photons)",
+                "address_bits (H) = {} unsupported (1..={MAX_ADDRESS_BITS}, at most {} photons)",
                 self.address_bits,
                 (1u64 << MAX_ADDRESS_BITS) - 1
             )));
@@ -323,19 +296,24 @@ impl CoreConfig {
         }
         if self.trees == 0 || self.trees > MAX_TREES {
             return Err(HwError::Config(format!(
-                "{} replicated trees unsupported (1..={MAX_TREES})",
+                "trees = {}: replicated trees unsupported (1..={MAX_TREES})",
                 self.trees
             )));
         }
         if self.queries_per_port == 0 || self.queries_per_port > MAX_QUERIES_PER_PORT {
+            let (name, what) = match self.controller {
+                Controller::Modules => ("modules_per_port", "QueryModules"),
+                Controller::Barrel => ("slots_per_port", "query slots"),
+            };
             return Err(HwError::Config(format!(
-                "{} QueryModules per port unsupported (1..={MAX_QUERIES_PER_PORT})",
+                "{name} = {} unsupported (1..={MAX_QUERIES_PER_PORT} {what} per port)",
                 self.queries_per_port
             )));
         }
         if self.controller == Controller::Barrel && !self.traversal.remembers() {
             return Err(HwError::Config(format!(
-                "the barrel controller needs a traversal that remembers the path (remember, cell), not {}",
+                "traversal = {} with controller barrel: the barrel controller needs a traversal \
+                 that remembers the path (remember, cell)",
                 self.traversal
             )));
         }

@@ -10,7 +10,7 @@
 use std::fmt;
 
 /// The controller of a port's queries.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum Controller {
     /// Q QueryModules per port, a round-robin arbiter (the paper's). The default.
     #[default]

@@ -8,7 +8,7 @@
 use std::fmt;
 
 /// Distance metric on quantized integer coordinates.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum Metric {
     /// Squared Euclidean distance (no square root anywhere in hardware).
     #[default]

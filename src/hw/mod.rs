@@ -52,6 +52,7 @@ pub mod barrel_port;
 pub mod block_ram;
 pub mod cell_bound;
 pub mod config;
+pub mod config_builder;
 pub mod controller;
 pub mod core;
 pub mod dispatcher;

@@ -32,7 +32,7 @@
 use std::fmt;
 
 /// The ascent of the kd-tree search.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum Traversal {
     /// Remember each level's axis distance on the way down; the ascent reads nothing
     /// (reads per query = distance tests). The default.

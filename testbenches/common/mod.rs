@@ -118,15 +118,12 @@ pub fn small_config(
     q: usize,
     metric: Metric,
 ) -> CoreConfig {
-    CoreConfig {
-        layout,
-        address_bits,
-        k,
-        queries_per_port: q,
-        metric,
-        pipelined: true,
-        trees: 1,
-        traversal: Default::default(),
-        controller: Default::default(),
-    }
+    CoreConfig::builder()
+        .layout(layout)
+        .address_bits(address_bits)
+        .k(k)
+        .modules_per_port(q)
+        .metric(metric)
+        .build()
+        .expect("a small core within the limits")
 }

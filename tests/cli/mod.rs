@@ -271,7 +271,7 @@ fn export_verilog_files_and_errors() {
     ];
     bin()
         .args(args)
-        .args(["--queries-per-port", "2", "--shell-trees", "2", "--out"])
+        .args(["--modules-per-port", "2", "--shell-trees", "2", "--out"])
         .arg(&out)
         .assert()
         .success();
@@ -308,7 +308,7 @@ fn export_verilog_files_and_errors() {
     refused(
         dir.path(),
         &export(&["--trees", "9"]),
-        "9 replicated trees unsupported (1..=8)",
+        "trees = 9: replicated trees unsupported (1..=8)",
     );
     refused(
         dir.path(),
@@ -344,4 +344,5 @@ fn gather_lines(args: &[&str], out: &Path) -> Vec<String> {
         .collect()
 }
 
+mod backends;
 mod limits;

@@ -32,7 +32,7 @@ pub struct SimOptions {
 }
 
 /// The simulator behind the driver.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Engine {
     /// rust-hdl's own simulation of the blocks (VCD traces).
     #[default]

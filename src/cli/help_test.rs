@@ -1,0 +1,66 @@
+//! Every value of every enum-valued option of every subcommand is offered and
+//! explained in that subcommand's `--help`: the value lists come from the enums
+//! (`ValueEnum::value_variants`), never from hand-written help strings.
+
+use super::values::all_value_lists;
+use clap::CommandFactory;
+
+#[test]
+fn every_value_of_every_enum_option_is_in_its_commands_help() {
+    let lists = all_value_lists();
+    let mut cli = crate::Cli::command();
+    cli.build();
+    let mut checked = vec![];
+    for sub in cli.get_subcommands() {
+        let help = sub.clone().render_long_help().to_string();
+        for arg in sub.get_arguments() {
+            if !arg.get_action().takes_values() || arg.is_hide_set() {
+                continue;
+            }
+            let values = arg.get_possible_values();
+            if values.is_empty() {
+                continue;
+            }
+            let id = format!("{} --{}", sub.get_name(), arg.get_id());
+            let names: Vec<String> = values.iter().map(|v| v.get_name().to_string()).collect();
+            // The option offers exactly one enum's variants, all of them.
+            assert!(
+                lists.contains(&names),
+                "{id}: values {names:?} are not one enum's value_variants {lists:?}"
+            );
+            for v in &values {
+                let line = format!("- {}", v.get_name());
+                assert!(help.contains(&line), "{id}: `{line}` missing from\n{help}");
+                let doc = v.get_help().map(|h| h.to_string()).unwrap_or_default();
+                assert!(!doc.is_empty(), "{id} {}: no help text", v.get_name());
+                let first = doc.split_whitespace().take(3).collect::<Vec<_>>().join(" ");
+                assert!(
+                    help.split_whitespace()
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                        .contains(&first),
+                    "{id} {}: its help `{doc}` is missing",
+                    v.get_name()
+                );
+            }
+            checked.push(id);
+        }
+    }
+    // The options the commands share are among those checked.
+    for id in [
+        "render --backend",
+        "render --controller",
+        "render --traversal",
+        "gather --traversal",
+        "gather --metric",
+        "export-verilog --controller",
+        "bench-core --engine",
+        "bench-core --workload",
+        "study --engine",
+    ] {
+        assert!(
+            checked.iter().any(|c| c == id),
+            "{id} not checked: {checked:?}"
+        );
+    }
+}

@@ -1,0 +1,103 @@
+//! The command line's names for the library's enums. The hardware layer knows no
+//! command line, so each value list is declared here once, with the help text of
+//! every value, and converts to and from the library's type; an exhaustive `match`
+//! both ways makes a value added to the library a compile error here until it gets
+//! a name and a help text.
+
+use clap::ValueEnum;
+use photon_fpga::hw::controller::Controller;
+use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::rtl::native::Engine;
+use photon_fpga::hw::traversal::Traversal;
+
+/// A command-line enum mirroring the library's `$lib`, variant for variant.
+macro_rules! mirror {
+    ($(#[$m:meta])* $name:ident => $lib:ident { $($(#[$vm:meta])* $v:ident),+ $(,)? }) => {
+        $(#[$m])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+        pub enum $name {
+            $($(#[$vm])* $v),+
+        }
+        impl From<$name> for $lib {
+            fn from(v: $name) -> Self {
+                match v {
+                    $($name::$v => $lib::$v),+
+                }
+            }
+        }
+        impl From<$lib> for $name {
+            fn from(v: $lib) -> Self {
+                match v {
+                    $($lib::$v => $name::$v),+
+                }
+            }
+        }
+    };
+}
+
+mirror! {
+    /// `--metric`: the distance of the search (paper §4.4).
+    MetricArg => Metric {
+        /// Squared Euclidean distance (no square root in hardware).
+        L2,
+        /// Manhattan distance (the paper's 12-bit "absolute distance").
+        L1,
+    }
+}
+
+mirror! {
+    /// `--traversal`: how the search climbs back up the tree (paper §2.2, §4.3).
+    TraversalArg => Traversal {
+        /// Remember each level's axis distance on the way down: the ascent reads
+        /// nothing (reads per query = distance tests).
+        Remember,
+        /// The paper's search: re-read every parent on the way up.
+        Reread,
+        /// Remember the path and prune on the distance to the far child's cell
+        /// (Arya and Mount): fewest reads.
+        Cell,
+    }
+}
+
+mirror! {
+    /// `--controller`: who runs a port's queries.
+    ControllerArg => Controller {
+        /// Q QueryModules per port behind a round-robin arbiter (the paper's, §4.2).
+        Modules,
+        /// Q query slots in memory behind one pipelined datapath per port: about a
+        /// fifth of the LUTs for nearly the same queries/s. Needs a traversal that
+        /// remembers the path (remember, cell).
+        Barrel,
+    }
+}
+
+mirror! {
+    /// `--engine`: the simulator that runs the core.
+    EngineArg => Engine {
+        /// rust-hdl's own simulation of the blocks.
+        Native,
+        /// The exported Verilog under Verilator (built on first use, cached under
+        /// target/verilator/).
+        Verilator,
+    }
+}
+
+/// Every command-line enum's value names, for the help test.
+#[cfg(test)]
+pub fn all_value_lists() -> Vec<Vec<String>> {
+    fn names<T: ValueEnum>() -> Vec<String> {
+        T::value_variants()
+            .iter()
+            .filter_map(|v| v.to_possible_value())
+            .map(|p| p.get_name().to_string())
+            .collect()
+    }
+    vec![
+        names::<MetricArg>(),
+        names::<TraversalArg>(),
+        names::<ControllerArg>(),
+        names::<EngineArg>(),
+        names::<photon_fpga::host::gather::BackendKind>(),
+        names::<super::bench_core::WorkloadKind>(),
+    ]
+}

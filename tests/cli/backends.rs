@@ -1,0 +1,124 @@
+//! Each backend's own limits and the core options: refused by name, with exit
+//! status 2 and nothing left behind, before any work starts.
+
+use super::*;
+
+/// Class 8: a backend's photon limit is its own. The simulated core holds at most
+/// 2^20 − 1 photons (its 20 address bits) and a larger --capacity is refused up
+/// front; the float and sw searches are bounded by memory alone, so a render of
+/// more than 2^20 stored photons runs on them with no flag.
+#[test]
+fn each_backend_has_its_own_photon_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r.png").display().to_string();
+    let render = |extra: &[&str]| cmdline(&["render", "--out", &out], extra);
+    for backend in ["rtl", "verilator"] {
+        refused(
+            dir.path(),
+            &render(&["--backend", backend, "--capacity", "2000000"]),
+            &format!("--capacity 2000000 exceeds what --backend {backend} can hold"),
+        );
+    }
+    let run = bin()
+        .args(render(&["--backend", "float", "--photons", "2000000"]))
+        .args(["--size", "4x4", "--spp", "1"])
+        .assert()
+        .success();
+    let stdout = String::from_utf8_lossy(&run.get_output().stdout).to_string();
+    let stored: usize = stdout
+        .split(" photons stored")
+        .next()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no stored count in {stdout}"));
+    assert!(stored > (1 << 20) - 1, "{stored} stored: {stdout}");
+}
+
+/// Class 9: bench-core refuses a stream of no queries and a clock that is not a
+/// finite positive number before simulating anything.
+#[test]
+fn bench_core_refuses_no_queries_and_bad_clocks() {
+    let dir = tempfile::tempdir().unwrap();
+    refused(
+        dir.path(),
+        &strings(&["bench-core", "--queries", "0"]),
+        "--queries must be at least 1, got 0",
+    );
+    for f in ["NaN", "inf", "-inf", "0", "-5"] {
+        refused(
+            dir.path(),
+            &strings(&["bench-core", &format!("--fmax-mhz={f}")]),
+            "--fmax-mhz must be a finite number > 0",
+        );
+    }
+}
+
+/// Class 10: the core options are checked before any work: Q under the name of
+/// the other controller, the barrel controller with the re-read ascent, core
+/// limits, and core options given to a backend that runs no core.
+#[test]
+fn core_options_are_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r.png").display().to_string();
+    let v = dir.path().join("v").display().to_string();
+    let render = |extra: &[&str]| cmdline(&["render", "--out", &out, "--backend", "rtl"], extra);
+    refused(
+        dir.path(),
+        &render(&["--controller", "modules", "--slots-per-port", "4"]),
+        "--slots-per-port 4 sets the barrel controller's query slots",
+    );
+    refused(
+        dir.path(),
+        &render(&["--modules-per-port", "4"]),
+        "--modules-per-port 4 sets the modules controller's QueryModules",
+    );
+    refused(
+        dir.path(),
+        &render(&["--controller", "barrel", "--traversal", "reread"]),
+        "traversal = reread with controller barrel",
+    );
+    refused(dir.path(), &render(&["--trees", "9"]), "trees = 9");
+    refused(
+        dir.path(),
+        &render(&["--slots-per-port", "40"]),
+        "slots_per_port = 40 unsupported (1..=32",
+    );
+    for backend in ["sw", "float"] {
+        refused(
+            dir.path(),
+            &strings(&[
+                "render",
+                "--out",
+                &out,
+                "--backend",
+                backend,
+                "--controller",
+                "barrel",
+            ]),
+            &format!("--controller configures the simulated core; --backend {backend} runs none"),
+        );
+    }
+    refused(
+        dir.path(),
+        &strings(&[
+            "export-verilog",
+            "--out",
+            &v,
+            "--controller",
+            "barrel",
+            "--modules-per-port",
+            "4",
+        ]),
+        "--modules-per-port 4 sets the modules controller's QueryModules",
+    );
+    refused(
+        dir.path(),
+        &strings(&[
+            "bench-core",
+            "--traversal",
+            "reread",
+            "--controller",
+            "barrel",
+        ]),
+        "traversal = reread with controller barrel",
+    );
+}
