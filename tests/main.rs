@@ -1,7 +1,7 @@
 //! The host-side tests in one test binary: the software kNN against brute force,
 //! the renderer, the CLI (end to end through the binary, with its error paths), the
 //! `rtl` backend through the CLI, the layering of the source tree, numerical
-//! stability of the radiance estimate and `photon-fpga study` (issue 12).
+//! stability of the radiance estimate and `photon-fpga study`.
 
 mod cli;
 mod knn;

@@ -1,4 +1,4 @@
-//! Numerical stability of the radiance estimate on hard cases (issue 12, item 3).
+//! Numerical stability of the radiance estimate on hard cases.
 //! The same scene at scales 1e-6 and 1e6 is `cli::limits::scenes_at_any_scale`
 //! (the CLI renders the same image); the kNN hard cases (one point, a plane, a
 //! line, split-plane ties) are in `knn`. Here: what the renderer makes of them —

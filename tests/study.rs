@@ -1,4 +1,4 @@
-//! `photon-fpga study` (issue 12) through the binary: `--quick` writes the table,
+//! `photon-fpga study` through the binary: `--quick` writes the table,
 //! the CSV and the plots, and the table keeps its invariants; the error measures
 //! against independent computations; bad input refused before any work.
 

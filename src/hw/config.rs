@@ -178,7 +178,7 @@ impl CoreConfig {
                 / reads
     }
 
-    /// Right-sized Q (issue 11): enough QueryModules that a port still reads a
+    /// Right-sized Q ("model only what the scene needs"): enough QueryModules that a port still reads a
     /// photon nearly every cycle on this stream — the mean read interval with 25 %
     /// slack for the queueing at the arbiter (measured: ≥ 0.98 reads per port per
     /// cycle on the paper workload and a Cornell-box stream, testbenches/hw_throughput),
@@ -226,7 +226,7 @@ impl CoreConfig {
         self.trees * PORTS * self.queries_per_port
     }
 
-    /// Query-id bits the core keeps (issue 11, "only what the scene needs"): the
+    /// Query-id bits the core keeps (only what the scene needs): the
     /// host tags queries from a pool of `2^id_bits` tags, twice the queries that can
     /// be in flight (one per QueryModule, plus up to two result beats held in each
     /// port's ResultRegister after its QueryModule was freed). The core returns the

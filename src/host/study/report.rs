@@ -261,7 +261,7 @@ fn table(out: &mut String, rows: &[&Row]) {
 /// `STUDY.md`.
 pub fn markdown(plan: &Plan, sweep: &Sweep, figs: &Figures, command: &str) -> String {
     let mut o = String::new();
-    let _ = writeln!(o, "# Speed against error: the study (issue 12)\n");
+    let _ = writeln!(o, "# Speed against error: the study\n");
     let _ = writeln!(
         o,
         "Regenerate: `{command}`. Image {}x{}, {} eye sample(s) per pixel, seed {}; \
