@@ -416,8 +416,8 @@ fn verilator_small_and_paper_config() {
     ignore = "needs iverilog and verilator"
 )]
 fn broken_export_is_caught() {
-    const GOOD: &str = "idle = (free_mask & all_modules) == all_modules;";
-    const BAD: &str = "idle = free_mask & all_modules == all_modules;";
+    const GOOD: &str = "io$idle = (free_mask & all_modules) == all_modules;";
+    const BAD: &str = "io$idle = free_mask & all_modules == all_modules;";
     let sims = [Simulator::Verilator, Simulator::Icarus];
     sims.into_iter().for_each(require);
     let (cfg, cases) = small_cases();

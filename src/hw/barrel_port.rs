@@ -1,12 +1,11 @@
 //! BarrelPort: one TreeModule port whose Q queries share one traversal datapath
-//! (`Controller::Barrel`, issue 11). The interface is the [`SearchPort`]'s.
+//! (`Controller::Barrel`). The interface is the [`SearchPort`]'s.
 //!
 //! Why: a port reads at most one photon per cycle and its SearchModule answers at
 //! most one read per cycle, so at most one query per cycle has anything to decide.
 //! The paper's port (§4.5) gives each of its Q queries a whole QueryModule — a
 //! MaxFinder, comparators and a state machine — of which all but one wait in any
-//! cycle: 28 QueryModules were 90 % of the cell-traversal core's 21.7 K ECP5 LUT4s,
-//! and the largest array that routes on the ECP5-85k (T = 2) reached 5.1x kiddo.
+//! cycle, and the QueryModules are most of the core's logic.
 //! Here a query is a slot: its state lives in LUT-RAM and BlockRAM entries, and a
 //! result is processed by a pipeline that reads the slot's state, updates it and
 //! issues the slot's next read, one event per cycle, like a barrel processor.
@@ -19,10 +18,10 @@
 //! and the state read in stage A is always the one written by the slot's last
 //! event in stage F:
 //! * **A** — read the slot's state (LUT-RAM, asynchronous, by slot index); a
-//!   photon in range enters the found list (while not full at slot `count`, else
-//!   over the maximum's slot: knn.rs's `FoundList`); this level's pending bit.
+//!   photon in range enters the found list ([`FoundRule`], the QueryModule's);
+//!   this level's pending bit.
 //! * **B** — this level's pruning bound and (`Cell`) far-cell offsets are
-//!   remembered (from registers: computed in A they were on A's critical path).
+//!   remembered (from registers: computed in A they would lengthen A's path).
 //! * **B**, **C**, **M** — when the list became or was full, its new maximum and
 //!   the lowest slot holding it: a tree of comparators over the K entries, one
 //!   level in B, two in C, the rest in M (paper §4.4 finds it bit-serially, one
@@ -41,23 +40,26 @@
 //! slot reads every 11 cycles and 16 slots keep the port busy
 //! ([`BARREL_SLOTS`](crate::hw::config::BARREL_SLOTS)).
 //!
-//! Result read-out is the SearchPort's, two photons a beat: a header beat, then
-//! the found photons in list-slot order, from two BlockRAMs (even and odd entries)
-//! written as photons enter the list. One photon a beat, an array of barrel cores
-//! answered more queries per cycle than its one result stream carries (T = 8:
-//! 7.3 reads per cycle of 16 ports, a header and ten photons per query).
+//! Result read-out is the SearchPort's packet format ([`SlotReadout`]), two photons a
+//! beat: a header beat, then the found photons in list-slot order, from two
+//! BlockRAMs (even and odd entries) written as photons enter the list. Two a beat
+//! because the port answers a query about every eleven cycles per slot, so an
+//! array of barrel cores answers more queries per cycle than one photon a beat on
+//! its one result stream carries.
 
 use crate::hw::block_ram::{BlockRam, BramIndex, BramWord};
 use crate::hw::config::{
-    bits_for, low_mask, Addr, CoreConfig, Count, Dist, LevelMask, ModuleIndex, ModuleMask,
-    ReadCount, Word,
+    bits_for, Addr, CoreConfig, Dist, LevelMask, ModuleIndex, ModuleMask, ReadCount,
 };
 use crate::hw::found_max::FoundMax;
+use crate::hw::found_rule::FoundRule;
+use crate::hw::free_pick::FreePick;
 use crate::hw::lut_ram::{LutRam, RamIndex};
+use crate::hw::query_limits::QueryLimits;
 use crate::hw::search_module::SearchModule;
 use crate::hw::slot_readout::SlotReadout;
 use crate::hw::slot_store::{SlotEvent, SlotStore};
-use crate::hw::stream::{QueryBeat, ResultBeat, StreamIn, StreamOut};
+use crate::hw::stream::PortIo;
 use crate::hw::traversal::Traversal;
 use rust_hdl::prelude::*;
 
@@ -65,18 +67,10 @@ use rust_hdl::prelude::*;
 pub struct BarrelPort<const W: usize> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, bool>,
-    pub photon_count: Signal<In, Addr>,
-    /// TreeModule port: read address now, word next cycle.
-    pub ram_address: Signal<Out, Addr>,
-    pub ram_data: Signal<In, Word<W>>,
-    /// Queries, ready while a slot is free and no result takes stage A.
-    pub query: StreamIn<QueryBeat>,
-    /// Result packets.
-    pub result: StreamOut<ResultBeat>,
-    /// Status: a read was issued this cycle; every slot is occupied; none is.
-    pub reading: Signal<Out, bool>,
-    pub all_busy: Signal<Out, bool>,
-    pub idle: Signal<Out, bool>,
+    /// Photon count, TreeModule port, queries (ready while a slot is free and no
+    /// result takes stage A), result packets, status (a read was issued this
+    /// cycle; every slot is occupied; none is).
+    pub io: PortIo<W>,
     search: SearchModule<W>,
     /// `Traversal::Cell`: prune on the far cell's distance, restore its offsets.
     cell_mode: Constant<bool>,
@@ -85,7 +79,6 @@ pub struct BarrelPort<const W: usize> {
     /// The widths the configuration needs (every register is loaded through them).
     dist_mask: Constant<Dist>,
     addr_mask: Constant<Addr>,
-    count_mask: Constant<Count>,
     visited_mask: Constant<ReadCount>,
     level_mask: Constant<RamIndex>,
     pending_mask: Constant<LevelMask>,
@@ -95,7 +88,6 @@ pub struct BarrelPort<const W: usize> {
     level_shift: Constant<BramIndex>,
     dist_shift: Constant<Bits<8>>,
     dist_mask_wide: Constant<BramWord>,
-    slot_index: Vec<Constant<ModuleIndex>>,
     level_index: Vec<Constant<RamIndex>>,
     /// The slot state, one LUT-RAM entry per slot and field: read in A, written
     /// back in F.
@@ -118,7 +110,9 @@ pub struct BarrelPort<const W: usize> {
     a_slot: Signal<Local, ModuleIndex>,
     a_ev: Signal<Local, SlotEvent>,
     a_insert: Signal<Local, bool>,
-    a_pos: Signal<Local, RamIndex>,
+    /// The found list's rule and a new query's radius and k.
+    a_rule: FoundRule<RamIndex>,
+    a_limits: QueryLimits,
     b_axis_off: Signal<Local, Dist>,
     a_level_bit: Signal<Local, LevelMask>,
     /// This level's pruning bound, and (`Cell`) its entry of the offsets BlockRAMs.
@@ -126,15 +120,8 @@ pub struct BarrelPort<const W: usize> {
     b_far_index: Signal<Local, BramIndex>,
     b_far_xy: Signal<Local, BramWord>,
     b_far_zd: Signal<Local, BramWord>,
-    /// Free slots but the one loaded now; the lowest of them and its index.
-    still_free: Signal<Local, ModuleMask>,
-    free_pick: Signal<Local, ModuleMask>,
-    free_pick_index: Signal<Local, ModuleIndex>,
-    /// The slot the next query goes to, picked a cycle ahead (one-hot, its index,
-    /// whether there is one).
-    load_pick: DFF<ModuleMask>,
-    load_pick_index: DFF<ModuleIndex>,
-    load_pick_valid: DFF<bool>,
+    /// The slot the next query goes to, picked a cycle ahead.
+    free_pick: FreePick,
     // Stages B, C, M (the comparator tree is `found_max`'s).
     b_ev: DFF<SlotEvent>,
     c_ev: DFF<SlotEvent>,
@@ -167,7 +154,6 @@ impl<const W: usize> BarrelPort<W> {
         let cell = cfg.traversal == Traversal::Cell;
         let db = cfg.dist_bits();
         let levels = cfg.path_levels().max(1);
-        let entry_bits = bits_for(cfg.k.saturating_sub(1) as u64);
         let level_bits = bits_for(levels.saturating_sub(1) as u64);
         let slot_bits = bits_for(q.saturating_sub(1) as u64);
         let cell_bits = if cell { db } else { 1 };
@@ -175,33 +161,20 @@ impl<const W: usize> BarrelPort<W> {
         BarrelPort {
             clock: Default::default(),
             reset: Default::default(),
-            photon_count: Default::default(),
-            ram_address: Default::default(),
-            ram_data: Default::default(),
-            query: Default::default(),
-            result: Default::default(),
-            reading: Default::default(),
-            all_busy: Default::default(),
-            idle: Default::default(),
+            io: Default::default(),
             search: SearchModule::new(cfg),
             cell_mode: Constant::new(cell),
-            all_slots: Constant::new(ModuleMask::from(low_mask(q as u32))),
+            all_slots: Constant::new(ModuleMask::from(cfg.port_queries_mask())),
             one_level: Constant::new(LevelMask::from(1u64)),
-            dist_mask: Constant::new(Dist::from(low_mask(db))),
-            addr_mask: Constant::new(Addr::from(low_mask(cfg.address_bits))),
-            count_mask: Constant::new(Count::from(low_mask(cfg.count_bits()))),
-            visited_mask: Constant::new(ReadCount::from(low_mask(cfg.visited_bits()))),
-            level_mask: Constant::new(RamIndex::from(low_mask(bits_for(
-                cfg.address_bits.saturating_sub(1) as u64,
-            )))),
-            pending_mask: Constant::new(LevelMask::from(low_mask(cfg.path_levels() as u32))),
-            entry_mask: Constant::new(RamIndex::from(low_mask(entry_bits))),
+            dist_mask: Constant::new(Dist::from(cfg.dist_mask())),
+            addr_mask: Constant::new(Addr::from(cfg.addr_mask())),
+            visited_mask: Constant::new(ReadCount::from(cfg.visited_mask())),
+            level_mask: Constant::new(RamIndex::from(cfg.level_index_mask())),
+            pending_mask: Constant::new(LevelMask::from(cfg.pending_mask())),
+            entry_mask: Constant::new(RamIndex::from(cfg.entry_mask())),
             level_shift: Constant::new(BramIndex::from(level_bits as u64)),
             dist_shift: Constant::new(Bits::<8>::from(db as u64)),
-            dist_mask_wide: Constant::new(BramWord::from(low_mask(db))),
-            slot_index: (0..q)
-                .map(|i| Constant::new(ModuleIndex::from(i as u64)))
-                .collect(),
+            dist_mask_wide: Constant::new(BramWord::from(cfg.dist_mask())),
             level_index: (0..levels)
                 .map(|i| Constant::new(RamIndex::from(i as u64)))
                 .collect(),
@@ -217,19 +190,15 @@ impl<const W: usize> BarrelPort<W> {
             a_slot: Default::default(),
             a_ev: Default::default(),
             a_insert: Default::default(),
-            a_pos: Default::default(),
+            a_rule: FoundRule::new(cfg),
+            a_limits: QueryLimits::new(cfg),
             a_level_bit: Default::default(),
             b_axis_off: Default::default(),
             b_bound: Default::default(),
             b_far_index: Default::default(),
             b_far_xy: Default::default(),
             b_far_zd: Default::default(),
-            still_free: Default::default(),
-            free_pick: Default::default(),
-            free_pick_index: Default::default(),
-            load_pick: Default::default(),
-            load_pick_index: Default::default(),
-            load_pick_valid: Default::default(),
+            free_pick: FreePick::new(q),
             b_ev: Default::default(),
             c_ev: Default::default(),
             m_ev: Default::default(),
@@ -258,28 +227,13 @@ impl<const W: usize> Logic for BarrelPort<W> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self,
-            clock,
-            free,
-            load_pick,
-            load_pick_index,
-            load_pick_valid,
-            b_ev,
-            c_ev,
-            m_ev,
-            d_ev,
-            e_ev,
-            e_target,
-            e_found,
-            f_ev,
-            f_target,
-            f_found,
-            f_jump
+            self, clock, free, b_ev, c_ev, m_ev, d_ev, e_ev, e_target, e_found, f_ev, f_target,
+            f_found, f_jump
         );
         self.search.clock.next = self.clock.val();
         self.search.reset.next = self.reset.val();
-        self.search.photon_count.next = self.photon_count.val();
-        self.search.word.next = self.ram_data.val();
+        self.search.photon_count.next = self.io.photon_count.val();
+        self.search.word.next = self.io.ram_data.val();
         self.store.clock.next = self.clock.val();
         self.found_max.clock.next = self.clock.val();
         self.far_xy.clock.next = self.clock.val();
@@ -288,35 +242,23 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.readout.reset.next = self.reset.val();
 
         // ---- Stage A: a result, else a new query into the picked free slot. ----
-        // The free slot is picked a cycle ahead into registers (as the SearchPort
-        // does), leaving out the one loaded now: the slot index that addresses every
-        // state LUT-RAM then comes from flip-flops through one multiplexer. Picked
-        // in the same cycle, the lowest-free-bit carry chain, the index encoder, the
-        // LUT-RAM read and the found list's write enable were one path (64.1 MHz
-        // on the ECP5, seed 1).
+        // The free slot is picked a cycle ahead ([`FreePick`], the SearchPort's):
+        // the slot index that addresses every state LUT-RAM then comes from
+        // flip-flops through one multiplexer.
         self.a_result.next = self.search.result_valid.val();
-        self.query.ready.next = self.load_pick_valid.q.val() && (!self.search.result_valid.val());
-        self.query_fire.next = self.query.valid.val() && self.query.ready.val();
+        self.free_pick.clock.next = self.clock.val();
+        self.free_pick.reset.next = self.reset.val();
+        self.free_pick.free.next = self.free.q.val();
+        self.io.query.ready.next =
+            self.free_pick.pick_valid.val() && (!self.search.result_valid.val());
+        self.query_fire.next = self.io.query.valid.val() && self.io.query.ready.val();
         self.a_load.next = self.query_fire.val();
+        self.free_pick.take.next = self.a_load.val();
         if self.a_result.val() {
             self.a_slot.next = self.search.result.val().query_module;
         } else {
-            self.a_slot.next = self.load_pick_index.q.val();
+            self.a_slot.next = self.free_pick.pick_index.val();
         }
-        self.still_free.next = self.free.q.val();
-        if self.a_load.val() {
-            self.still_free.next = self.free.q.val() & (!self.load_pick.q.val());
-        }
-        self.free_pick.next = self.still_free.val() & ((!self.still_free.val()) + 1);
-        self.free_pick_index.next = 0.into();
-        for i in 0..self.slot_index.len() {
-            if self.free_pick.val().get_bit(i) {
-                self.free_pick_index.next = self.free_pick_index.val() | self.slot_index[i].val();
-            }
-        }
-        self.load_pick.d.next = self.free_pick.val();
-        self.load_pick_index.d.next = self.free_pick_index.val();
-        self.load_pick_valid.d.next = self.still_free.val().any();
         // The slot's state as read, then this result's changes.
         self.store.read_index.next = self.a_slot.val();
         self.a_ev.next = self.store.read.val();
@@ -331,33 +273,32 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.a_ev.next.axis_dist = self.search.result.val().axis_dist & self.dist_mask.val();
         self.a_ev.next.far_pending = self.search.result.val().far_pending;
 
-        // The found list (knn.rs `FoundList`): appended at `count` while not full,
-        // else over the maximum's slot; filling it or replacing in it sets a new R.
+        // The found list ([`FoundRule`]): a photon in range is appended or replaces
+        // the maximum; filling the list or replacing in it sets a new R (stage M).
+        // (The rule reads the state as read, before this event's changes.)
         self.a_insert.next = self.a_result.val() && self.search.result.val().in_range;
-        if self.a_ev.val().full {
-            self.a_pos.next = self.a_ev.val().max_pos;
-        } else {
-            self.a_pos.next = self.a_ev.val().count;
+        self.a_rule.insert.next = self.a_insert.val();
+        self.a_rule.full.next = self.store.read.val().full;
+        self.a_rule.count.next = self.store.read.val().count;
+        self.a_rule.k.next = self.store.read.val().k;
+        self.a_rule.append_at.next = self.store.read.val().count;
+        self.a_rule.max_at.next = self.store.read.val().max_pos;
+        if self.a_rule.run_max.val() {
+            self.a_ev.next.run_max = true;
         }
-        if self.a_insert.val() {
-            if self.a_ev.val().full {
-                self.a_ev.next.run_max = true;
-            } else {
-                // (Compared before `count` is written: `.val()` reads the new value.)
-                if (self.a_ev.val().count + 1) == self.a_ev.val().k {
-                    self.a_ev.next.full = true;
-                    self.a_ev.next.run_max = true;
-                }
-                self.a_ev.next.count = (self.a_ev.val().count + 1) & self.count_mask.val();
-            }
+        if self.a_rule.fills.val() {
+            self.a_ev.next.full = true;
+        }
+        if self.a_rule.appends.val() {
+            self.a_ev.next.count = self.a_rule.next_count.val();
         }
         self.found_max.write_enable.next = self.a_insert.val();
         self.found_max.write_slot.next = self.a_slot.val();
-        self.found_max.write_pos.next = self.a_pos.val();
+        self.found_max.write_pos.next = self.a_rule.at.val();
         self.found_max.write_dist.next = self.search.result.val().distance;
         self.readout.found_write.next = self.a_insert.val();
         self.readout.found_slot.next = self.a_slot.val();
-        self.readout.found_pos.next = self.a_pos.val();
+        self.readout.found_pos.next = self.a_rule.at.val();
         self.readout.found_address.next = self.search.result.val().address;
         self.readout.found_dist.next = self.search.result.val().distance;
 
@@ -372,15 +313,12 @@ impl<const W: usize> Logic for BarrelPort<W> {
                 self.store.read.val().pending & (!self.a_level_bit.val()) & self.pending_mask.val();
         }
 
-        // A new query: the root is read first, with the initial radius (a radius
-        // beyond every distance is the largest one, in distance bits).
+        // A new query: the root is read first, with the initial radius and k
+        // ([`QueryLimits`], the QueryModule's).
+        self.a_limits.query.next = self.io.query.data.val();
         if self.a_load.val() {
-            if (self.query.data.val().radius & (!self.dist_mask.val())).any() {
-                self.a_ev.next.radius = self.dist_mask.val();
-            } else {
-                self.a_ev.next.radius = self.query.data.val().radius & self.dist_mask.val();
-            }
-            self.a_ev.next.k = self.query.data.val().k & self.count_mask.val();
+            self.a_ev.next.radius = self.a_limits.radius.val();
+            self.a_ev.next.k = self.a_limits.k.val();
             self.a_ev.next.full = false;
             self.a_ev.next.count = 0.into();
             self.a_ev.next.max_pos = 0.into();
@@ -397,16 +335,16 @@ impl<const W: usize> Logic for BarrelPort<W> {
         }
         self.readout.id_write.next = self.a_load.val();
         self.readout.id_slot.next = self.a_slot.val();
-        self.readout.id.next = self.query.data.val().id;
+        self.readout.id.next = self.io.query.data.val().id;
         self.search.query_write.next = self.a_load.val();
         self.search.query_module.next = self.a_slot.val();
-        self.search.query.next = self.query.data.val();
+        self.search.query.next = self.io.query.data.val();
 
         // ---- Stage B (first part): the path memory of the level just read. ----
         // Its far child's pruning bound (with `Cell` the far cell's distance, from
         // the slot's offsets as read in A) and the offsets inside that cell. (In
-        // stage A, the state read, this sum and the BlockRAM's write were the ECP5
-        // critical path, 89.7 MHz.) The ascent reads them two stages later, for
+        // stage A, the state read, this sum and the BlockRAM's write would be one
+        // path.) The ascent reads them two stages later, for
         // levels above this one, written by earlier events.
         self.b_axis_off.next = self.b_ev.q.val().off_x;
         if self.b_ev.q.val().axis == 1 {
@@ -560,8 +498,8 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.search.request.next.z = 0.into();
         self.search.request.next.radius = self.f_state.val().radius;
         self.search.request.next.full = self.f_state.val().full;
-        self.ram_address.next = self.f_state.val().next_address;
-        self.reading.next = self.f_issue.val();
+        self.io.ram_address.next = self.f_state.val().next_address;
+        self.io.reading.next = self.f_issue.val();
         // The state write (every event), and the header of a finished search.
         self.store.write_enable.next = self.f_ev.q.val().valid;
         self.store.write_index.next = self.f_ev.q.val().slot;
@@ -570,19 +508,17 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.readout.done_slot.next = self.f_ev.q.val().slot;
         self.readout.done_count.next = self.f_state.val().count;
         self.readout.done_visited.next = self.f_state.val().visited;
-        self.result.valid.next = self.readout.result.valid.val();
-        self.result.data.next = self.readout.result.data.val();
-        self.readout.result.ready.next = self.result.ready.val();
+        self.io.result.valid.next = self.readout.result.valid.val();
+        self.io.result.data.next = self.readout.result.data.val();
+        self.readout.result.ready.next = self.io.result.ready.val();
 
         // Slots: taken by a load, freed by their last beat.
         // (Masked to the Q slots: the bits above are constant, and synthesis should
         // see it without a SAT solver.)
         self.free.d.next =
-            (self.still_free.val() | self.readout.freed.val()) & self.all_slots.val();
+            (self.free_pick.still_free.val() | self.readout.freed.val()) & self.all_slots.val();
         if self.reset.val() {
             self.free.d.next = self.all_slots.val();
-            self.load_pick.d.next = 0.into();
-            self.load_pick_valid.d.next = false;
             self.b_ev.d.next.valid = false;
             self.c_ev.d.next.valid = false;
             self.m_ev.d.next.valid = false;
@@ -590,7 +526,7 @@ impl<const W: usize> Logic for BarrelPort<W> {
             self.e_ev.d.next.valid = false;
             self.f_ev.d.next.valid = false;
         }
-        self.all_busy.next = (self.free.q.val() & self.all_slots.val()) == 0;
-        self.idle.next = (self.free.q.val() & self.all_slots.val()) == self.all_slots.val();
+        self.io.all_busy.next = (self.free.q.val() & self.all_slots.val()) == 0;
+        self.io.idle.next = (self.free.q.val() & self.all_slots.val()) == self.all_slots.val();
     }
 }

@@ -373,3 +373,69 @@ macro_rules! dispatch_widths {
     }};
 }
 pub use dispatch_widths;
+
+/// The width masks of the datapath's registers, one formula each, shared by both
+/// controllers (QueryModule / SearchPort and BarrelPort / SlotStore / SlotReadout):
+/// every register is loaded through the mask of the bits its configuration needs,
+/// so synthesis drops the bits above (a flip-flop whose input is constant zero).
+impl CoreConfig {
+    /// A distance in this metric ([`CoreConfig::dist_bits`]).
+    pub fn dist_mask(&self) -> u64 {
+        low_mask(self.dist_bits())
+    }
+
+    /// A heap address (H bits).
+    pub fn addr_mask(&self) -> u64 {
+        low_mask(self.address_bits)
+    }
+
+    /// A found-list count or k (0..=K).
+    pub fn count_mask(&self) -> u64 {
+        low_mask(self.count_bits())
+    }
+
+    /// A query's photon-read count ([`CoreConfig::visited_bits`]).
+    pub fn visited_mask(&self) -> u64 {
+        low_mask(self.visited_bits())
+    }
+
+    /// Bits of a found-list entry index (0..K).
+    pub fn entry_bits(&self) -> u32 {
+        bits_for(self.k.saturating_sub(1) as u64)
+    }
+
+    /// A found-list entry index (0..K).
+    pub fn entry_mask(&self) -> u64 {
+        low_mask(self.entry_bits())
+    }
+
+    /// One bit per found-list slot (the K slots of a one-hot slot mask).
+    pub fn slot_mask(&self) -> u64 {
+        low_mask(self.k as u32)
+    }
+
+    /// One bit per query of a port: its QueryModules or its barrel slots.
+    pub fn port_queries_mask(&self) -> u64 {
+        low_mask(self.queries_per_port as u32)
+    }
+
+    /// Bits of a tree level's index (0..H): the root is level 0, a leaf at most H − 1.
+    pub fn level_index_bits(&self) -> u32 {
+        bits_for(self.address_bits.saturating_sub(1) as u64)
+    }
+
+    /// A tree level's index (0..H).
+    pub fn level_index_mask(&self) -> u64 {
+        low_mask(self.level_index_bits())
+    }
+
+    /// A one-hot tree level: one bit per level (H).
+    pub fn level_onehot_mask(&self) -> u64 {
+        low_mask(self.address_bits)
+    }
+
+    /// The levels that can have a pending far child ([`CoreConfig::path_levels`]).
+    pub fn pending_mask(&self) -> u64 {
+        low_mask(self.path_levels() as u32)
+    }
+}

@@ -15,7 +15,7 @@
 //! The tree is flat: leaves 0..P (P a power of two, at least 8), node `P + i`
 //! over nodes `2i` and `2i + 1`; each stage's winners are the next stage's leaves.
 
-use crate::hw::config::{low_mask, CoreConfig, Count, Dist, ModuleIndex};
+use crate::hw::config::{CoreConfig, Count, Dist, ModuleIndex};
 use crate::hw::lut_ram::{LutRam, RamIndex};
 use rust_hdl::prelude::*;
 
@@ -80,7 +80,7 @@ impl FoundMax {
             read_k: Default::default(),
             max: Default::default(),
             max_pos: Default::default(),
-            dist_mask: Constant::new(Dist::from(low_mask(db))),
+            dist_mask: Constant::new(Dist::from(cfg.dist_mask())),
             entry_index: (0..p)
                 .map(|i| Constant::new(RamIndex::from(i as u64)))
                 .collect(),

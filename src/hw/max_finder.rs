@@ -5,27 +5,26 @@
 //! with a one for every candidate slot, each row from the MSB down is ANDed with the
 //! filter; if the AND is non-zero it becomes the filter and bit n of the maximum is 1
 //! (the OR of the AND). After the last row the filter marks the slots holding the
-//! maximum and a priority encoder picks the LOWEST of them: the replacement rule of
-//! the software search (knn.rs, "the lowest list slot among ties").
+//! maximum and a [`PriorityEncoder`] picks the LOWEST of them: the replacement rule
+//! of the software search (knn.rs, "the lowest list slot among ties").
 //!
-//! Where the bits live (issue 11): the K × B bits are the paper's, but each slot's
-//! entry is one register and a row is gathered across them: bit `gather_bit` of
-//! every slot, a B-to-1 multiplexer per slot with a binary select (as a one-hot
-//! AND-OR over the B bits it took 79 of a QueryModule's 424 LUTs in yosys xc6v, as
-//! a multiplexer 41). Stored as rows, a write touches bit s of every
+//! Where the bits live: the K × B bits are the paper's, but each slot's entry is
+//! one register and a row is gathered across them: bit `gather_bit` of every slot,
+//! a B-to-1 multiplexer per slot with a binary select (about half the LUTs of a
+//! one-hot AND-OR over the B bits). Stored as rows, a write touches bit s of every
 //! row, a LUT per bit (keep, set or clear); stored as slots, a write is the clock
 //! enable of one slot's register with the distance on its D inputs, no LUT at all.
 //! The list is not read out here: the QueryModule keeps a LUT-RAM copy of the
 //! distances for its result stream, which costs less than a K-way read-out mux.
 //!
 //! The row under examination is gathered into a register the cycle before it is
-//! examined (issue 11: gathering a row, ANDing it with the filter, testing for any
-//! bit and updating the filter was one long path). The search therefore starts with
+//! examined (gathering a row, ANDing it with the filter, testing for any bit and
+//! updating the filter would otherwise be one long path). The search therefore starts with
 //! one priming cycle that gathers the top row, from the slots as they are after the
 //! write that may coincide with `start`: `busy` lasts one cycle per distance bit
 //! plus one. (Gathering the top row in the `start` cycle itself, with the written
-//! slot's bit taken from the write port, costs a third more LUTs per QueryModule in
-//! yosys xc6v: the select of every slot's row multiplexer then depends on `start`.)
+//! slot's bit taken from the write port, costs more LUTs per QueryModule: the
+//! select of every slot's row multiplexer then depends on `start`.)
 //!
 //! Slots are addressed one-hot throughout (write slot, max slot), which is what the
 //! filter naturally is.
@@ -34,6 +33,7 @@
 //! const generic because rust-hdl's `Bits` width must be a constant.
 
 use crate::hw::config::{bits_for, low_mask, Dist, SlotMask};
+use crate::hw::priority_encoder::PriorityEncoder;
 use rust_hdl::prelude::*;
 
 /// Index of a row (a distance bit).
@@ -80,6 +80,8 @@ pub struct MaxFinder<const S: usize> {
     slot_mask: Constant<SlotMask<S>>,
     /// The distance bits: the others of each slot are constant zero.
     dist_mask: Constant<Dist>,
+    /// The lowest slot of the filter.
+    lowest_max: PriorityEncoder<S>,
     gathered: Signal<Local, SlotMask<S>>,
     row_and_filter: Signal<Local, SlotMask<S>>,
     /// The top row's weight in the priming cycle, else zero.
@@ -117,6 +119,7 @@ impl<const S: usize> MaxFinder<S> {
             )))),
             slot_mask: Constant::new(SlotMask::<S>::from(u64::MAX >> (64 - slots))),
             dist_mask: Constant::new(Dist::from(u64::MAX >> (64 - dist_bits))),
+            lowest_max: PriorityEncoder::lowest(slots),
             gathered: Default::default(),
             row_and_filter: Default::default(),
             priming_weight: Default::default(),
@@ -139,8 +142,7 @@ impl<const S: usize> Logic for MaxFinder<S> {
             }
         }
         // Gather row `gather_bit` across the slots: a multiplexer per slot with a
-        // binary select (issue 11: a one-hot AND-OR over the distance bits took
-        // twice the LUTs). (Only while busy: this also keeps the Rust simulation
+        // binary select. (Only while busy: this also keeps the Rust simulation
         // from evaluating it in idle QueryModules.)
         self.gathered.next = 0.into();
         if self.busy_reg.q.val() {
@@ -159,14 +161,13 @@ impl<const S: usize> Logic for MaxFinder<S> {
         if self.priming.q.val() {
             self.priming_weight.next = self.top_row.val();
         }
-        // `start` reaches neither the row register nor the filter (issue 11: in
-        // their clock enables, S bits wide, `start`, the end of the QueryModule's
-        // insertion, was the paper core's critical path on ECP5): the busy
-        // registers do not depend on it (`start` never comes while busy: the
+        // `start` reaches neither the row register nor the filter (in their clock
+        // enables, S bits wide, `start`, the end of the QueryModule's insertion,
+        // would lengthen the insertion's path): the busy registers do not depend on it (`start` never comes while busy: the
         // QueryModule waits in MAX_FIND), and the filter is loaded from
         // `candidates` in the priming cycle. The clears at `start` are the
         // flip-flops' synchronous resets, no LUT (clearing `max_reg` in the priming
-        // cycle instead costs 17 LUTs per QueryModule in yosys xc6v).
+        // cycle instead costs LUTs in every QueryModule).
         if self.busy_reg.q.val() {
             // The gathered row is examined in the next cycle.
             self.row_reg.d.next = self.gathered.val();
@@ -200,7 +201,8 @@ impl<const S: usize> Logic for MaxFinder<S> {
         self.busy.next = self.busy_reg.q.val();
         self.max_dist.next = self.max_reg.q.val();
         self.filter.next = self.filter_reg.q.val();
-        // Priority encoder: isolate the lowest set bit of the filter.
-        self.max_slot.next = self.filter_reg.q.val() & ((!self.filter_reg.q.val()) + 1);
+        // The lowest slot holding the maximum.
+        self.lowest_max.mask.next = self.filter_reg.q.val();
+        self.max_slot.next = self.lowest_max.lowest.val();
     }
 }

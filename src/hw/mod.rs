@@ -6,25 +6,41 @@
 //! PhotonSearchArray (array.rs)          T > 1 replicated trees: T cores, same streams
 //! PhotonSearchCore (core.rs)            load / query / result valid-ready streams
 //! ├── Dispatcher (dispatcher.rs)        queries to a port with a free QueryModule
+//! │   └── PortArbiter
 //! ├── PacketMerge (packet_merge.rs)     the two ports' result packets into one stream
 //! ├── TreeModule (tree_module.rs)       true dual-port BlockRAM, 2^H words
-//! ├── SearchPort A (search_port.rs)     TreeModule port A (also the load port)
-//! │   ├── QueryModule × Q (query_module.rs)
-//! │   │   ├── MaxFinder (max_finder.rs) bit-transposed distance list, §4.4
-//! │   │   └── CellBound (cell_bound.rs) offsets from the cell, `Traversal::Cell`
-//! │   ├── PortArbiter (port_arbiter.rs) one read per cycle, round robin, §4.5
-//! │   ├── SearchModule (search_module.rs)
-//! │   │   ├── AxisDistModule (axis_dist.rs)
-//! │   │   ├── DistModule (dist_module.rs)
-//! │   │   └── NextIndexModule (next_index.rs)
-//! │   └── ResultRegister (register_slice.rs) skid buffer on the result stream
-//! └── SearchPort B                      TreeModule port B
-//!   (or, with `Controller::Barrel`, per port:)
-//!   BarrelPort (barrel_port.rs)         Q query slots behind one pipelined datapath
-//!   ├── LutRam × … (lut_ram.rs)         per-slot state, found distances, bounds
-//!   ├── BlockRam × 3 (block_ram.rs)     found entries, far-cell offsets
-//!   ├── SearchModule                    as above
-//!   └── ResultRegister
+//! └── ControllerPort × 2 (controller_port.rs)  TreeModule port A (also the load
+//!     │                                 port) and B, behind one bundle (stream.rs PortIo)
+//!     ├── SearchPort (search_port.rs)   `Controller::Modules`, §4.5
+//!     │   ├── QueryModule × Q (query_module.rs)  §4.2
+//!     │   │   ├── MaxFinder (max_finder.rs)      bit-transposed distance list, §4.4
+//!     │   │   │   └── PriorityEncoder (priority_encoder.rs)  lowest slot among ties
+//!     │   │   ├── FoundRule (found_rule.rs)      where a photon enters the found list
+//!     │   │   ├── QueryLimits (query_limits.rs)  the loaded query's R and k
+//!     │   │   ├── PriorityEncoder                one-hot slot → LUT-RAM index
+//!     │   │   ├── CellBound (cell_bound.rs)      offsets from the cell, `Traversal::Cell`
+//!     │   │   └── LutRam × 4 (lut_ram.rs)        found list, distances, path memory
+//!     │   ├── PortArbiter (port_arbiter.rs)      one read per cycle, round robin, §4.5
+//!     │   ├── FreePick (free_pick.rs)            the free module the next query takes
+//!     │   │   └── PriorityEncoder
+//!     │   ├── LutRam                             query ids
+//!     │   ├── SearchModule (search_module.rs)
+//!     │   │   ├── AxisDistModule (axis_dist.rs)
+//!     │   │   ├── DistModule (dist_module.rs)
+//!     │   │   └── NextIndexModule (next_index.rs)
+//!     │   └── ResultReadout (result_readout.rs)  the result stream's sequencer
+//!     │       ├── PriorityEncoder                the lowest finished query
+//!     │       └── ResultRegister (register_slice.rs)  skid buffer on the result stream
+//!     └── BarrelPort (barrel_port.rs)   `Controller::Barrel`: Q query slots behind one
+//!         │                             pipelined datapath
+//!         ├── SearchModule                       as above
+//!         ├── FreePick                           the free slot the next query takes
+//!         ├── FoundRule, QueryLimits             as in the QueryModule
+//!         ├── SlotStore (slot_store.rs)          per-slot state in LUT-RAM
+//!         ├── FoundMax (found_max.rs)            found distances, comparator tree, §4.4
+//!         ├── LutRam × levels, BlockRam × 2 (block_ram.rs)  pruning bounds, far cells
+//!         └── SlotReadout (slot_readout.rs)      found photons, ids, headers (BlockRAM,
+//!                                            LUT-RAM) and its read-out sequencer
 //! ```
 //!
 //! A QueryModule issues a read at most every `CoreConfig::issue_interval()` =
@@ -54,11 +70,14 @@ pub mod cell_bound;
 pub mod config;
 pub mod config_builder;
 pub mod controller;
+pub mod controller_port;
 pub mod core;
 pub mod dispatcher;
 pub mod dist_module;
 pub mod error;
 pub mod found_max;
+pub mod found_rule;
+pub mod free_pick;
 pub mod lut_ram;
 pub mod max_finder;
 pub mod metric;
@@ -66,8 +85,11 @@ pub mod next_index;
 pub mod packet_merge;
 pub mod photon_word;
 pub mod port_arbiter;
+pub mod priority_encoder;
+pub mod query_limits;
 pub mod query_module;
 pub mod register_slice;
+pub mod result_readout;
 pub mod rtl;
 pub mod search_module;
 pub mod search_port;

@@ -3,13 +3,14 @@
 //! MaxFinder, bit-transposed) the found-distance list, K entries each.
 //!
 //! Per photon: request a read (READY), wait for the SearchModule's answer (WAIT),
-//! then insert: while not full, append to slot `count`; when that fills the list, run
-//! the MaxFinder and set R = max, remembering the max slot; once full, a photon in
-//! range (d < R) overwrites the max slot and the MaxFinder runs again (MAX_FIND).
-//! This is knn.rs's `FoundList` step for step, so slots and read counts match.
+//! then insert ([`FoundRule`]): while not full, append to slot `count`; when that
+//! fills the list, run the MaxFinder and set R = max, remembering the max slot; once
+//! full, a photon in range (d < R) overwrites the max slot and the MaxFinder runs
+//! again (MAX_FIND). This is knn.rs's `FoundList` step for step, so slots and read
+//! counts match.
 //!
-//! The query's coordinates and id are not here (issue 11): the port keeps them once,
-//! in LUT-RAM indexed by QueryModule, for the SearchModule and the read-out.
+//! The query's coordinates and id are not here: the port keeps them once, in
+//! LUT-RAM indexed by QueryModule, for the SearchModule and the read-out.
 //!
 //! The ascent (`CoreConfig::traversal`, see `hw::traversal`):
 //! * `Reread` (the paper's): an "up" result is just the next read, of the parent.
@@ -19,7 +20,7 @@
 //!   pending far child within R is read next (the sibling of the node we came
 //!   from); otherwise climb on, until the root ends the search.
 //!
-//! Where the lists live (issue 11): the found-index list, a copy of the found
+//! Where the lists live: the found-index list, a copy of the found
 //! distances for the read-out and the path memory are each written and read one
 //! entry per cycle by this module alone, so each is a small LUT-RAM of its own
 //! ([`LutRam`]: no flip-flop per bit, no read multiplexer). The pending bits and the
@@ -28,10 +29,13 @@
 
 use crate::hw::cell_bound::CellBound;
 use crate::hw::config::{
-    bits_for, low_mask, Addr, CoreConfig, Count, Dist, LevelMask, ModuleIndex, ReadCount, SlotMask,
+    Addr, CoreConfig, Count, Dist, LevelMask, ModuleIndex, ReadCount, SlotMask,
 };
+use crate::hw::found_rule::FoundRule;
 use crate::hw::lut_ram::{LutRam, RamIndex};
 use crate::hw::max_finder::MaxFinder;
+use crate::hw::priority_encoder::PriorityEncoder;
+use crate::hw::query_limits::QueryLimits;
 use crate::hw::stream::{QueryBeat, ReadRequest, ReadResult};
 use crate::hw::traversal::Traversal;
 use rust_hdl::prelude::*;
@@ -59,7 +63,7 @@ pub struct QueryModule<const S: usize> {
     pub out_enable: Signal<In, bool>,
     /// The entry being read out (the same for every module) and whether it is this
     /// module's (a port flip-flop: the read-out path is the LUT-RAM read and one
-    /// gate; a one-hot slot encoded here was the critical path at 89.4 MHz).
+    /// gate, not a one-hot slot encoded here).
     pub out_entry: Signal<In, RamIndex>,
     pub out_reading: Signal<In, bool>,
     pub out_count: Signal<Out, Count>,
@@ -71,7 +75,7 @@ pub struct QueryModule<const S: usize> {
     remember: Constant<bool>,
     /// `Traversal::Cell`: prune on the distance to the far child's cell.
     cell_bound: Constant<bool>,
-    /// The widths the configuration needs (issue 11): every register is loaded
+    /// The widths the configuration needs: every register is loaded
     /// through its mask, so synthesis drops the bits above (a flip-flop whose input
     /// is constant or itself): distance bits of the metric, H levels, H − 1 that
     /// can be pending, heap address (H bits), counts (0..=K), photon reads (H + 1
@@ -83,11 +87,10 @@ pub struct QueryModule<const S: usize> {
     count_mask: Constant<Count>,
     visited_mask: Constant<ReadCount>,
     slot_mask: Constant<SlotMask<S>>,
-    /// The state, one-hot (issue 11): a flip-flop per state, so that each state's
-    /// next value is a small function of its own inputs. yosys keeps a rust-hdl
-    /// enum's binary code (its register has an initial value, so `fsm` does not
-    /// recode it), and there the insertion's next state was the paper core's ECP5
-    /// critical path on all three seeds (8 nets, 99.4 MHz). IDLE (power-up): none
+    /// The state, one-hot: a flip-flop per state, so that each state's next value
+    /// is a small function of its own inputs (yosys keeps a rust-hdl enum's binary
+    /// code: its register has an initial value, so `fsm` does not recode it, and
+    /// the insertion's next state is then a deep function). IDLE (power-up): none
     /// set. READY requests a read of `address`; WAIT waits for its result; MAX_FIND
     /// runs the MaxFinder; ASCEND climbs the remembered path a level per cycle;
     /// DONE waits for the read-out. `st_taken` = not IDLE, a flip-flop for `free`.
@@ -122,10 +125,10 @@ pub struct QueryModule<const S: usize> {
     /// level (`CoreConfig::path_levels` entries), in LUT-RAM: its axis distance, or
     /// with `Traversal::Cell` the distance to its cell.
     path: LutRam,
-    /// The same entries again, read at `grand_at` (issue 11): the pruning test
-    /// reads the parent's entry while waiting and the grandparent's while climbing;
-    /// choosing the read index in front of one LUT-RAM was the critical path
-    /// (95.7 MHz). Two copies read at two registers, the choice after the read.
+    /// The same entries again, read at `grand_at`: the pruning test reads the
+    /// parent's entry while waiting and the grandparent's while climbing; two
+    /// copies read at two registers, the choice after the read, keep a multiplexer
+    /// off the LUT-RAM's read index.
     path_up: LutRam,
     /// `Traversal::Cell`: the query's offsets from its cell, and the rest of each
     /// level ([`CellBound`]; one-entry memories never written otherwise).
@@ -134,35 +137,37 @@ pub struct QueryModule<const S: usize> {
     found: LutRam,
     /// The found distances again, for the read-out (the MaxFinder's are read by row).
     found_dist: LutRam,
-    /// Entry index of each slot, to turn a one-hot mask into a RAM index.
-    slot_index: Vec<Constant<RamIndex>>,
-    insert_index: Signal<Local, RamIndex>,
-    /// The path-memory entries of `level` and its parent, in registers (issue 11:
-    /// ASCEND's read of the parent's starts from flip-flops, not a one-hot encoder).
+    /// The insertion slot (one-hot) as a RAM index.
+    insert_index: PriorityEncoder<S>,
+    /// The path-memory entries of `level` and its parent, in registers (ASCEND's
+    /// read of the parent's starts from flip-flops, not a one-hot encoder).
     level_at: DFF<RamIndex>,
     parent_at: DFF<RamIndex>,
     /// The entry above `parent_at` (saturating): the next parent's while climbing.
     grand_at: DFF<RamIndex>,
-    /// ASCEND's pruning test, registered (issue 11): the parent's remembered bound
-    /// within R, compared a cycle ahead for the parent and R the module will have
-    /// (in the same cycle it was the critical path, 10 nets, 82.8 MHz).
+    /// ASCEND's pruning test, registered: the parent's remembered bound within R,
+    /// compared a cycle ahead for the parent and R the module will have (in the
+    /// same cycle it would follow the LUT-RAM read and the comparison).
     parent_within: DFF<bool>,
     /// The bound `parent_within` was computed from: the far cell's distance,
     /// `cell_dist` on entering it.
     parent_bound: DFF<Dist>,
     /// The next insertion runs the MaxFinder: full or one photon short (`full ∨
-    /// count + 1 = k`), registered: the comparison before the insertion's next
-    /// state was a critical path (11 nets); one flip-flop is one input to MAX_FIND.
+    /// count + 1 = k`), registered (from `FoundRule::fills_next`): one flip-flop
+    /// is one input to MAX_FIND, not the comparison before the insertion's next
+    /// state.
     runs_max: DFF<bool>,
     level_index_mask: Constant<RamIndex>,
     max_finder: MaxFinder<S>,
     result_mine: Signal<Local, bool>,
     insert: Signal<Local, bool>,
-    insert_slot: Signal<Local, SlotMask<S>>,
+    /// The found list's rule (where a photon goes) and a loaded query's R and k.
+    rule: FoundRule<SlotMask<S>>,
+    limits: QueryLimits,
     /// ASCEND's view of the parent level.
     parent_level: Signal<Local, LevelMask>,
     /// The parent's pending bit, registered a cycle ahead like `parent_within`
-    /// (the AND-OR over the pending bits was a critical path, 92.1 MHz).
+    /// (the AND-OR over the pending bits from flip-flops).
     parent_pending: DFF<bool>,
     /// For the registered pruning test: the entry the parent will have next cycle
     /// (read from the path memory), the R and the full flag it will be tested with.
@@ -203,13 +208,13 @@ impl<const S: usize> QueryModule<S> {
             my_index: Constant::new(ModuleIndex::from(index as u64)),
             remember: Constant::new(cfg.traversal.remembers()),
             cell_bound: Constant::new(cfg.traversal == Traversal::Cell),
-            dist_mask: Constant::new(Dist::from((1u64 << cfg.dist_bits()) - 1)),
-            level_mask: Constant::new(LevelMask::from((1u64 << cfg.address_bits) - 1)),
-            pending_mask: Constant::new(LevelMask::from((1u64 << cfg.path_levels()) - 1)),
-            addr_mask: Constant::new(Addr::from(low_mask(cfg.address_bits))),
-            count_mask: Constant::new(Count::from(low_mask(cfg.count_bits()))),
-            visited_mask: Constant::new(ReadCount::from(low_mask(cfg.visited_bits()))),
-            slot_mask: Constant::new(SlotMask::<S>::from(low_mask(cfg.k as u32))),
+            dist_mask: Constant::new(Dist::from(cfg.dist_mask())),
+            level_mask: Constant::new(LevelMask::from(cfg.level_onehot_mask())),
+            pending_mask: Constant::new(LevelMask::from(cfg.pending_mask())),
+            addr_mask: Constant::new(Addr::from(cfg.addr_mask())),
+            count_mask: Constant::new(Count::from(cfg.count_mask())),
+            visited_mask: Constant::new(ReadCount::from(cfg.visited_mask())),
+            slot_mask: Constant::new(SlotMask::<S>::from(cfg.slot_mask())),
             st_ready: Default::default(),
             st_wait: Default::default(),
             st_max_find: Default::default(),
@@ -236,23 +241,19 @@ impl<const S: usize> QueryModule<S> {
             cell_state: CellBound::new(cell_levels, cell_bits),
             found: LutRam::new(cfg.k, cfg.address_bits),
             found_dist: LutRam::new(cfg.k, cfg.dist_bits()),
-            slot_index: (0..cfg.k)
-                .map(|i| Constant::new(RamIndex::from(i as u64)))
-                .collect(),
-            insert_index: Default::default(),
+            insert_index: PriorityEncoder::one_hot(cfg.k),
             level_at: Default::default(),
             parent_at: Default::default(),
             grand_at: Default::default(),
             parent_within: Default::default(),
             parent_bound: Default::default(),
             runs_max: Default::default(),
-            level_index_mask: Constant::new(RamIndex::from(low_mask(bits_for(
-                cfg.address_bits as u64,
-            )))),
+            level_index_mask: Constant::new(RamIndex::from(cfg.level_index_mask())),
             max_finder: MaxFinder::new(cfg.dist_bits(), cfg.k),
             result_mine: Default::default(),
             insert: Default::default(),
-            insert_slot: Default::default(),
+            rule: FoundRule::new(cfg),
+            limits: QueryLimits::new(cfg),
             parent_level: Default::default(),
             parent_pending: Default::default(),
             ahead_dist: Default::default(),
@@ -358,26 +359,22 @@ impl<const S: usize> Logic for QueryModule<S> {
         if self.st_wait.q.val() {
             self.insert.next = self.result_mine.val() && self.result.val().in_range;
         }
-        if self.full_reg.q.val() {
-            self.insert_slot.next = self.max_slot.q.val();
-        } else {
-            self.insert_slot.next = self.append_slot.q.val();
-        }
+        self.rule.insert.next = self.insert.val();
+        self.rule.full.next = self.full_reg.q.val();
+        self.rule.count.next = self.count.q.val();
+        self.rule.k.next = self.k_reg.q.val();
+        self.rule.append_at.next = self.append_slot.q.val();
+        self.rule.max_at.next = self.max_slot.q.val();
         self.max_finder.write_enable.next = self.insert.val();
-        self.max_finder.write_slot.next = self.insert_slot.val();
-        self.insert_index.next = 0.into();
-        for i in 0..self.slot_index.len() {
-            if self.insert_slot.val().get_bit(i) {
-                self.insert_index.next = self.insert_index.val() | self.slot_index[i].val();
-            }
-        }
+        self.max_finder.write_slot.next = self.rule.at.val();
+        self.insert_index.mask.next = self.rule.at.val();
         self.found.write_enable.next = self.insert.val();
-        self.found.write_index.next = self.insert_index.val();
+        self.found.write_index.next = self.insert_index.index.val();
         self.found.write_data.next =
             bit_cast::<32, 24>(self.result.val().address & self.addr_mask.val());
         self.found.read_index.next = self.out_entry.val();
         self.found_dist.write_enable.next = self.insert.val();
-        self.found_dist.write_index.next = self.insert_index.val();
+        self.found_dist.write_index.next = self.insert_index.index.val();
         self.found_dist.write_data.next = self.result.val().distance & self.dist_mask.val();
         self.found_dist.read_index.next = self.out_entry.val();
         // The path memory takes each down visit's pruning bound at its level.
@@ -438,13 +435,12 @@ impl<const S: usize> Logic for QueryModule<S> {
                     self.up.d.next = self.result.val().next_up;
                     self.came_from_right.d.next = self.result.val().next_came_from_right;
                 }
-                if self.insert.val() && !self.full_reg.q.val() {
-                    self.count.d.next = (self.count.q.val() + 1) & self.count_mask.val();
+                if self.rule.appends.val() {
+                    self.count.d.next = self.rule.next_count.val();
                     self.occupied.d.next = self.occupied.q.val() | self.append_slot.q.val();
                     self.append_slot.d.next =
                         (self.append_slot.q.val() << 1) & self.slot_mask.val();
-                    self.runs_max.d.next =
-                        self.runs_max.q.val() || ((self.count.q.val() + 2) == self.k_reg.q.val());
+                    self.runs_max.d.next = self.runs_max.q.val() || self.rule.fills_next.val();
                 }
             }
         } else if self.st_ascend.q.val() {
@@ -512,19 +508,14 @@ impl<const S: usize> Logic for QueryModule<S> {
             self.st_done.d.next = false;
             self.st_taken.d.next = false;
         }
-        // Load a query. The port loads only a free module, so `load` implies IDLE
-        // and is tested alone: the clear is one net per module, where `load && IDLE`
-        // made yosys build a gate per flip-flop (105 LUTs per module, issue 11).
+        // Load a query ([`QueryLimits`]: R and k as kept). The port loads only a
+        // free module, so `load` implies IDLE and is tested alone: the clear is one
+        // net per module, where `load && IDLE` would be a gate per flip-flop.
+        self.limits.query.next = self.load_query.val();
         if self.load.val() {
-            // A radius beyond every possible distance is the largest one:
-            // the same photons are within it, in a register of distance bits.
-            if (self.load_query.val().radius & (!self.dist_mask.val())).any() {
-                self.radius_reg.d.next = self.dist_mask.val();
-            } else {
-                self.radius_reg.d.next = self.load_query.val().radius & self.dist_mask.val();
-            }
-            self.k_reg.d.next = self.load_query.val().k & self.count_mask.val();
-            self.runs_max.d.next = (self.load_query.val().k & self.count_mask.val()) == 1;
+            self.radius_reg.d.next = self.limits.radius.val();
+            self.k_reg.d.next = self.limits.k.val();
+            self.runs_max.d.next = self.limits.k.val() == 1;
             self.full_reg.d.next = false;
             self.count.d.next = 0.into();
             self.append_slot.d.next = 1.into();
@@ -582,8 +573,7 @@ impl<const S: usize> Logic for QueryModule<S> {
             self.read.next.full = self.full_reg.q.val();
         }
         // Read-out: zero unless this module is selected, so that the port merges
-        // its modules with an OR tree instead of a chain of multiplexers (issue
-        // 11: the read-out was the critical path).
+        // its modules with an OR tree instead of a chain of multiplexers.
         self.out_count.next = 0.into();
         self.out_visited.next = 0.into();
         if self.out_enable.val() {

@@ -9,9 +9,7 @@
 //! 4 bits), and the one datapath reads and writes one slot per cycle. The port
 //! reads a slot in its first stage and writes it back in its last.
 
-use crate::hw::config::{
-    bits_for, low_mask, Addr, CoreConfig, Count, Dist, LevelMask, ModuleIndex, ReadCount,
-};
+use crate::hw::config::{Addr, CoreConfig, Count, Dist, LevelMask, ModuleIndex, ReadCount};
 use crate::hw::lut_ram::{LutRam, RamIndex};
 use crate::hw::traversal::Traversal;
 use rust_hdl::prelude::*;
@@ -90,8 +88,8 @@ impl SlotStore {
         let db = cfg.dist_bits();
         let cell = cfg.traversal == Traversal::Cell;
         let (cell_depth, cell_bits) = if cell { (q, db) } else { (1, 1) };
-        let level_bits = bits_for(cfg.address_bits.saturating_sub(1) as u64);
-        let entry_bits = bits_for(cfg.k.saturating_sub(1) as u64);
+        let level_bits = cfg.level_index_bits();
+        let entry_bits = cfg.entry_bits();
         let ram = |width: u32| LutRam::new(q, width);
         SlotStore {
             clock: Default::default(),
@@ -101,11 +99,11 @@ impl SlotStore {
             write_index: Default::default(),
             write: Default::default(),
             cell_mode: Constant::new(cell),
-            dist_mask: Constant::new(Dist::from(low_mask(db))),
-            count_mask: Constant::new(Count::from(low_mask(cfg.count_bits()))),
-            visited_mask: Constant::new(ReadCount::from(low_mask(cfg.visited_bits()))),
-            level_mask: Constant::new(RamIndex::from(low_mask(level_bits))),
-            entry_mask: Constant::new(RamIndex::from(low_mask(entry_bits))),
+            dist_mask: Constant::new(Dist::from(cfg.dist_mask())),
+            count_mask: Constant::new(Count::from(cfg.count_mask())),
+            visited_mask: Constant::new(ReadCount::from(cfg.visited_mask())),
+            level_mask: Constant::new(RamIndex::from(cfg.level_index_mask())),
+            entry_mask: Constant::new(RamIndex::from(cfg.entry_mask())),
             level: ram(level_bits),
             pending: ram(cfg.path_levels().max(1) as u32),
             radius: ram(db),

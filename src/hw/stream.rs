@@ -28,8 +28,8 @@ pub struct QueryBeat {
 /// read meaningful; `last` iff count = 0), then the found photons in list-slot
 /// order (id, heap address and distance meaningful), one per beat — or two, the
 /// second in `address2`/`distance2` when `pair` is set (a BarrelPort sends pairs:
-/// issue 11, an array of barrel cores answers more queries per cycle than one
-/// photon per beat carries) — `last` on the final one. The beats of one packet are
+/// an array of barrel cores answers more queries per cycle than one photon per
+/// beat carries) — `last` on the final one. The beats of one packet are
 /// contiguous; packets of different queries may leave out of order.
 #[derive(Clone, Copy, Debug, PartialEq, Default, LogicStruct)]
 pub struct ResultBeat {
@@ -76,6 +76,24 @@ pub struct LoadIn<const W: usize> {
     pub address: Signal<In, Addr>,
     pub word: Signal<In, Word<W>>,
     pub last: Signal<In, bool>,
+}
+
+/// The outer ports of one TreeModule port's controller (paper §4.5), the same for
+/// a [`SearchPort`](crate::hw::search_port::SearchPort) and a
+/// [`BarrelPort`](crate::hw::barrel_port::BarrelPort): the photon count, the
+/// TreeModule port (read address now, word next cycle), the query and result
+/// streams and the status (a read this cycle; every query of the port busy; none).
+/// The core wires either controller through it once; clock and reset are separate.
+#[derive(LogicInterface, Default)]
+pub struct PortIo<const W: usize> {
+    pub photon_count: Signal<In, Addr>,
+    pub ram_address: Signal<Out, Addr>,
+    pub ram_data: Signal<In, Word<W>>,
+    pub query: StreamIn<QueryBeat>,
+    pub result: StreamOut<ResultBeat>,
+    pub reading: Signal<Out, bool>,
+    pub all_busy: Signal<Out, bool>,
+    pub idle: Signal<Out, bool>,
 }
 
 /// A photon read and its context, from a QueryModule through the port arbiter to

@@ -1,4 +1,4 @@
-//! The exported core under Verilator as a [`Dut`] of the one driver (issue 14): the
+//! The exported core under Verilator as a [`Dut`] of the one driver: the
 //! same load / query / result streams as rust-hdl's native simulation, some 100x
 //! faster, on the Verilog that is cross-simulated cycle-exactly against it.
 //!
@@ -7,8 +7,7 @@
 //! `verilator` and a C++ compiler; the harness is generated from the top's ports
 //! (no port named here) and built with the model into a shared library that
 //! [`libloading`] opens, so a cycle costs two function calls instead of a pipe round
-//! trip (the pipe version ran the paper core at 83 K cycles/s, bounded by the
-//! round trip, not by the model). Per cycle, [`Dut::drive`] hands the input ports'
+//! trip (which would bound the speed, not the model). Per cycle, [`Dut::drive`] hands the input ports'
 //! values to `pf_sample` (applied with the clock low, evaluated, output ports'
 //! values written back) and [`Dut::rising_edge`] calls `pf_edge`. Values travel as
 //! little-endian 32-bit words per port, in port order.
@@ -21,12 +20,12 @@
 //! status: the core's status outputs for T = 1, the array's per-tree status
 //! vectors for T > 1.
 
-use crate::hw::config::{Addr, CoreConfig, Count, Dist, QueryId, ReadCount};
+use crate::hw::config::{Addr, CoreConfig};
 use crate::hw::error::HwError;
 use crate::hw::rtl::driver::{Dut, Inputs, Outputs};
 use crate::hw::rtl::export::{export_verilog, Exported};
 use crate::hw::rtl::ports::Port;
-use crate::hw::stream::ResultBeat;
+use crate::hw::stream::{QueryBeat, ResultBeat};
 use libloading::Library;
 use rust_hdl::prelude::*;
 use std::collections::HashMap;
@@ -387,13 +386,14 @@ impl VerilatorDut {
             "load$last" => put(out, at, v.load.last as u64, 1),
             "query$valid" => put(out, at, v.query_valid as u64, 1),
             "query$data" => {
-                // LogicStruct: the first field in the low bits.
-                put(out, at, q.id.to_u64(), QueryId::BITS);
-                for c in [q.x, q.y, q.z] {
-                    put(out, at, c.to_u64(), 16);
+                // Packed as rust-hdl packs the `LogicStruct` (its `From` for `Bits`).
+                let packed: Bits<{ QueryBeat::BITS }> = (*q).into();
+                let mut k = 0;
+                while k < QueryBeat::BITS {
+                    let n = (QueryBeat::BITS - k).min(32);
+                    put(out, at, packed.get_bits::<32>(k).to_u64(), n);
+                    k += n;
                 }
-                put(out, at, q.radius.to_u64(), Dist::BITS);
-                put(out, at, q.k.to_u64(), Count::BITS);
             }
             "result$ready" => put(out, at, v.result_ready as u64, 1),
             other => return Err(verr(format!("unknown input port `{other}`"))),
@@ -437,24 +437,28 @@ impl Dut for VerilatorDut {
         for p in self.ports.iter().filter(|p| !p.input) {
             let w = &out[k..k + words(p.width)];
             k += words(p.width);
-            let mut at = 0;
             let bit = |t: usize| (w[0] >> t) & 1 == 1;
             match p.name.as_str() {
                 "load$ready" => o.load_ready = bit(0),
                 "query$ready" => o.query_ready = bit(0),
                 "result$valid" => o.result_valid = bit(0),
                 "result$data" => {
+                    // Each field at the offset and width the `LogicStruct` derive
+                    // gives it (the struct definition's order).
+                    let d = ResultBeat::default();
+                    let f = |mut at: usize, width: usize| take(w, &mut at, width);
                     o.result = ResultBeat {
-                        header: take(w, &mut at, 1) == 1,
-                        last: take(w, &mut at, 1) == 1,
-                        id: take(w, &mut at, QueryId::BITS).into(),
-                        count: take(w, &mut at, Count::BITS).into(),
-                        visited: take(w, &mut at, ReadCount::BITS).into(),
-                        address: take(w, &mut at, Addr::BITS).into(),
-                        distance: take(w, &mut at, Dist::BITS).into(),
-                        pair: take(w, &mut at, 1) == 1,
-                        address2: take(w, &mut at, Addr::BITS).into(),
-                        distance2: take(w, &mut at, Dist::BITS).into(),
+                        header: f(d.get_my_offset_header(), d.get_my_width_header()) == 1,
+                        last: f(d.get_my_offset_last(), d.get_my_width_last()) == 1,
+                        id: f(d.get_my_offset_id(), d.get_my_width_id()).into(),
+                        count: f(d.get_my_offset_count(), d.get_my_width_count()).into(),
+                        visited: f(d.get_my_offset_visited(), d.get_my_width_visited()).into(),
+                        address: f(d.get_my_offset_address(), d.get_my_width_address()).into(),
+                        distance: f(d.get_my_offset_distance(), d.get_my_width_distance()).into(),
+                        pair: f(d.get_my_offset_pair(), d.get_my_width_pair()) == 1,
+                        address2: f(d.get_my_offset_address2(), d.get_my_width_address2()).into(),
+                        distance2: f(d.get_my_offset_distance2(), d.get_my_width_distance2())
+                            .into(),
                     }
                 }
                 // T = 1: the core's own status; T > 1: per tree from the vectors
