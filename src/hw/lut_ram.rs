@@ -1,5 +1,5 @@
 //! LutRam: a small memory with one synchronous write port and one asynchronous
-//! read port — distributed RAM (issue 11: "found lists where they are cheapest").
+//! read port — distributed RAM (found lists where they are cheapest).
 //! A QueryModule's found-index list (K entries of H bits) and its path memory
 //! (H − 1 levels of distance bits) are written one entry per cycle and read one
 //! entry at a time, so they need no flip-flop per bit and no read multiplexer: a
@@ -9,10 +9,9 @@
 //! slots per cycle, which no RAM port gives.)
 //!
 //! The memory has a power-of-two number of entries, so a read needs no range check
-//! (an index past `depth` reads an entry that is never written, zero): the check
-//! was a comparator in front of every read, on the ECP5 critical path of the 2 × 12
-//! core through a QueryModule's path memory (77.5 MHz, issue 11). Writes past
-//! `depth` are dropped, as before.
+//! (an index past `depth` reads an entry that is never written, zero): a range
+//! check would put a comparator in front of every read, on the path from a
+//! QueryModule's path memory to its next decision. Writes past `depth` are dropped.
 //!
 //! rust-hdl has no such primitive, so this is a custom block like the TreeModule:
 //! `update()` is the simulation model, `hdl()` the template yosys maps to LUT-RAM.

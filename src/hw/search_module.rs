@@ -4,7 +4,7 @@
 //! state) travels with the data (§4.5: the
 //! SearchModule carries the id so several QueryModules can share it).
 //!
-//! The queries' coordinates live here (issue 11), one LUT-RAM entry per QueryModule
+//! The queries' coordinates live here, one LUT-RAM entry per QueryModule
 //! of the port, written when the module is loaded and read with the id the request
 //! carries: a QueryModule holds no coordinates and the port's request selection no
 //! longer ORs Q copies of them. The lookup is in stage 0, from registers, so it
@@ -45,7 +45,7 @@ pub struct SearchModule<const W: usize> {
     pub result_valid: Signal<Out, bool>,
     /// Which QueryModule the result is for, one-hot (zero when none): decoded a
     /// stage early so that a module's "mine" is one flip-flop, not a comparison
-    /// behind the broadcast's fan-out (issue 11).
+    /// behind the broadcast's fan-out.
     pub result_for: Signal<Out, ModuleMask>,
     pub result: Signal<Out, ReadResult>,
     /// The coordinates of each QueryModule's query (Q entries per axis).
@@ -269,10 +269,8 @@ impl<const W: usize> Logic for SearchModule<W> {
         self.s2.d.next.query_module = self.s1.q.val().query_module;
         self.s2.d.next.address = self.s1.q.val().address;
         // The in-range test against the requesting QueryModule's R, on the
-        // registered distance (issue 11: the difference, the sum and this comparison
-        // in one stage were three carry chains in series, the 2 × 12 core's ECP5
-        // critical path at 81.6 MHz once the QueryModule's own paths were
-        // registered). Before the list is full R is inclusive (`d <= R`), once
+        // registered distance (the difference, the sum and this comparison in one
+        // stage would be three carry chains in series). Before the list is full R is inclusive (`d <= R`), once
         // full only a strictly nearer photon enters (`d < R`): knn.rs's rules.
         // Only a first (downward) visit tests the photon against the found list.
         if self.s1.q.val().full {
