@@ -15,7 +15,7 @@ use photon_fpga::hw::tree_module::TreeModule;
 use rand::Rng;
 use rust_hdl::prelude::*;
 
-use crate::common::settle;
+use crate::common::{clock_cycle, settle};
 
 /// Independent model of one axis distance.
 fn axis_model(metric: Metric, q: u64, p: u64) -> u64 {
@@ -220,16 +220,6 @@ fn tree_module_read_after_write_on_both_ports() {
 fn tree_module_wide_word() {
     tree_module_against_model::<64>(38, 11);
     tree_module_against_model::<64>(47, 12);
-}
-
-/// One clock cycle of a block with a `clock` input: settle, rising edge, falling
-/// edge (the blocks' benches below share it).
-fn clock_cycle<B: Block>(uut: &mut B, clock: fn(&mut B) -> &mut Signal<In, Clock>) {
-    settle(uut);
-    clock(uut).next = true.into();
-    settle(uut);
-    clock(uut).next = false.into();
-    settle(uut);
 }
 
 fn clock_cell(uut: &mut CellBound) {

@@ -7,14 +7,10 @@ use photon_fpga::hw::free_pick::FreePick;
 use rand::Rng;
 use rust_hdl::prelude::*;
 
-use crate::common::{rng, settle};
+use crate::common::{clock_cycle, rng, settle};
 
 fn cycle(uut: &mut FreePick) {
-    settle(uut);
-    uut.clock.next = true.into();
-    settle(uut);
-    uut.clock.next = false.into();
-    settle(uut);
+    clock_cycle(uut, |u| &mut u.clock);
 }
 
 #[test]

@@ -17,7 +17,7 @@ use rand_pcg::Pcg64;
 use rust_hdl::prelude::*;
 use std::collections::VecDeque;
 
-use crate::common::settle;
+use crate::common::{clock_cycle, settle};
 
 /// Beat `b` of packet `p` (of `len` beats) from source `s`: the fields name it.
 fn packet_beat(s: usize, p: u64, b: u64, len: u64) -> ResultBeat {
@@ -66,10 +66,7 @@ fn merge_against_scoreboard(n: usize, per_source: u64, p_valid: f64, p_ready: f6
     let mut last: Option<usize> = None;
 
     uut.reset.next = true;
-    settle(&mut uut);
-    uut.clock.next = true.into();
-    settle(&mut uut);
-    uut.clock.next = false.into();
+    clock_cycle(&mut uut, |u| &mut u.clock);
     uut.reset.next = false;
     settle(&mut uut);
 

@@ -22,11 +22,7 @@ use std::collections::HashMap;
 type Port = ControllerPort<32, 32>;
 
 fn cycle(uut: &mut Port) {
-    settle(uut);
-    uut.clock.next = true.into();
-    settle(uut);
-    uut.clock.next = false.into();
-    settle(uut);
+    clock_cycle(uut, |u| &mut u.clock);
 }
 
 fn run(cfg: &CoreConfig, seed: u64) {

@@ -11,7 +11,7 @@ use photon_fpga::hw::result_readout::ResultReadout;
 use rand::Rng;
 use rust_hdl::prelude::*;
 
-use crate::common::{rng, settle};
+use crate::common::{clock_cycle, rng, settle};
 
 const QUERIES: usize = 6;
 const K: usize = 10;
@@ -24,11 +24,7 @@ struct Packet {
 }
 
 fn cycle(uut: &mut ResultReadout) {
-    settle(uut);
-    uut.clock.next = true.into();
-    settle(uut);
-    uut.clock.next = false.into();
-    settle(uut);
+    clock_cycle(uut, |u| &mut u.clock);
 }
 
 fn run(per_beat: usize, pipelined: bool, seed: u64) {

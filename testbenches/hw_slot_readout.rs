@@ -19,7 +19,7 @@ use rand::Rng;
 use rust_hdl::prelude::*;
 use std::collections::HashMap;
 
-use crate::common::settle;
+use crate::common::{clock_cycle, settle};
 
 /// A slot's life: free, running a search (its id and found list so far), or
 /// finished until the block frees it.
@@ -102,10 +102,7 @@ fn readout_against_model(cfg: CoreConfig, searches: usize, p_ready: f64, seed: u
     let mut next_id = 0u64;
 
     uut.reset.next = true;
-    settle(&mut uut);
-    uut.clock.next = true.into();
-    settle(&mut uut);
-    uut.clock.next = false.into();
+    clock_cycle(&mut uut, |u| &mut u.clock);
     uut.reset.next = false;
 
     let mut cycle = 0;

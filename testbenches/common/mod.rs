@@ -10,11 +10,21 @@ use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::rtl::driver::{HwQuery, HwResult};
 use rand::Rng;
 use rand_pcg::Pcg64;
-use rust_hdl::prelude::{simulate, Block};
+use rust_hdl::prelude::{simulate, Block, Clock, In, Signal};
 
 /// Propagate a block's combinational logic until it settles (fails the test if not).
 pub fn settle<B: Block>(b: &mut B) {
     assert!(simulate(b, 100), "did not settle");
+}
+
+/// One clock cycle of a block with a `clock` input: settle, rising edge, falling
+/// edge.
+pub fn clock_cycle<B: Block>(uut: &mut B, clock: fn(&mut B) -> &mut Signal<In, Clock>) {
+    settle(uut);
+    clock(uut).next = true.into();
+    settle(uut);
+    clock(uut).next = false.into();
+    settle(uut);
 }
 
 pub fn rng(seed: u64) -> Pcg64 {
