@@ -134,6 +134,77 @@ fn quick_study_writes_a_complete_table_whose_error_falls_with_bits() {
 }
 
 #[test]
+fn quick_study_runs_and_costs_the_chosen_core() {
+    // The barrel core (cell traversal by default with it): its simulation is
+    // checked query by query against the software search inside the study, and
+    // its clock and area must be the barrel row's of results.json, read here
+    // independently of the study's own reader.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("barrel");
+    bin()
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args(["study", "--quick", "--controller", "barrel", "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/synth/results.json"))
+            .unwrap(),
+    )
+    .unwrap();
+    let barrel = json["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| {
+            let o = &r["options"];
+            o["controller"] == "barrel"
+                && o["traversal"] == "cell"
+                && o["trees"] == 1
+                && o["k"] == 10
+                && o["bits"] == 10
+                && o["metric"] == "l1"
+                && r["ecp5"].is_object()
+        })
+        .expect("results.json has a routed single barrel core");
+    let fmax = barrel["ecp5"]["fmax_mhz"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_f64().unwrap())
+        .fold(0.0, f64::max);
+    let mut r = csv::Reader::from_path(out.join("study.csv")).unwrap();
+    let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let mut seen = 0;
+    for rec in r.records() {
+        let rec = rec.unwrap();
+        if &rec[col("metric")] == "l1" && &rec[col("k")] == "10" && &rec[col("bits")] == "10" {
+            seen += 1;
+            assert!(
+                rec[col("hw_reads_source")].contains("query slots"),
+                "{rec:?}"
+            );
+            let f: f64 = rec[col("fmax_mhz")].parse().unwrap();
+            assert!(
+                (f - fmax).abs() < 0.05,
+                "fmax {f} against the barrel row's {fmax}"
+            );
+            assert!(
+                rec[col("fmax_source")].contains(barrel["name"].as_str().unwrap()),
+                "{rec:?}"
+            );
+        }
+    }
+    assert!(seen > 0, "no l1 k=10 10-bit point in the quick study");
+    let md = std::fs::read_to_string(out.join("STUDY.md")).unwrap();
+    assert!(
+        md.contains("--controller barrel"),
+        "the regenerate line names the core"
+    );
+}
+
+#[test]
 fn study_refuses_bad_input_before_any_work_and_leaves_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("file");
@@ -176,6 +247,28 @@ fn study_refuses_bad_input_before_any_work_and_leaves_nothing() {
                 dir.path().join("no/such/dir").display().to_string(),
             ],
             "no/such/dir",
+        ),
+        (
+            vec![
+                "--controller".into(),
+                "barrel".into(),
+                "--modules-per-port".into(),
+                "4".into(),
+                "--out".into(),
+                dir.path().join("o").display().to_string(),
+            ],
+            "--controller barrel takes --slots-per-port",
+        ),
+        (
+            vec![
+                "--controller".into(),
+                "barrel".into(),
+                "--traversal".into(),
+                "reread".into(),
+                "--out".into(),
+                dir.path().join("o").display().to_string(),
+            ],
+            "reread",
         ),
     ];
     for (args, msg) in cases {

@@ -18,7 +18,7 @@ use photon_fpga::hw::traversal::Traversal;
 pub struct CoreOpts {
     /// Who runs a port's queries [default: barrel for render and gather (the best
     /// core measured, synth/REPORT.md); modules (the paper's) for export-verilog and
-    /// bench-core].
+    /// bench-core and study].
     #[arg(long, value_enum)]
     pub controller: Option<ControllerArg>,
     /// How the search climbs back up the tree (changes read counts, never
@@ -78,6 +78,36 @@ impl CoreOpts {
         ]
         .into_iter()
         .find_map(|(given, name)| given.then_some(name))
+    }
+
+    /// The options given, as they are written on a command line (for a report's
+    /// "regenerate with" line).
+    pub fn flags(&self) -> String {
+        fn name<T: clap::ValueEnum>(v: &T) -> String {
+            v.to_possible_value()
+                .map_or(String::new(), |p| p.get_name().to_string())
+        }
+        let mut out = String::new();
+        if let Some(c) = &self.controller {
+            out += &format!(" --controller {}", name(c));
+        }
+        if let Some(t) = &self.traversal {
+            out += &format!(" --traversal {}", name(t));
+        }
+        for (flag, v) in [
+            ("--modules-per-port", self.modules_per_port),
+            ("--slots-per-port", self.slots_per_port),
+            ("--queries-per-port", self.queries_per_port),
+            ("--trees", self.trees),
+        ] {
+            if let Some(v) = v {
+                out += &format!(" {flag} {v}");
+            }
+        }
+        if self.unpipelined {
+            out += " --unpipelined";
+        }
+        out
     }
 
     /// These options on top of `base` (grid, K and metric), with the controller

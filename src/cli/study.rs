@@ -1,6 +1,7 @@
 //! `photon-fpga study`: the accuracy/throughput sweep, its table and
 //! Pareto plot, and the paper's Figs. 3–6 from the project's own runs.
 
+use crate::cli::core_args::CoreOpts;
 use crate::cli::set_threads;
 use crate::cli::values::EngineArg;
 use clap::Args;
@@ -11,10 +12,10 @@ use photon_fpga::host::study::hwcost::SynthResults;
 use photon_fpga::host::study::plan::{Plan, HW_MAX_K};
 use photon_fpga::host::study::report::{self, OutDir};
 use photon_fpga::host::study::{figures, sweep};
+use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::rtl::native::Engine;
-use photon_fpga::hw::traversal::Traversal;
 use std::path::{Path, PathBuf};
 
 #[derive(Args)]
@@ -37,6 +38,12 @@ pub struct StudyArgs {
     /// Worker threads (results do not depend on it).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// The core simulated and costed [default: the paper's: modules controller,
+    /// remember traversal]. Its clock and area come from the rows of --report
+    /// with these options (one tree, pipelined); K, grid and metric follow each
+    /// point of the sweep.
+    #[command(flatten)]
+    pub core: CoreOpts,
     /// Output directory: study.csv, STUDY.md, pareto.png, fig3.png … fig6.png.
     #[arg(long)]
     pub out: PathBuf,
@@ -51,10 +58,13 @@ pub fn study(args: &StudyArgs) -> Result<()> {
     set_threads(args.threads)?;
     // Everything that can be refused is refused before the sweep: the report, the
     // scene, the output directory.
-    // The study simulates the default core (QueryModules, the default traversal):
-    // only rows of that core give it a clock and an area.
-    let rows =
-        SynthResults::read(&args.report)?.study_rows(Traversal::default(), Controller::default());
+    // The study simulates the chosen core: only rows of that core give it a clock
+    // and an area.
+    let controller = args.core.controller_or(Controller::default());
+    let traversal = args.core.traversal_for(controller);
+    let core = args.core.builder(CoreConfig::builder(), controller)?;
+    core.clone().traversal(traversal).build()?;
+    let rows = SynthResults::read(&args.report)?.study_rows(traversal, controller);
     let scene = match &args.scene {
         Some(p) => {
             let name = p
@@ -79,6 +89,8 @@ pub fn study(args: &StudyArgs) -> Result<()> {
         Plan::full(scene, engine)
     };
     plan.engine = engine;
+    plan.core = core;
+    plan.traversal = traversal;
     let bar = ProgressBar::new(0);
     let result = sweep::run(&plan, &rows, &bar)?;
     bar.set_message("figures 3-6");
@@ -99,6 +111,7 @@ pub fn study(args: &StudyArgs) -> Result<()> {
             })
             .and_then(|r| r.hw.as_ref())
             .and_then(|h| Some(h.sim.reads_per_cycle() * h.cost.fmax_mhz? * 1e6))
+            .filter(|rate| *rate > 0.0)
     };
     let figs = figures::run(&plan, &hw_rate)?;
     bar.finish_and_clear();
@@ -109,6 +122,7 @@ pub fn study(args: &StudyArgs) -> Result<()> {
     if args.quick {
         command += " --quick";
     }
+    command += &args.core.flags();
     command += &format!(" --out {}", args.out.display());
     report::write_all(out.staging(), &plan, &result, &figs, &command)?;
     out.commit()?;

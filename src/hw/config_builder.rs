@@ -117,6 +117,11 @@ impl CoreBuilder {
             .address_bits(tree.address_bits().max(1))
     }
 
+    /// The controller chosen (the default one unless `controller` was called).
+    pub fn chosen_controller(&self) -> Controller {
+        self.controller
+    }
+
     /// The Q given for the chosen controller, if one was (else its default is used,
     /// and a host may size Q from the queries: [`CoreConfig::fit_queries_per_port`]).
     pub fn given_queries_per_port(&self) -> Option<usize> {

@@ -65,11 +65,13 @@ pub const FIG_BITS: u32 = 10;
 pub const FIG_METRIC: Metric = Metric::L1;
 pub const FIG_K: usize = 10;
 
-fn params(k: usize) -> GatherParams {
+/// The figures' gather: the plan's traversal (the core's reads follow it).
+fn params(plan: &Plan, k: usize) -> GatherParams {
     GatherParams {
         k,
         bits: FIG_BITS,
         metric: FIG_METRIC,
+        traversal: plan.traversal,
         ..GatherParams::default()
     }
 }
@@ -153,7 +155,7 @@ pub fn run(plan: &Plan, hw_reads_per_s: &dyn Fn(usize) -> Option<f64>) -> Result
     let eye: Eye = sweep::eye(scene, plan);
     let base = plan.photons[0];
     let (_, pts) = sweep::photons(scene, base, plan.seed)?;
-    let m = QuantizedMap::new(&pts, &params(FIG_K))?;
+    let m = QuantizedMap::new(&pts, &params(plan, FIG_K))?;
     let all = sweep::grid_sample(&m, &eye.points, usize::MAX);
     // Fig. 3: time against the number of queries (every f-th query).
     let fig3 = plan
@@ -168,7 +170,7 @@ pub fn run(plan: &Plan, hw_reads_per_s: &dyn Fn(usize) -> Option<f64>) -> Result
     let mut fig4 = vec![];
     for &emitted in &plan.fig_photons {
         let (_, p) = sweep::photons(scene, emitted, plan.seed)?;
-        let mm = QuantizedMap::new(&p, &params(FIG_K))?;
+        let mm = QuantizedMap::new(&p, &params(plan, FIG_K))?;
         let q = sweep::grid_sample(&mm, &eye.points, usize::MAX);
         fig4.push(point(emitted as f64, &mm, &q, hw_reads_per_s(FIG_K)));
     }
@@ -176,7 +178,7 @@ pub fn run(plan: &Plan, hw_reads_per_s: &dyn Fn(usize) -> Option<f64>) -> Result
     let (mut fig5, mut fig6) = (vec![], vec![]);
     let micro = if plan.quick { 20_000 } else { 2_000_000 };
     for &k in &plan.fig_ks {
-        let mm = QuantizedMap::new(&pts, &params(k))?;
+        let mm = QuantizedMap::new(&pts, &params(plan, k))?;
         let q = sweep::grid_sample(&mm, &eye.points, usize::MAX);
         let fp = point(k as f64, &mm, &q, hw_reads_per_s(k));
         let counts: Vec<[u32; 4]> = sweep::quantized_gather(&mm, &eye.points)?

@@ -9,7 +9,7 @@ use crate::host::error::{Error, Result};
 use crate::host::gather::{GatherBackend, GatherParams, RtlBackend};
 use crate::host::map::knn;
 use crate::host::map::quantize::{GridPoint, Point};
-use crate::hw::config::ReadProfile;
+use crate::hw::config::{ReadProfile, PORTS};
 use crate::hw::controller::Controller;
 use crate::hw::metric::Metric;
 use crate::hw::rtl::native::{Engine, SimOptions};
@@ -25,9 +25,14 @@ pub struct HwSim {
     pub bits: u32,
     pub emitted: usize,
     pub sample: usize,
-    /// QueryModules per port, fitted to the sample (as the rtl backend does).
+    /// The controller and trees simulated, and its Q per port (QueryModules or
+    /// query slots), fitted to the sample unless given (as the rtl backend does).
+    pub controller: Controller,
+    pub trees: usize,
     pub queries_per_port: usize,
     pub cycles: u64,
+    /// Cycles from the first query on (without the map's load).
+    pub search_cycles: u64,
     pub reads: u64,
     /// Cycles with every QueryModule busy, and both ports' reads in them.
     pub busy_cycles: u64,
@@ -36,14 +41,21 @@ pub struct HwSim {
 
 impl HwSim {
     /// Photon reads per cycle (both ports) while every QueryModule is busy: the
-    /// steady state of a long query stream. The whole run's rate (load, fill and
-    /// drain included) when the sample never filled the core.
+    /// steady state of a long query stream. Otherwise the rate from the first query
+    /// on (fill and drain included, the map's load not): when the sample never
+    /// filled the core, and always for the barrel controller, whose slots are
+    /// refilled from the dispatcher as they free (all slots occupied at once is not
+    /// its steady state, and a handful of such cycles would make a noisy rate).
     pub fn reads_per_cycle(&self) -> f64 {
-        if self.busy_cycles > 0 {
+        if self.steady() {
             self.busy_reads as f64 / self.busy_cycles as f64
         } else {
-            self.reads as f64 / self.cycles.max(1) as f64
+            self.reads as f64 / self.search_cycles.max(1) as f64
         }
+    }
+
+    fn steady(&self) -> bool {
+        self.controller == Controller::Modules && self.busy_cycles > 0
     }
 
     pub fn engine_name(&self) -> &'static str {
@@ -55,13 +67,22 @@ impl HwSim {
 
     /// Where [`HwSim::reads_per_cycle`] comes from, for the table.
     pub fn source(&self) -> String {
-        let what = if self.busy_cycles > 0 {
+        let what = if self.steady() {
             "all QueryModules busy"
         } else {
-            "whole run incl. load"
+            "from the first query, fill and drain incl."
+        };
+        let q = match self.controller {
+            Controller::Modules => "QueryModules",
+            Controller::Barrel => "query slots",
+        };
+        let trees = if self.trees > 1 {
+            format!("{} trees x ", self.trees)
+        } else {
+            String::new()
         };
         format!(
-            "simulated ({}, {} queries, {} bits, {} emitted, 2 x {} QueryModules, {what})",
+            "simulated ({}, {} queries, {} bits, {} emitted, {trees}{PORTS} x {} {q}, {what})",
             self.engine_name(),
             self.sample,
             self.bits,
@@ -124,7 +145,9 @@ pub fn simulate(
     }
     let profile: ReadProfile = profiles.into_iter().sum();
     let mut config = backend.config;
-    config.fit_queries_per_port(&profile);
+    if backend.fit_q {
+        config.fit_queries_per_port(&profile);
+    }
     let stats = backend.stats.lock().expect("stats lock").clone();
     let sum = |f: &dyn Fn(&crate::hw::rtl::driver::SimStats) -> u64| stats.iter().map(f).sum();
     Ok(HwSim {
@@ -132,8 +155,11 @@ pub fn simulate(
         bits: params.bits,
         emitted,
         sample: points.len(),
+        controller: config.controller,
+        trees: config.trees,
         queries_per_port: config.queries_per_port,
         cycles: sum(&|s| s.cycles),
+        search_cycles: sum(&|s| s.search_cycles),
         reads: sum(&|s| s.reads_per_port.iter().sum()),
         busy_cycles: sum(&|s| s.busy_cycles),
         busy_reads: sum(&|s| s.busy_reads_per_port.iter().sum()),

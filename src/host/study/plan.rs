@@ -2,8 +2,10 @@
 //! how large its images, references and samples are (full and `--quick`).
 
 use crate::host::render::scene::Scene;
+use crate::hw::config_builder::CoreBuilder;
 use crate::hw::metric::Metric;
 use crate::hw::rtl::native::Engine;
+use crate::hw::traversal::Traversal;
 
 /// Largest k the core holds (`src/hw/config.rs`: K <= 64); larger k are
 /// software-only points of the sweep.
@@ -41,6 +43,12 @@ pub struct Plan {
     pub hw_sample: usize,
     pub hw_bits: Vec<u32>,
     pub engine: Engine,
+    /// The core simulated and costed: its controller, Q, trees and pipelining (K,
+    /// grid and metric follow each point of the sweep), and the traversal the
+    /// quantized search and the core run (read counts depend on it, neighbours do
+    /// not). The paper's core by default.
+    pub core: CoreBuilder,
+    pub traversal: Traversal,
     /// Queries timed (one thread) per point for the software search's queries/s.
     pub timing_sample: usize,
     /// Fig. 4's emitted photon counts and Fig. 3's fractions of the queries.
@@ -76,6 +84,8 @@ impl Plan {
             hw_sample: 400,
             hw_bits: vec![10],
             engine,
+            core: CoreBuilder::default(),
+            traversal: Traversal::default(),
             timing_sample: 2000,
             fig_photons: vec![25_000, 50_000, 100_000, 200_000, 400_000],
             fig_query_fractions: vec![8, 4, 2, 1],
@@ -104,6 +114,8 @@ impl Plan {
             hw_sample: 80,
             hw_bits: vec![10],
             engine: Engine::Native,
+            core: CoreBuilder::default(),
+            traversal: Traversal::default(),
             timing_sample: 200,
             fig_photons: vec![1000, 3000],
             fig_query_fractions: vec![2, 1],

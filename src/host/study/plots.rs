@@ -151,6 +151,18 @@ fn line_panel(
     y_desc: &str,
     series: &[(&str, Vec<(f64, f64)>)],
 ) -> Drawn {
+    // A non-finite point has no place on an axis (and would make the tick search
+    // of an infinite range run forever): such points are left out.
+    let series: Vec<(&str, Vec<(f64, f64)>)> = series
+        .iter()
+        .map(|(n, pts)| {
+            let finite = pts
+                .iter()
+                .copied()
+                .filter(|p| p.0.is_finite() && p.1.is_finite());
+            (*n, finite.collect())
+        })
+        .collect();
     let xs = series.iter().flat_map(|s| s.1.iter().map(|p| p.0));
     let x1 = xs.clone().fold(0.0f64, f64::max) * 1.05;
     let y1 = series

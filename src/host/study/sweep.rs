@@ -222,6 +222,8 @@ pub fn run(plan: &Plan, report: &[ReportRow], bar: &ProgressBar) -> Result<Sweep
                     for &bits in &plan.bits {
                         let params = GatherParams {
                             bits,
+                            traversal: plan.traversal,
+                            core: plan.core.clone(),
                             ..fparams.clone()
                         };
                         let m = QuantizedMap::new(&pts, &params)?;

@@ -42,6 +42,8 @@ pub struct HwResult {
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct SimStats {
     pub cycles: u64,
+    /// Cycles from the first query presented on: the run without the map's load.
+    pub search_cycles: u64,
     pub reads_per_port: Vec<u64>,
     /// Cycles with every QueryModule (of every tree) occupied.
     pub busy_cycles: u64,
@@ -126,6 +128,8 @@ pub trait Observer {
 #[derive(Default)]
 struct StatsObserver {
     stats: SimStats,
+    /// A query has been presented (the load is over).
+    searching: bool,
 }
 
 impl Observer for StatsObserver {
@@ -149,6 +153,8 @@ impl Observer for StatsObserver {
             }
         }
         s.cycles += 1;
+        self.searching |= c.inputs.query_valid;
+        s.search_cycles += self.searching as u64;
         Ok(())
     }
 }
