@@ -63,7 +63,7 @@ pub fn study(args: &StudyArgs) -> Result<()> {
     let controller = args.core.controller_or(Controller::default());
     let traversal = args.core.traversal_for(controller);
     let core = args.core.builder(CoreConfig::builder(), controller)?;
-    core.clone().traversal(traversal).build()?;
+    core.traversal(traversal).build()?;
     let rows = SynthResults::read(&args.report)?.study_rows(traversal, controller);
     let scene = match &args.scene {
         Some(p) => {

@@ -223,7 +223,7 @@ pub fn run(plan: &Plan, report: &[ReportRow], bar: &ProgressBar) -> Result<Sweep
                         let params = GatherParams {
                             bits,
                             traversal: plan.traversal,
-                            core: plan.core.clone(),
+                            core: plan.core,
                             ..fparams.clone()
                         };
                         let m = QuantizedMap::new(&pts, &params)?;
