@@ -105,8 +105,7 @@ impl<const S: usize, const W: usize> PhotonSearchArray<S, W> {
 impl<const S: usize, const W: usize> Logic for PhotonSearchArray<S, W> {
     #[hdl_gen]
     fn update(&mut self) {
-        self.dispatch.clock.next = self.clock.val();
-        self.merge.clock.next = self.clock.val();
+        clock!(self, clock, dispatch, merge);
         self.merge.reset.next = self.reset.val();
         dff_setup!(self, clock, load_ready);
 

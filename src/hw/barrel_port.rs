@@ -128,23 +128,34 @@ pub struct BarrelPort<const W: usize> {
     m_ev: DFF<SlotEvent>,
     // Stage D: the ascent.
     d_ev: DFF<SlotEvent>,
+    /// The level the search climbs to, and whether there is one (none: done).
     d_target: Signal<Local, RamIndex>,
     d_found: Signal<Local, bool>,
+    /// The event's pending bits (a signal: Verilog-2005 cannot index a bit of a
+    /// struct field's slice).
     d_pending: Signal<Local, LevelMask>,
     // Stage E.
     e_ev: DFF<SlotEvent>,
+    /// Stage D's target and found, a stage later.
     e_target: DFF<RamIndex>,
     e_found: DFF<bool>,
+    /// Levels from this node up to the target's child: the shift to its ancestor.
     e_shift: Signal<Local, RamIndex>,
+    /// The (slot, target level) entry of the far-cell offsets BlockRAMs.
     e_far_index: Signal<Local, BramIndex>,
     // Stage F.
     f_ev: DFF<SlotEvent>,
+    /// Stage E's target and found, a stage later.
     f_target: DFF<RamIndex>,
     f_found: DFF<bool>,
+    /// The far child's heap address: the next read when the search climbs.
     f_jump: DFF<Addr>,
+    /// The query is over (no target), and whether a read is issued this cycle.
     f_done: Signal<Local, bool>,
     f_issue: Signal<Local, bool>,
+    /// The slot's state as written back (and the next read's address).
     f_state: Signal<Local, SlotEvent>,
+    /// A query beat is taken this cycle (valid and ready).
     query_fire: Signal<Local, bool>,
 }
 
@@ -234,11 +245,7 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.search.reset.next = self.reset.val();
         self.search.photon_count.next = self.io.photon_count.val();
         self.search.word.next = self.io.ram_data.val();
-        self.store.clock.next = self.clock.val();
-        self.found_max.clock.next = self.clock.val();
-        self.far_xy.clock.next = self.clock.val();
-        self.far_zd.clock.next = self.clock.val();
-        self.readout.clock.next = self.clock.val();
+        clock!(self, clock, store, found_max, far_xy, far_zd, readout);
         self.readout.reset.next = self.reset.val();
 
         // ---- Stage A: a result, else a new query into the picked free slot. ----
@@ -414,8 +421,6 @@ impl<const W: usize> Logic for BarrelPort<W> {
         // ---- Stage D: the ascent in one step. ----
         // The software search climbs level by level with R fixed and enters the
         // first pending far child within R: the deepest such level above this one.
-        // (The pending bits through a signal of their own: Verilog-2005 cannot
-        // index a bit of a struct field's slice.)
         self.d_pending.next = self.d_ev.q.val().pending;
         self.d_target.next = 0.into();
         self.d_found.next = false;

@@ -97,9 +97,7 @@ impl Logic for CellBound {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, off_x, off_y, off_z, cell_dist);
-        self.level_axis.clock.next = self.clock.val();
-        self.old_off.clock.next = self.clock.val();
-        self.far_off.clock.next = self.clock.val();
+        clock!(self, clock, level_axis, old_off, far_off);
 
         // A down visit: the offset along the photon's axis, and its far cell.
         self.visit_off.next = self.off_x.q.val();

@@ -100,9 +100,7 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, photon_count, loaded, load_ready);
-        self.tree.clock.next = self.clock.val();
-        self.dispatch.clock.next = self.clock.val();
-        self.merge.clock.next = self.clock.val();
+        clock!(self, clock, tree, dispatch, merge);
         self.merge.reset.next = self.reset.val();
 
         // Queries to a port with a free QueryModule; a pending load goes first.

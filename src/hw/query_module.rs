@@ -298,11 +298,7 @@ impl<const S: usize> Logic for QueryModule<S> {
             parent_bound,
             runs_max
         );
-        self.found.clock.next = self.clock.val();
-        self.found_dist.clock.next = self.clock.val();
-        self.path.clock.next = self.clock.val();
-        self.path_up.clock.next = self.clock.val();
-        self.cell_state.clock.next = self.clock.val();
+        clock!(self, clock, found, found_dist, path, path_up, cell_state);
         self.parent_level.next = self.level.q.val() >> 1;
         // Its pending bit next cycle: while climbing, the grandparent's; otherwise
         // the parent stays (WAIT changes only the current level's bit).

@@ -187,9 +187,7 @@ impl<const W: usize> Logic for SearchModule<W> {
         self.s0.d.next = self.request.val();
 
         // The query store: written at the load, read by stage 0's module index.
-        self.query_x.clock.next = self.clock.val();
-        self.query_y.clock.next = self.clock.val();
-        self.query_z.clock.next = self.clock.val();
+        clock!(self, clock, query_x, query_y, query_z);
         self.query_x.write_enable.next = self.query_write.val();
         self.query_y.write_enable.next = self.query_write.val();
         self.query_z.write_enable.next = self.query_write.val();

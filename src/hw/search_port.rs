@@ -122,8 +122,7 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, load_now, load_data, grant_reg, granted_reg);
-        self.arbiter.clock.next = self.clock.val();
-        self.search.clock.next = self.clock.val();
+        clock!(self, clock, arbiter, search);
         self.search.reset.next = self.reset.val();
         self.search.photon_count.next = self.io.photon_count.val();
         self.search.word.next = self.io.ram_data.val();

@@ -170,11 +170,15 @@ impl Logic for SlotReadout {
             hdr_visited,
             hdr_last
         );
-        self.ids.clock.next = self.clock.val();
-        self.out_count_mem.clock.next = self.clock.val();
-        self.out_visited_mem.clock.next = self.clock.val();
-        self.found_even.clock.next = self.clock.val();
-        self.found_odd.clock.next = self.clock.val();
+        clock!(
+            self,
+            clock,
+            ids,
+            out_count_mem,
+            out_visited_mem,
+            found_even,
+            found_odd
+        );
         // The writes: ids at the load, photons as they enter, headers at the end.
         self.ids.write_enable.next = self.id_write.val();
         self.ids.write_index.next = self.id_slot.val();

@@ -63,9 +63,12 @@ pub struct SlotStore {
     pub write: Signal<In, SlotEvent>,
     /// `Traversal::Cell`: the offsets are kept (else their memories are one bit).
     cell_mode: Constant<bool>,
+    /// The widths the configuration needs (`CoreConfig`'s masks): each field is
+    /// stored through its mask, so synthesis keeps only the LUT-RAM bits in use.
     dist_mask: Constant<Dist>,
     count_mask: Constant<Count>,
     visited_mask: Constant<ReadCount>,
+    /// Levels (H) and found-list entries (K).
     level_mask: Constant<RamIndex>,
     entry_mask: Constant<RamIndex>,
     level: LutRam,
@@ -123,18 +126,10 @@ impl SlotStore {
 impl Logic for SlotStore {
     #[hdl_gen]
     fn update(&mut self) {
-        self.level.clock.next = self.clock.val();
-        self.pending.clock.next = self.clock.val();
-        self.radius.clock.next = self.clock.val();
-        self.full.clock.next = self.clock.val();
-        self.count.clock.next = self.clock.val();
-        self.k.clock.next = self.clock.val();
-        self.max_pos.clock.next = self.clock.val();
-        self.visited.clock.next = self.clock.val();
-        self.off_x.clock.next = self.clock.val();
-        self.off_y.clock.next = self.clock.val();
-        self.off_z.clock.next = self.clock.val();
-        self.cell_dist.clock.next = self.clock.val();
+        clock!(
+            self, clock, level, pending, radius, full, count, k, max_pos, visited, off_x, off_y,
+            off_z, cell_dist
+        );
         self.level.read_index.next = self.read_index.val();
         self.pending.read_index.next = self.read_index.val();
         self.radius.read_index.next = self.read_index.val();
