@@ -51,6 +51,10 @@ SIM_ONLY = os.environ.get("PHOTON_FPGA_STEPS") == "sim"
 # PHOTON_FPGA_STEPS=ecp5: the simulations and ECP5 place and route only, without the
 # yosys xc6v synthesis first (hours for the large arrays).
 ECP5_ONLY = os.environ.get("PHOTON_FPGA_STEPS") == "ecp5"
+# PHOTON_FPGA_STEPS=synth: yosys xc6v and ECP5 place and route only, no simulations:
+# their results do not depend on what else runs, so they may run beside other work;
+# the simulations (which time kiddo) then run later, alone, with PHOTON_FPGA_STEPS=sim.
+SYNTH_ONLY = os.environ.get("PHOTON_FPGA_STEPS") == "synth"
 # XC6VSX475T (the paper's device): 74,400 slices of 4 LUT6 and 8 flip-flops, 1,064 RAMB36E1.
 XC6V = dict(luts=297_600, ffs=595_200, ramb36=1_064)
 PAPER_MHZ = 215.0  # the paper's clock on that device; assumed here, no open tool times Virtex-6
@@ -637,7 +641,7 @@ def main(only):
     # The simulations go first, one at a time and before any synthesis starts: bench-core
     # also times kiddo and the software search, which must not share the machine.
     for c in wanted:
-        if not errors.get(c.name):
+        if not errors.get(c.name) and not SYNTH_ONLY:
             row(c, {"sim"}, old.get(c.name), versions=versions)
     report_lock = threading.Lock()
 
