@@ -377,3 +377,97 @@ fn bench_core_runs_both_engines_and_a_whole_cornell_stream() {
     assert!((100..=120).contains(&queries), "{queries} queries: {text}");
     assert!(text.contains("equal per query"), "{text}");
 }
+
+/// The Verilator model cache: three concurrent first runs of one model, started
+/// from one working directory, all succeed with the same file as the rtl backend's
+/// and leave nothing but their outputs there; a damaged cached model is rebuilt;
+/// a run that cannot find Verilator fails with exit 2 and leaves no cache entry.
+#[test]
+#[cfg_attr(not(has_verilator), ignore = "needs verilator")]
+fn verilator_model_cache_is_shared_safely_and_repairs_itself() {
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(31);
+    let photons: Vec<[i32; 3]> = (0..300)
+        .map(|_| {
+            [
+                rng.gen_range(0..50),
+                rng.gen_range(0..50),
+                rng.gen_range(0..50),
+            ]
+        })
+        .collect();
+    let queries: Vec<[i32; 3]> = (0..40)
+        .map(|_| {
+            [
+                rng.gen_range(0..50),
+                rng.gen_range(0..50),
+                rng.gen_range(0..50),
+            ]
+        })
+        .collect();
+    let work = tempfile::tempdir().unwrap();
+    let cache = tempfile::tempdir().unwrap();
+    std::fs::write(work.path().join("p.csv"), csv(&photons)).unwrap();
+    std::fs::write(work.path().join("q.csv"), csv(&queries)).unwrap();
+    let gather = |backend: &str, out: &str| {
+        let mut c = std::process::Command::new(assert_cmd::cargo::cargo_bin("photon-fpga"));
+        c.current_dir(work.path())
+            .env("PHOTON_FPGA_CACHE_DIR", cache.path())
+            .args(["gather", "--backend", backend, "--k", "5"])
+            .args(["--photons", "p.csv", "--queries", "q.csv", "--out", out]);
+        c
+    };
+    let listing = |d: &std::path::Path| {
+        let mut v: Vec<String> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    assert!(gather("rtl", "rtl.csv").status().unwrap().success());
+    let want = std::fs::read(work.path().join("rtl.csv")).unwrap();
+    let runs: Vec<std::process::Child> = (0..3)
+        .map(|i| gather("verilator", &format!("v{i}.csv")).spawn().unwrap())
+        .collect();
+    for (i, mut r) in runs.into_iter().enumerate() {
+        assert!(r.wait().unwrap().success(), "concurrent run {i} failed");
+        let got = std::fs::read(work.path().join(format!("v{i}.csv"))).unwrap();
+        assert!(got == want, "concurrent run {i} differs from rtl");
+    }
+    assert_eq!(
+        listing(work.path()),
+        ["p.csv", "q.csv", "rtl.csv", "v0.csv", "v1.csv", "v2.csv"],
+        "the working directory gained files"
+    );
+    // One model, one entry (and its lock file).
+    let entries: Vec<std::path::PathBuf> = std::fs::read_dir(cache.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_dir())
+        .collect();
+    assert_eq!(entries.len(), 1, "{entries:?}");
+    // Damage the library: the next run rebuilds it and answers the same.
+    let lib = entries[0].join("obj_dir/libvtop.so");
+    let len = std::fs::metadata(&lib).unwrap().len();
+    std::fs::OpenOptions::new()
+        .write(true)
+        .open(&lib)
+        .unwrap()
+        .set_len(len / 2)
+        .unwrap();
+    assert!(gather("verilator", "v3.csv").status().unwrap().success());
+    assert!(std::fs::read(work.path().join("v3.csv")).unwrap() == want);
+    assert_eq!(std::fs::metadata(&lib).unwrap().len(), len, "not rebuilt");
+    // No Verilator on the PATH: a clear error, exit 2, no new entry or build dir.
+    let before = listing(cache.path());
+    let out = gather("verilator", "none.csv")
+        .env("PHOTON_FPGA_CACHE_DIR", cache.path().join("fresh"))
+        .env("PATH", "/nonexistent")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("verilator"));
+    assert!(!work.path().join("none.csv").exists());
+    assert_eq!(listing(cache.path()), before);
+    assert!(!cache.path().join("fresh").exists());
+}

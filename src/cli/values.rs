@@ -76,8 +76,9 @@ mirror! {
     EngineArg => Engine {
         /// rust-hdl's own simulation of the blocks.
         Native,
-        /// The exported Verilog under Verilator (built on first use, cached under
-        /// target/verilator/).
+        /// The exported Verilog under Verilator (built on first use, cached in
+        /// $PHOTON_FPGA_CACHE_DIR, else $XDG_CACHE_HOME/photon-fpga or
+        /// ~/.cache/photon-fpga).
         Verilator,
     }
 }

@@ -5,6 +5,7 @@
 
 pub mod driver;
 pub mod export;
+pub mod model_cache;
 pub mod native;
 pub mod ports;
 pub mod shell;

@@ -12,9 +12,9 @@
 //! values written back) and [`Dut::rising_edge`] calls `pf_edge`. Values travel as
 //! little-endian 32-bit words per port, in port order.
 //!
-//! The built model is cached under `target/verilator/<hash of the Verilog and the
-//! harness>/`, so only the first run of a configuration pays the build (seconds to
-//! a minute). A VCD trace (`--vcd`) comes from Verilator's own tracer in a second
+//! The built model is kept in the user's model cache ([`model_cache`]: keyed by the
+//! Verilog, the harness, Verilator's version and arguments), so only the first run
+//! of a configuration pays the build (seconds to a minute). A VCD trace (`--vcd`) comes from Verilator's own tracer in a second
 //! build with `--trace`, with the native trace's timing (inputs settled at 10·c,
 //! the rising edge at 10·c + 5); an untraced model carries no tracing code. Tree
 //! status: the core's status outputs for T = 1, the array's per-tree status
@@ -24,6 +24,7 @@ use crate::hw::config::{Addr, CoreConfig};
 use crate::hw::error::HwError;
 use crate::hw::rtl::driver::{Dut, Inputs, Outputs};
 use crate::hw::rtl::export::{export_verilog, Exported};
+use crate::hw::rtl::model_cache;
 use crate::hw::rtl::ports::Port;
 use crate::hw::stream::{QueryBeat, ResultBeat};
 use libloading::Library;
@@ -31,7 +32,6 @@ use rust_hdl::prelude::*;
 use std::collections::HashMap;
 use std::ffi::{c_char, c_void, CString};
 use std::fmt::Write as _;
-use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::Mutex;
@@ -174,53 +174,8 @@ void pf_free(void* p) {{
     )
 }
 
-/// Where the model for `verilog` is (or will be) built.
-fn model_dir(verilog: &str, harness: &str, trace: bool) -> PathBuf {
-    let mut h = std::collections::hash_map::DefaultHasher::new();
-    verilog.hash(&mut h);
-    harness.hash(&mut h);
-    trace.hash(&mut h);
-    let base = std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from("target"));
-    base.join("verilator").join(format!("{:016x}", h.finish()))
-}
-
-/// The built models this process has opened, by library path. Libraries are
-/// never closed (a handful per process), so their functions stay valid.
-static LIBRARIES: Mutex<Option<HashMap<PathBuf, &'static Library>>> = Mutex::new(None);
-
-/// Build the model in `dir` unless it is there, and open it. One build at a time
-/// in this process: the rtl backend starts one model per thread, and they share
-/// the cached build.
-fn open(
-    dir: &Path,
-    exported: &Exported,
-    harness: &str,
-    trace: bool,
-) -> Result<&'static Library, HwError> {
-    let mut libs = LIBRARIES.lock().unwrap_or_else(|e| e.into_inner());
-    let lib = dir.join("obj_dir").join("libvtop.so");
-    if let Some(l) = libs.get_or_insert_with(HashMap::new).get(&lib) {
-        return Ok(l);
-    }
-    if !lib.exists() {
-        build(dir, exported, harness, trace)?;
-    }
-    // SAFETY: the library is the model built above from our own harness; its
-    // initialisers only set up Verilator's statics.
-    let opened = unsafe { Library::new(&lib) }
-        .map_err(|e| verr(format!("cannot load {}: {e}", lib.display())))?;
-    let leaked: &'static Library = Box::leak(Box::new(opened));
-    libs.get_or_insert_with(HashMap::new).insert(lib, leaked);
-    Ok(leaked)
-}
-
-fn build(dir: &Path, exported: &Exported, harness: &str, trace: bool) -> Result<(), HwError> {
-    let io = |e: std::io::Error| verr(format!("{}: {e}", dir.display()));
-    std::fs::create_dir_all(dir).map_err(io)?;
-    std::fs::write(dir.join("top.v"), &exported.verilog).map_err(io)?;
-    std::fs::write(dir.join("harness.cpp"), harness).map_err(io)?;
+/// Verilator's arguments for a model (the sources are appended).
+fn verilator_args(trace: bool) -> Vec<&'static str> {
     let mut args = vec![
         "--cc",
         "--exe",
@@ -249,20 +204,80 @@ fn build(dir: &Path, exported: &Exported, harness: &str, trace: bool) -> Result<
     if trace {
         args.push("--trace");
     }
-    args.extend(["top.v", "harness.cpp"]);
+    args
+}
+
+const NO_VERILATOR: &str = "install it (apt-get install verilator) and a C++ compiler (g++, make)";
+
+/// `verilator --version`: part of the model's key (another Verilator builds
+/// another model).
+fn verilator_version() -> Result<String, HwError> {
+    let out = Command::new("verilator")
+        .arg("--version")
+        .output()
+        .map_err(|e| verr(format!("cannot run verilator ({e}): {NO_VERILATOR}")))?;
+    Ok(String::from_utf8_lossy(&out.stdout).trim().to_string())
+}
+
+/// The built models this process has opened, by library path. Libraries are
+/// never closed (a handful per process), so their functions stay valid.
+static LIBRARIES: Mutex<Option<HashMap<PathBuf, &'static Library>>> = Mutex::new(None);
+
+/// The library inside a cache entry.
+const LIBRARY: &str = "obj_dir/libvtop.so";
+
+/// Open the model of `exported` and `harness`, built into the user's model cache
+/// ([`model_cache`]) unless it is there. One build at a time in this process: the
+/// rtl backend starts one model per thread, and they share the cached build.
+fn open(exported: &Exported, harness: &str, trace: bool) -> Result<&'static Library, HwError> {
+    let mut libs = LIBRARIES.lock().unwrap_or_else(|e| e.into_inner());
+    let args = verilator_args(trace);
+    let version = verilator_version()?;
+    let key = model_cache::key(&[
+        exported.verilog.as_bytes(),
+        harness.as_bytes(),
+        version.as_bytes(),
+        args.join("\0").as_bytes(),
+    ]);
+    let root = model_cache::cache_root();
+    let lib = root.join(&key).join(LIBRARY);
+    if let Some(l) = libs.get_or_insert_with(HashMap::new).get(&lib) {
+        return Ok(l);
+    }
+    let build = |dir: &Path| build(dir, exported, harness, &args);
+    let mut entry = model_cache::get_or_build(&root, &key, LIBRARY, build)?;
+    // SAFETY: the library is the model built from our own harness; its
+    // initialisers only set up Verilator's statics.
+    let opened = match unsafe { Library::new(entry.join(LIBRARY)) } {
+        Ok(l) => l,
+        Err(_) => {
+            // A library that matches its record but will not load (built by a
+            // toolchain that has since changed underneath): built again, once.
+            model_cache::evict(&root, &key)?;
+            entry = model_cache::get_or_build(&root, &key, LIBRARY, build)?;
+            unsafe { Library::new(entry.join(LIBRARY)) }
+                .map_err(|e| verr(format!("cannot load {}: {e}", lib.display())))?
+        }
+    };
+    let leaked: &'static Library = Box::leak(Box::new(opened));
+    libs.get_or_insert_with(HashMap::new).insert(lib, leaked);
+    Ok(leaked)
+}
+
+/// Build the model into the empty directory `dir`.
+fn build(dir: &Path, exported: &Exported, harness: &str, args: &[&str]) -> Result<(), HwError> {
+    let io = |e: std::io::Error| verr(format!("{}: {e}", dir.display()));
+    std::fs::write(dir.join("top.v"), &exported.verilog).map_err(io)?;
+    std::fs::write(dir.join("harness.cpp"), harness).map_err(io)?;
     let out = Command::new("verilator")
         .current_dir(dir)
-        .args(&args)
+        .args(args)
+        .args(["top.v", "harness.cpp"])
         .output()
-        .map_err(|e| {
-            verr(format!(
-                "cannot run verilator ({e}): install it (apt-get install verilator) and a C++ compiler (g++, make)"
-            ))
-        })?;
-    if !out.status.success() || !dir.join("obj_dir/libvtop.so").exists() {
+        .map_err(|e| verr(format!("cannot run verilator ({e}): {NO_VERILATOR}")))?;
+    if !out.status.success() || !dir.join(LIBRARY).exists() {
         return Err(verr(format!(
-            "build failed in {}:\n{}{}",
-            dir.display(),
+            "the Verilator build failed:\n{}{}",
             String::from_utf8_lossy(&out.stdout),
             String::from_utf8_lossy(&out.stderr)
         )));
@@ -343,8 +358,7 @@ impl VerilatorDut {
         let exported = export_verilog(cfg)?;
         let harness = harness_cpp(&exported.ports);
         let trace = vcd.is_some();
-        let dir = model_dir(&exported.verilog, &harness, trace);
-        let lib = open(&dir, &exported, &harness, trace)?;
+        let lib = open(&exported, &harness, trace)?;
         let new: NewFn = symbol(lib, b"pf_new")?;
         let sample: SampleFn = symbol(lib, b"pf_sample")?;
         let edge: EdgeFn = symbol(lib, b"pf_edge")?;
