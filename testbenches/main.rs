@@ -9,6 +9,7 @@ mod hw_config;
 mod hw_core;
 mod hw_cornell;
 mod hw_dispatcher;
+mod hw_found_heap;
 mod hw_found_rule;
 mod hw_free_pick;
 mod hw_lut_ram;

@@ -1,0 +1,124 @@
+//! FoundHeap: the found lists of a barrel datapath's query slots as one binary
+//! max-heap per slot in BlockRAM, for found lists of hundreds of photons.
+//!
+//! Why a heap: the search needs the farthest found photon at all times (paper
+//! §4.4: R, the pruning radius, and the entry a nearer photon replaces). The
+//! paper's MaxFinder searches K bits bit-serially per query, and the barrel's
+//! comparator tree over K entries (`FoundMax`) costs K − 1 comparators; both grow
+//! with K. A heap finds the maximum at its root and restores itself in log2 K
+//! steps of one comparison each, its entries in memory, not in logic: K = 512 is
+//! ten levels, ten comparator stages and about 16 × 512 keys of BlockRAM per
+//! datapath.
+//!
+//! Why this pipeline: both operations the search needs are top-down (an insert
+//! walks from the root to the next free position, a replace sifts the new key
+//! down from the root; [`HeapStage`]), so stage `s` of every operation touches
+//! level `s` only and one operation can enter every cycle, from any slot. Each
+//! level is its own BlockRAM of sibling pairs (one read gives a node's two
+//! children), read by one stage and written by the next. The new root — the slot's
+//! new R — comes out of stage 1, two cycles after the operation enters.
+//!
+//! The one rule for the user: two operations of one slot enter at least
+//! `levels + 2` cycles apart (an operation writes level `l` in its stage `l + 1`).
+//! The barrel datapath meets it by construction: a slot has one event in flight
+//! and comes back every slot loop. Operations of different slots never share an
+//! entry (the slot is the high part of every address).
+
+use crate::hw::block_ram::{BlockRam, BramWord};
+use crate::hw::heap_stage::{HeapKey, HeapOp, HeapPos, HeapStage};
+use rust_hdl::prelude::*;
+
+#[derive(LogicBlock)]
+pub struct FoundHeap {
+    pub clock: Signal<In, Clock>,
+    /// An operation (`valid`, `replace`, `slot`, `key`, `size`; the other fields
+    /// are the pipeline's). Insert: `size` is the position to fill (the list's
+    /// size after it, 1 for the first photon). Replace: `size` is the list's size.
+    pub op: Signal<In, HeapOp>,
+    /// The new root (maximum) of the slot of the operation that entered two
+    /// cycles ago.
+    pub max_valid: Signal<Out, bool>,
+    pub max_slot: Signal<Out, Bits<8>>,
+    pub max: Signal<Out, HeapKey>,
+    levels: Vec<BlockRam>,
+    stages: Vec<HeapStage>,
+    regs: Vec<DFF<HeapOp>>,
+    /// Loop constants: bit numbers for the depth of an insert's position.
+    bit_number: Vec<Constant<Bits<8>>>,
+    depth: Signal<Local, Bits<8>>,
+    /// `op.size` (a signal: Verilog-2005 cannot index a bit of a struct field's
+    /// slice).
+    size: Signal<Local, HeapPos>,
+    no_data: Constant<BramWord>,
+}
+
+impl FoundHeap {
+    /// Heaps of up to `2^levels − 1` keys (levels 1..=13) for `2^slot_bits` slots.
+    pub fn new(levels: usize, slot_bits: u32) -> Self {
+        assert!((1..=13).contains(&levels) && (1..=4).contains(&slot_bits));
+        FoundHeap {
+            clock: Default::default(),
+            op: Default::default(),
+            max_valid: Default::default(),
+            max_slot: Default::default(),
+            max: Default::default(),
+            levels: (0..levels)
+                .map(|l| BlockRam::new(slot_bits + (l.max(1) as u32 - 1), 64))
+                .collect(),
+            stages: (0..=levels).map(|s| HeapStage::new(s, levels)).collect(),
+            regs: (0..=levels).map(|_| Default::default()).collect(),
+            bit_number: (0..16).map(|b| Constant::new((b as u64).into())).collect(),
+            depth: Default::default(),
+            size: Default::default(),
+            no_data: Constant::new(0u64.into()),
+        }
+    }
+}
+
+impl Logic for FoundHeap {
+    #[hdl_gen]
+    fn update(&mut self) {
+        for s in 0..self.regs.len() {
+            self.regs[s].clock.next = self.clock.val();
+        }
+        for l in 0..self.levels.len() {
+            self.levels[l].clock.next = self.clock.val();
+        }
+        // An insert's path: the position's bits below its leading one, from the top.
+        self.depth.next = 0.into();
+        self.size.next = self.op.val().size;
+        for b in 0..self.bit_number.len() {
+            if self.size.val().get_bit(b) {
+                self.depth.next = self.bit_number[b].val();
+            }
+        }
+        self.regs[0].d.next = self.op.val();
+        self.regs[0].d.next.done = false;
+        self.regs[0].d.next.write = false;
+        self.regs[0].d.next.node = 1.into();
+        self.regs[0].d.next.shift = self.depth.val();
+        // Stage 0 reads the root's pair; stage s reads level s + 1, writes level
+        // s − 1.
+        self.levels[0].read_index.next = bit_cast::<16, 8>(self.op.val().slot);
+        for s in 0..self.stages.len() {
+            self.stages[s].op.next = self.regs[s].q.val();
+            // The last stage has no level below: it only writes.
+            self.stages[s].data.next = self.no_data.val();
+        }
+        for s in 0..self.levels.len() {
+            self.stages[s].data.next = self.levels[s].read_data.val();
+        }
+        for s in 1..self.stages.len() {
+            self.regs[s].d.next = self.stages[s - 1].out_op.val();
+            self.levels[s - 1].write_enable.next = self.stages[s].write_enable.val();
+            self.levels[s - 1].write_index.next = self.stages[s].write_index.val();
+            self.levels[s - 1].write_data.next = self.stages[s].write_data.val();
+        }
+        for l in 1..self.levels.len() {
+            self.levels[l].read_index.next = self.stages[l - 1].read_index.val();
+        }
+        self.max_valid.next = self.regs[1].q.val().valid;
+        self.max_slot.next = self.regs[1].q.val().slot;
+        self.max.next = self.stages[1].max.val();
+    }
+}

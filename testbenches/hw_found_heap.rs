@@ -1,0 +1,300 @@
+//! FoundHeap against a model of what a found list holds: random inserts and
+//! replacements from 16 slots, one operation a cycle, each slot's operations the
+//! block's minimum spacing apart; every new root must be the maximum of the slot's
+//! keys (the model's multiset), and at the end each slot's whole heap, drained by
+//! replacing the root with key 0 until it is empty of real keys, must come out as
+//! the model's keys in descending order. For heaps of 1, 3, 6 and 10 levels (K up
+//! to 1, 7, 63 and 1023), full and partly filled lists. The exported Verilog is
+//! checked by yosys, Verilator lint and Icarus.
+
+use photon_fpga::hw::found_heap::FoundHeap;
+use photon_fpga::hw::heap_stage::HeapOp;
+use rand::Rng;
+use rust_hdl::prelude::*;
+use std::collections::VecDeque;
+use std::process::Command;
+
+use crate::common::{clock_cycle, rng, settle};
+
+fn cycle(uut: &mut FoundHeap) {
+    clock_cycle(uut, |u| &mut u.clock);
+}
+
+fn op(replace: bool, slot: usize, key: u64, size: usize) -> HeapOp {
+    HeapOp {
+        valid: true,
+        replace,
+        slot: (slot as u64).into(),
+        key: key.into(),
+        size: (size as u64).into(),
+        ..Default::default()
+    }
+}
+
+/// One run: `k`-entry lists in a heap of `levels` levels, `steps` cycles.
+fn run(levels: usize, k: usize, steps: usize, seed: u64) {
+    assert!(k < 1 << levels);
+    let mut uut = FoundHeap::new(levels, 4);
+    uut.connect_all();
+    check_all(&uut).unwrap();
+    let mut r = rng(seed);
+    let spacing = levels + 2;
+    let mut lists: Vec<Vec<u64>> = vec![vec![]; 16];
+    let mut last = [-(spacing as i64); 16];
+    // Expected (slot, max) per cycle, two cycles after the operation enters.
+    let mut expect: VecDeque<Option<(usize, u64)>> = VecDeque::from([None, None]);
+    // The drain: each slot's root replaced by 0 once per key, the slots in turn.
+    let sorted: Vec<Vec<u64>> = vec![];
+    let mut sorted = sorted;
+    let mut drained = [0usize; 16];
+    let mut turn = 0usize;
+    let mut t = 0i64;
+    loop {
+        let mut o = HeapOp::default();
+        let mut e = None;
+        if (t as usize) < steps {
+            let slot = r.gen_range(0..16);
+            if t - last[slot] >= spacing as i64 && r.gen_bool(0.8) {
+                let l = &mut lists[slot];
+                // Keys from a small range, so that equal keys occur too.
+                let key = r.gen_range(1..400u64);
+                let max = l.iter().copied().max();
+                if l.len() < k {
+                    l.push(key);
+                    o = op(false, slot, key, l.len());
+                } else if max.is_some_and(|m| key < m) {
+                    let at = l.iter().position(|&x| Some(x) == max).unwrap();
+                    l[at] = key;
+                    o = op(true, slot, key, k);
+                }
+                if o.valid {
+                    last[slot] = t;
+                    e = Some((slot, l.iter().copied().max().unwrap()));
+                }
+            }
+        } else {
+            if sorted.is_empty() {
+                sorted = lists
+                    .iter()
+                    .map(|l| {
+                        let mut v = l.clone();
+                        v.sort_unstable_by(|a, b| b.cmp(a));
+                        v
+                    })
+                    .collect();
+            }
+            if (0..16).all(|s| drained[s] >= sorted[s].len()) && expect.iter().all(Option::is_none)
+            {
+                break;
+            }
+            // The next slot in turn with keys left and its spacing kept.
+            for _ in 0..16 {
+                let slot = turn;
+                turn = (turn + 1) % 16;
+                let n = sorted[slot].len();
+                if drained[slot] < n && t - last[slot] >= spacing as i64 {
+                    // Replacing the root with 0 (below every key) lifts the next
+                    // largest key to the root; the size stays n.
+                    let j = drained[slot];
+                    o = op(true, slot, 0, n);
+                    e = Some((slot, if j + 1 < n { sorted[slot][j + 1] } else { 0 }));
+                    last[slot] = t;
+                    drained[slot] += 1;
+                    break;
+                }
+            }
+        }
+        uut.op.next = o;
+        settle(&mut uut);
+        let want = expect.pop_front().unwrap();
+        assert_eq!(
+            uut.max_valid.val(),
+            want.is_some(),
+            "levels {levels}, cycle {t}"
+        );
+        if let Some((slot, max)) = want {
+            assert_eq!(uut.max_slot.val().to_u64() as usize, slot, "cycle {t}");
+            assert_eq!(
+                uut.max.val().to_u64(),
+                max,
+                "levels {levels}, k {k}, cycle {t}: slot {slot}'s new root"
+            );
+        }
+        expect.push_back(e);
+        cycle(&mut uut);
+        t += 1;
+    }
+    // Every slot was drained whole (its roots, checked above, were its keys in
+    // descending order); a slot whose list was never full was drained too.
+    assert!(lists.iter().any(|l| l.len() == k), "no list filled up");
+}
+
+#[test]
+fn roots_are_the_maxima_and_the_heaps_hold_the_lists() {
+    run(1, 1, 400, 41);
+    run(3, 7, 1500, 42);
+    run(3, 5, 1500, 43);
+    run(6, 63, 6000, 44);
+    run(6, 40, 6000, 45);
+    run(10, 600, 20_000, 46);
+}
+
+#[test]
+fn found_heap_verilog_is_clean() {
+    let mut uut = FoundHeap::new(10, 4);
+    uut.connect_all();
+    check_all(&uut).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("top.v"), generate_verilog(&uut)).unwrap();
+
+    let check = |cmd: &mut Command, what: &str| {
+        let out = cmd.current_dir(dir.path()).output().unwrap_or_else(|e| {
+            panic!("{what}: {e} (apt-get install -y yosys verilator iverilog)")
+        });
+        assert!(
+            out.status.success(),
+            "{what} failed:\n{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    check(
+        Command::new("yosys").args([
+            "-q",
+            "-p",
+            "read_verilog top.v; hierarchy -check -top top; proc; check -assert",
+        ]),
+        "yosys check",
+    );
+    check(
+        Command::new("verilator").args([
+            "--lint-only",
+            "-Wno-WIDTH",
+            "-Wno-UNOPTFLAT",
+            "--top-module",
+            "top",
+            "top.v",
+        ]),
+        "verilator lint",
+    );
+    check(
+        Command::new("iverilog").args(["-g2005", "-o", "/dev/null", "top.v"]),
+        "iverilog compile",
+    );
+}
+
+/// `o` as the hexadecimal of the exported `op` port (the `LogicStruct`'s bits).
+fn op_hex(o: HeapOp) -> String {
+    assert_eq!(HeapOp::BITS, 260);
+    let b: Bits<260> = o.into();
+    let mut hex = format!("{:01x}", b.get_bits::<4>(256).to_u64());
+    for i in (0..4).rev() {
+        hex += &format!("{:016x}", b.get_bits::<64>(64 * i).to_u64());
+    }
+    hex
+}
+
+/// The exported Verilog under Icarus, fed the rust-hdl run's inputs cycle by cycle,
+/// gives the same outputs in every cycle (after the pipeline's flip-flops, which
+/// start undefined in Verilog, are flushed by idle cycles).
+#[test]
+fn found_heap_verilog_matches_the_simulation_cycle_for_cycle() {
+    let levels = 6;
+    let mut uut = FoundHeap::new(levels, 4);
+    uut.connect_all();
+    check_all(&uut).unwrap();
+    let verilog = photon_fpga::hw::rtl::export::glitch_free(&generate_verilog(&uut)).unwrap();
+    let mut r = rng(47);
+    let (k, spacing, flush) = (40usize, levels + 2, levels + 4);
+    let mut sizes = [0usize; 16];
+    let mut last = [-100i64; 16];
+    let mut stim = vec![];
+    let mut want = vec![];
+    for t in 0..4000i64 {
+        let mut o = HeapOp::default();
+        if t >= flush as i64 {
+            let slot = r.gen_range(0..16);
+            if t - last[slot] >= spacing as i64 {
+                let key = r.gen_range(1..1000u64);
+                o = if sizes[slot] < k {
+                    sizes[slot] += 1;
+                    op(false, slot, key, sizes[slot])
+                } else {
+                    // Not necessarily below the root: the block must still follow
+                    // its own model cycle for cycle.
+                    op(true, slot, key, k)
+                };
+                last[slot] = t;
+            }
+        }
+        uut.op.next = o;
+        settle(&mut uut);
+        stim.push(op_hex(o));
+        want.push(format!(
+            "{} {:02x} {:08x}",
+            uut.max_valid.val() as u8,
+            uut.max_slot.val().to_u64(),
+            uut.max.val().to_u64()
+        ));
+        cycle(&mut uut);
+    }
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("top.v"), verilog).unwrap();
+    std::fs::write(dir.path().join("stim.hex"), stim.join("\n") + "\n").unwrap();
+    let n = stim.len();
+    let tb = format!(
+        "module tb;
+reg clock = 0;
+reg [259:0] op;
+wire max_valid;
+wire [7:0] max_slot;
+wire [31:0] max;
+top dut(.clock(clock), .op(op), .max_valid(max_valid), .max_slot(max_slot), .max(max));
+reg [259:0] stim[0:{last}];
+integer i;
+initial begin
+  $readmemh(\"stim.hex\", stim);
+  for (i = 0; i < {n}; i = i + 1) begin
+    op = stim[i];
+    #1 $display(\"%0d %02x %08x\", max_valid, max_slot, max);
+    #4 clock = 1;
+    #5 clock = 0;
+  end
+  $finish;
+end
+endmodule
+",
+        last = n - 1
+    );
+    std::fs::write(dir.path().join("tb.v"), tb).unwrap();
+    let ok = |out: std::process::Output, what: &str| {
+        assert!(
+            out.status.success(),
+            "{what}: {}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    ok(
+        Command::new("iverilog")
+            .current_dir(dir.path())
+            .args(["-g2005", "-o", "sim", "tb.v", "top.v"])
+            .output()
+            .expect("iverilog (apt-get install -y iverilog)"),
+        "iverilog",
+    );
+    let got = ok(
+        Command::new("vvp")
+            .current_dir(dir.path())
+            .arg("sim")
+            .output()
+            .expect("vvp"),
+        "vvp",
+    );
+    let got: Vec<&str> = got.lines().filter(|l| !l.starts_with("VCD")).collect();
+    assert_eq!(got.len(), n);
+    for (c, (g, w)) in got.iter().zip(&want).enumerate().skip(flush) {
+        assert_eq!(g, w, "cycle {c}: Verilog against rust-hdl");
+    }
+}
