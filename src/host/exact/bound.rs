@@ -22,15 +22,21 @@
 //! `e = 1 + 2^-34` steps per axis, the query's own rounding included.
 //!
 //! # δ for each metric (in grid steps)
-//! With `G` the core's integer distance (`hw::metric::Metric::dist`, exact in u64):
-//! * **L1**: `|s·G − D1| <= 3e·s`, so `D1 >= s·(G − δ1)` with `δ1 = 3e`.
-//! * **Squared Euclidean**: the core compares `G = Σ (Δg)²`; by the triangle
-//!   inequality in R³, `|s·√G − D2| <= s·|error vector| <= √3·e·s`, so
-//!   `D2 >= s·(√G − δ2)` with `δ2 = √3·e`.
+//! Write `p̂ = (p − o)/s`, `q̂ = (q − o)/s` for the exact real grid positions and `G`
+//! for the core's integer distance between the photon's grid point `g` and the
+//! query's `c` (`hw::metric::Metric::dist`, exact in u64). The photon's error is
+//! known only to be at most `h = 1/2 + 2^-35` per axis; the query's is known: the
+//! host holds `q` and `c`, and `v = fl(fl(q − o)/s)` is within 2^-35 of `q̂` per axis.
+//! * **L1**: `D1/s = |p̂ − q̂|₁ >= |g − c|₁ − |g − p̂|₁ − |c − q̂|₁ >= G − 3h − ρ1`
+//!   with `ρ1 = |c − v|₁ + 3·2^-35`: `δ1 = 3/2 + ρ1` (at most 3).
+//! * **Squared Euclidean**: the core compares `G = |g − c|₂²`; by the triangle
+//!   inequality in R³, `D2/s >= √G − |g − p̂|₂ − |c − q̂|₂ >= √G − √3·h − ρ2` with
+//!   `ρ2 = |c − v|₂ + √3·2^-35`: `δ2 = √3/2 + ρ2` (at most √3).
 //!
-//! [`DELTA_MARGIN`] is added on top (`δ = 3 + 2^-20` and `√3 + 2^-20`): besides
-//! `3·2^-34` it absorbs evaluating `√G − δ` in f64 (G < 2^34, so `√G` is off by at most
-//! 2^-36 and the difference likewise).
+//! The worst case, a query on a cell corner, gives 3 and √3 steps; knowing the
+//! query's own offset makes δ about a quarter smaller on average. [`DELTA_MARGIN`] is added on top: besides the 2^-35 terms it absorbs
+//! evaluating `|c − v|` and `√G − δ` in f64 (G < 2^34, so `√G` is off by at most
+//! 2^-36; `c − v` is exact, the rest a few roundings of numbers below 2^18).
 //!
 //! # From real distances to the float backend's numbers
 //! The float backend compares `d = fl(Σ|Δ|²)` (L2) or `fl(Σ|Δ|)` (L1) of the f64
@@ -54,7 +60,7 @@
 //! (saturated at the largest distance inside the box, which keeps them all).
 
 use crate::host::map::knn::FloatDist;
-use crate::host::map::quantize::Quantizer;
+use crate::host::map::quantize::{Point, Quantizer};
 use crate::hw::metric::Metric;
 
 /// Added to δ (grid steps): the per-axis rounding beyond a half step, and the f64
@@ -73,9 +79,11 @@ pub const MIN_STEP: f64 = 1e-140;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bound {
     pub metric: Metric,
-    /// Grid step in world units.
+    /// Grid origin and step in world units (the quantizer's).
+    pub origin: Point,
     pub step: f64,
-    /// δ in grid steps (see the module docs); [`Bound::new`] sets the derived value.
+    /// The photon's part of δ in grid steps, with the margin (`3h` for L1, `√3·h`
+    /// for L2; see the module docs); [`Bound::new`] sets the derived value.
     pub delta: f64,
     /// Whether the grid step is in the range the derivation covers.
     pub usable: bool,
@@ -85,26 +93,44 @@ impl Bound {
     /// The derived δ for `metric` on `quant`'s grid.
     pub fn new(metric: Metric, quant: &Quantizer) -> Self {
         let delta = match metric {
-            Metric::L1 => 3.0,
-            Metric::L2 => 3f64.sqrt(),
+            Metric::L1 => 1.5,
+            Metric::L2 => 3f64.sqrt() / 2.0,
         } + DELTA_MARGIN;
         Bound {
             metric,
+            origin: quant.origin,
             step: quant.step,
             delta,
             usable: quant.step >= MIN_STEP && quant.step.is_finite(),
         }
     }
 
-    /// Whether every photon whose grid distance is `g` or more has a float distance
-    /// (the float backend's own number, squared for L2) strictly above `t`.
-    pub fn exceeds(&self, g: u64, t: FloatDist) -> bool {
+    /// δ for the query at world position `q` whose grid point is `c`: the photon's
+    /// part and the query's own rounding `ρ`.
+    pub fn query_delta(&self, q: Point, c: [u32; 3]) -> f64 {
+        let off = [0, 1, 2].map(|a| (c[a] as f64 - (q[a] - self.origin[a]) / self.step).abs());
+        let rho = match self.metric {
+            Metric::L1 => off[0] + off[1] + off[2],
+            Metric::L2 => (off[0] * off[0] + off[1] * off[1] + off[2] * off[2]).sqrt(),
+        };
+        self.delta + rho
+    }
+
+    /// The largest [`Bound::query_delta`] of any query (one on a cell corner).
+    fn worst_delta(&self) -> f64 {
+        2.0 * self.delta
+    }
+
+    /// Whether every photon whose grid distance from a query is `g` or more has a
+    /// float distance (the float backend's own number, squared for L2) strictly
+    /// above `t`; `delta` is the query's [`Bound::query_delta`].
+    pub fn exceeds(&self, g: u64, delta: f64, t: FloatDist) -> bool {
         if !self.usable {
             return false;
         }
         let steps = match self.metric {
-            Metric::L1 => g as f64 - self.delta,
-            Metric::L2 => (g as f64).sqrt() - self.delta,
+            Metric::L1 => g as f64 - delta,
+            Metric::L2 => (g as f64).sqrt() - delta,
         };
         if steps <= 0.0 {
             return false;
@@ -125,7 +151,7 @@ impl Bound {
             Metric::L1 => r0,
             Metric::L2 => r0.sqrt(),
         };
-        let steps = (d / self.step) * (1.0 + REL) + self.delta;
+        let steps = (d / self.step) * (1.0 + REL) + self.worst_delta();
         let g = match self.metric {
             Metric::L1 => steps,
             Metric::L2 => steps * steps * (1.0 + REL),

@@ -23,11 +23,12 @@
 //! # Choosing m
 //! Without `--refine`, m is chosen per gather on an even sample of its queries
 //! (inside the photon box) by the software model of the core, which returns the
-//! core's very candidates: for each m of a ladder (0, 1, 2, 4, … up to max(k, 8), and
-//! no more than the core's K allows) the sample's core reads plus the float reads
-//! of its uncertified queries; the cheapest m wins, the smaller on a tie. Both are
-//! photon reads, and one read costs the host's float search about what it costs the
-//! core, so they are added with equal weight.
+//! core's very candidates. For each m of a ladder (0, 1, 2, 3, 4, 6, 8, 12, …, up to
+//! max(k, 8) and no more than the core's found list allows) it counts the sample's
+//! core reads plus the float reads of its uncertified queries; the cheapest m wins,
+//! the smaller on a tie. Both are counted as photon reads with equal weight, the
+//! measure the run summary and the study report (reads per query), which depends on
+//! no clock and no thread count, so the choice is the same on every run.
 
 pub mod bound;
 pub mod rerank;
@@ -265,12 +266,12 @@ impl ExactBackend {
     /// m for these queries: the cheapest on an even sample (module docs).
     fn choose_m(&self, inside: &[(usize, [u32; 3])], queries: &[Point]) -> usize {
         let top = max_refine(self.kind, self.map.params.k);
-        let mut ladder = vec![0];
-        let mut m = 1;
-        while m < top {
-            ladder.push(m);
-            m *= 2;
-        }
+        // 0, 1, 2, 3, 4, 6, 8, 12, 16, 24, ...: steps of about √2.
+        let mut ladder: Vec<usize> = (0..usize::BITS)
+            .flat_map(|i| [1usize << i, 3usize.saturating_mul(1 << i) / 2])
+            .take_while(|&m| m < top)
+            .collect();
+        ladder.insert(0, 0);
         ladder.push(top);
         ladder.dedup();
         let sample: Vec<(usize, [u32; 3])> = inside
@@ -292,7 +293,7 @@ impl ExactBackend {
                 .zip(&float_reads)
                 .map(|((&(_, c), &q), &fr)| {
                     let (found, reads) = self.sw_candidates(c, k + m);
-                    match rr.verdict(q, &found, k + m) {
+                    match rr.verdict(q, c, &found, k + m) {
                         Verdict::Exact(_) => reads as u64,
                         _ => reads as u64 + fr,
                     }
@@ -390,7 +391,7 @@ impl GatherBackend for ExactBackend {
         let verdicts: Vec<Verdict> = inside
             .par_iter()
             .zip(&cands)
-            .map(|(&(i, _), (found, _))| rr.verdict(queries[i], found, k_prime))
+            .map(|(&(i, c), (found, _))| rr.verdict(queries[i], c, found, k_prime))
             .collect();
         let mut out: Vec<Gathered> = vec![Gathered::default(); queries.len()];
         let (mut certified, mut uncertified, mut ties, mut core_reads) = (0u64, 0, 0, 0u64);

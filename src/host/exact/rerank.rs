@@ -9,7 +9,7 @@
 //!    k-th exact distance among the candidates within `r0`, or `r0` itself if fewer
 //!    than k of them are within it. The core's found list holds the k′ nearest on
 //!    the grid, so a photon it did not return has a grid distance of at least the
-//!    k′-th, `G'`; [`Bound::exceeds`]`(G', t)` proves `d > t` for all of them. If
+//!    k′-th, `G'`; [`Bound::exceeds`]`(G', δ, t)` proves `d > t` for all of them. If
 //!    the core returned fewer than k′, it returned every photon within its grid
 //!    radius ([`Bound::grid_radius`] of `r0`), which holds every photon with
 //!    `d <= r0`: nothing is missing (this covers k > photons and radius 0);
@@ -49,8 +49,8 @@ pub struct Rerank<'a> {
 
 impl Rerank<'_> {
     /// Re-rank `found` — (photon index, grid distance) as the core returned them for a
-    /// query at world position `q`, asked for `k_prime` candidates.
-    pub fn verdict(&self, q: Point, found: &[(u32, u64)], k_prime: usize) -> Verdict {
+    /// query at world position `q` (grid point `c`), asked for `k_prime` candidates.
+    pub fn verdict(&self, q: Point, c: [u32; 3], found: &[(u32, u64)], k_prime: usize) -> Verdict {
         let mut exact: Vec<(FloatDist, u32)> = found
             .iter()
             .filter_map(|&(p, _)| {
@@ -70,7 +70,7 @@ impl Rerank<'_> {
             } else {
                 self.r0
             };
-            if !self.bound.exceeds(g, t) {
+            if !self.bound.exceeds(g, self.bound.query_delta(q, c), t) {
                 return Verdict::Uncertified;
             }
         }
