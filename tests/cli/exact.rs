@@ -46,6 +46,15 @@ fn gather_bytes(dir: &Path, p: &Path, q: &Path, extra: &[&str], name: &str) -> (
     (std::fs::read(&out).unwrap(), stdout)
 }
 
+/// (backend, metric, k, radius, --refine).
+type Case = (
+    &'static str,
+    &'static str,
+    &'static str,
+    Option<&'static str>,
+    Option<&'static str>,
+);
+
 #[test]
 fn gather_exact_writes_the_float_bytes_on_every_quantized_backend() {
     let dir = tempfile::tempdir().unwrap();
@@ -53,7 +62,7 @@ fn gather_exact_writes_the_float_bytes_on_every_quantized_backend() {
     let p = write(dir.path(), "p.csv", &points_csv(&photons, true));
     let q = write(dir.path(), "q.csv", &points_csv(&queries, false));
     // (backend, metric, k, radius, --refine): verilator on one case to keep CI short.
-    let cases: [(&str, &str, &str, Option<&str>, Option<&str>); 7] = [
+    let cases: [Case; 7] = [
         ("sw", "l2", "8", None, None),
         ("sw", "l1", "5", Some("0.7"), None),
         ("sw", "l2", "300", None, Some("0")),
