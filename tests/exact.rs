@@ -334,3 +334,45 @@ fn exact_rtl_equals_float_on_small_maps() {
         same_as_float(BackendKind::Rtl, few, &queries, &p, Some(0));
     }
 }
+
+/// The study's series on a small Cornell box: a certified query stays certified at a
+/// larger m (its k′-th grid distance only grows and its threshold only falls), the
+/// counts add up, and the table has a row per point.
+#[test]
+fn exact_series_is_monotone_in_m() {
+    use photon_fpga::host::render::renderer::{eye_queries, photon_points, query_points};
+    use photon_fpga::host::render::{photons::trace_photons, scene::Scene, RenderSettings};
+    use photon_fpga::host::study::exact_series;
+    let scene = Scene::cornell_box();
+    let photons = photon_points(&trace_photons(&scene, 8000, 3, false));
+    let settings = RenderSettings {
+        width: 24,
+        height: 18,
+        spp: 1,
+        ..RenderSettings::default()
+    };
+    let queries = query_points(&eye_queries(&scene, &settings).0);
+    let base = params(16, None, 10, Metric::L2);
+    let ms = [0, 4, 8, 16];
+    let pts = exact_series::run(&photons, &queries, &base, &[8, 10], &ms).unwrap();
+    assert_eq!(pts.len(), 8);
+    for w in pts.chunks(ms.len()) {
+        for p in w {
+            assert_eq!(p.certified + p.fallbacks, p.core_queries, "{p:?}");
+            assert!(p.retry_certified <= p.fallbacks);
+        }
+        for pair in w.windows(2) {
+            assert!(pair[1].certified >= pair[0].certified, "{pair:?}");
+            assert!(pair[1].core_reads >= pair[0].core_reads, "{pair:?}");
+        }
+        assert!(w[3].certified > w[0].certified, "{w:?}");
+    }
+    let table = exact_series::markdown(&pts, Some((2e8, "assumed")));
+    assert_eq!(
+        table
+            .lines()
+            .filter(|l| l.starts_with("| 1") || l.starts_with("| 8"))
+            .count(),
+        8
+    );
+}

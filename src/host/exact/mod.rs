@@ -233,6 +233,22 @@ impl ExactBackend {
         self.stats.lock().expect("stats lock").clone()
     }
 
+    /// The m of the last gather.
+    pub fn last_m(&self) -> usize {
+        self.stats().m
+    }
+
+    /// Whether the software model's k′ candidates for `q` (grid point `c`) certify
+    /// it, and the model's reads: the study's probe of other k′.
+    pub fn certify(&self, q: Point, c: [u32; 3], k_prime: usize) -> (bool, u32) {
+        let (found, reads) = self.sw_candidates(c, k_prime);
+        let ok = matches!(
+            self.reranker().verdict(q, c, &found, k_prime),
+            Verdict::Exact(_)
+        );
+        (ok, reads)
+    }
+
     fn reranker(&self) -> Rerank<'_> {
         Rerank {
             photons: &self.photons,
