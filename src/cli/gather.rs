@@ -42,7 +42,7 @@ pub fn gather(args: &GatherArgs) -> Result<()> {
     }
     limits::check_gather_memory(
         queries.points.len() as u64,
-        params.k,
+        args.opts.gathered_k(params.k)?,
         photons.points.len() as u64,
         &format!("the lines of {}", args.queries.display()),
     )?;

@@ -68,6 +68,16 @@ pub struct GatherOpts {
 }
 
 impl GatherOpts {
+    /// Photons gathered per query as the memory sees them: k, or with `--exact` the
+    /// most candidates the core may return.
+    pub fn gathered_k(&self, k: usize) -> Result<usize> {
+        if self.exact {
+            photon_fpga::host::exact::largest_k_prime(self.backend, k, self.refine)
+        } else {
+            Ok(k)
+        }
+    }
+
     /// The backend these options ask for over `photons` (`--exact` wraps the
     /// quantized one).
     pub fn backend(

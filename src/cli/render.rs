@@ -88,7 +88,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     let (w, h) = args.size;
     limits::check_gather_memory(
         w as u64 * h as u64 * args.spp as u64,
-        params.k,
+        args.opts.gathered_k(params.k)?,
         params.capacity as u64,
         &format!("--size {w}x{h} × --spp {}", args.spp),
     )?;

@@ -182,6 +182,11 @@ fn exact_refusals_come_before_any_work() {
         );
     }
     refused(dir.path(), &render(&["--refine", "4"]), "--exact");
+    refused(
+        dir.path(),
+        &render(&["--exact", "--refine", &usize::MAX.to_string()]),
+        "is too large",
+    );
     let g = dir.path().join("g.csv").display().to_string();
     let gather = |extra: &[&str]| {
         cmdline(

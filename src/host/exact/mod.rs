@@ -76,6 +76,14 @@ pub fn check(kind: BackendKind, k: usize, refine: Option<usize>) -> Result<()> {
     Ok(())
 }
 
+/// The most candidates per query an exact gather of `k` may ask for (k + the given
+/// m, or + the largest m the choice tries): what its memory must hold.
+pub fn largest_k_prime(kind: BackendKind, k: usize, refine: Option<usize>) -> Result<usize> {
+    let m = refine.unwrap_or_else(|| max_refine(kind, k));
+    k.checked_add(m)
+        .ok_or_else(|| Error::new(format!("--refine {m} with --k {k} is too large")))
+}
+
 /// The largest m the core can take with `k`.
 fn max_refine(kind: BackendKind, k: usize) -> usize {
     let ladder_top = k.max(8);
@@ -172,6 +180,7 @@ impl ExactBackend {
         sim: &SimOptions,
     ) -> Result<Self> {
         check(kind, params.k, refine)?;
+        let k_max = largest_k_prime(kind, params.k, refine)?;
         let map = QuantizedMap::new(photons, params)?;
         let float = FloatBackend::new(photons, params)?;
         let r0 = match params.radius {
@@ -192,7 +201,7 @@ impl ExactBackend {
             // The core must be buildable for this map at the largest k′ it may get.
             params
                 .core
-                .k(params.k + refine.unwrap_or_else(|| max_refine(kind, params.k)))
+                .k(k_max)
                 .metric(params.metric)
                 .traversal(params.traversal)
                 .build_for(map.tree.image())?;
