@@ -192,6 +192,7 @@ fn exact_far_queries_tiny_and_huge_scales_and_k_beyond_the_photons() {
         [-1.0, -1.0, 2.0],
         [1.0000001, 0.5, 0.5],
         [0.5, 0.5, 1e15],
+        [0.5, 1e140, 0.5],
     ]);
     check_case(&photons, &qs, 10, &[None, Some(0.1)]);
     for scale in [1e-100, 1e-300, 1e140] {

@@ -390,17 +390,15 @@ impl GatherBackend for ExactBackend {
         ))
     }
 
-    fn check_query(&self, q: Point) -> std::result::Result<(), String> {
-        self.map.locate(q).map(|_| ())
-    }
-
     fn gather(&self, queries: &[Point]) -> Result<Vec<Gathered>> {
         let mut inside: Vec<(usize, [u32; 3])> = Vec::with_capacity(queries.len());
         let mut fallback: Vec<usize> = Vec::new();
         for (i, &q) in queries.iter().enumerate() {
-            match self.map.locate(q).map_err(Error::new)? {
-                GridPoint::Inside(c) => inside.push((i, c)),
-                GridPoint::Outside(_) => fallback.push(i),
+            // Outside the photon box (even beyond the grid's 2^62 steps) the float
+            // search answers, as `--backend float` would.
+            match self.map.locate(q) {
+                Ok(GridPoint::Inside(c)) => inside.push((i, c)),
+                _ => fallback.push(i),
             }
         }
         let outside = fallback.len() as u64;
