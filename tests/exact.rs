@@ -354,10 +354,12 @@ fn exact_series_is_monotone_in_m() {
     };
     let queries = query_points(&eye_queries(&scene, &settings).0);
     let base = params(16, None, 10, Metric::L2);
-    let ms = [0, 4, 8, 16];
+    let ms = [Some(0), Some(4), Some(8), Some(16), None];
     let pts = exact_series::run(&photons, &queries, &base, &[8, 10], &ms).unwrap();
-    assert_eq!(pts.len(), 8);
+    assert_eq!(pts.len(), 10);
     for w in pts.chunks(ms.len()) {
+        assert!(w[4].chosen && !w[0].chosen);
+        let w = &w[..4];
         for p in w {
             assert_eq!(p.certified + p.fallbacks, p.core_queries, "{p:?}");
             assert!(p.retry_certified <= p.fallbacks);
@@ -368,12 +370,13 @@ fn exact_series_is_monotone_in_m() {
         }
         assert!(w[3].certified > w[0].certified, "{w:?}");
     }
-    let table = exact_series::markdown(&pts, Some((2e8, "assumed")));
-    assert_eq!(
-        table
-            .lines()
-            .filter(|l| l.starts_with("| 1") || l.starts_with("| 8"))
-            .count(),
-        8
+    let table = exact_series::section(&pts, 10, Some((2e8, "assumed")));
+    let rows = table
+        .lines()
+        .filter(|l| l.starts_with("| 10 ") || l.starts_with("| 8 "));
+    assert_eq!(rows.count(), 10, "{table}");
+    assert!(
+        table.starts_with("At 10 bits, k = 16: `--exact` (m = "),
+        "{table}"
     );
 }

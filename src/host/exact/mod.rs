@@ -329,9 +329,14 @@ impl ExactBackend {
         costs.iter().min().map_or(top, |c| c.1)
     }
 
-    /// The core's candidates for `inside` at `k_prime`, in `inside`'s order.
-    fn candidates(&self, inside: &[(usize, [u32; 3])], k_prime: usize) -> Result<Vec<Candidates>> {
-        match &self.core {
+    /// `core`'s candidates for `inside` at `k_prime`, in `inside`'s order.
+    fn candidates(
+        &self,
+        core: &Core,
+        inside: &[(usize, [u32; 3])],
+        k_prime: usize,
+    ) -> Result<Vec<Candidates>> {
+        match core {
             Core::Sw => Ok(inside
                 .par_iter()
                 .map(|&(_, c)| self.sw_candidates(c, k_prime))
@@ -391,6 +396,18 @@ impl GatherBackend for ExactBackend {
     }
 
     fn gather(&self, queries: &[Point]) -> Result<Vec<Gathered>> {
+        self.gather_on(&self.core, queries)
+    }
+}
+
+impl ExactBackend {
+    /// [`GatherBackend::gather`] with the software model of the core in place of a
+    /// simulated one (the same candidates, read for read): the study's series.
+    pub fn gather_with_model(&self, queries: &[Point]) -> Result<Vec<Gathered>> {
+        self.gather_on(&Core::Sw, queries)
+    }
+
+    fn gather_on(&self, core: &Core, queries: &[Point]) -> Result<Vec<Gathered>> {
         let mut inside: Vec<(usize, [u32; 3])> = Vec::with_capacity(queries.len());
         let mut fallback: Vec<usize> = Vec::new();
         for (i, &q) in queries.iter().enumerate() {
@@ -409,7 +426,7 @@ impl GatherBackend for ExactBackend {
             None => self.choose_m(&inside, queries),
         };
         let k_prime = self.map.params.k + m;
-        let cands = self.candidates(&inside, k_prime)?;
+        let cands = self.candidates(core, &inside, k_prime)?;
         let rr = self.reranker();
         let verdicts: Vec<Verdict> = inside
             .par_iter()

@@ -10,7 +10,7 @@
 
 use crate::host::error::Result;
 use crate::host::exact::ExactBackend;
-use crate::host::gather::{BackendKind, GatherBackend, GatherParams};
+use crate::host::gather::{BackendKind, GatherParams};
 use crate::host::map::quantize::{GridPoint, Point};
 use crate::hw::config::MAX_K;
 use crate::hw::rtl::native::SimOptions;
@@ -21,6 +21,8 @@ pub struct ExactPoint {
     pub bits: u32,
     pub k: usize,
     pub m: usize,
+    /// m was chosen by the exact backend (`--exact` without `--refine`).
+    pub chosen: bool,
     pub queries: u64,
     /// Queries inside the photon box (the core's).
     pub core_queries: u64,
@@ -56,13 +58,14 @@ impl ExactPoint {
 }
 
 /// The series on `photons` and `queries` for each width of `bits` and each m of
-/// `ms` (an m the core cannot take with `base.k` is skipped).
+/// `ms` (`None`: the m the exact backend chooses; an m the core cannot take with
+/// `base.k` is skipped).
 pub fn run(
     photons: &[Point],
     queries: &[Point],
     base: &GatherParams,
     bits: &[u32],
-    ms: &[usize],
+    ms: &[Option<usize>],
 ) -> Result<Vec<ExactPoint>> {
     let mut out = vec![];
     for &b in bits {
@@ -70,15 +73,15 @@ pub fn run(
             bits: b,
             ..base.clone()
         };
-        for &m in ms.iter().filter(|&&m| base.k + m <= MAX_K) {
+        for &refine in ms.iter().filter(|m| m.is_none_or(|m| base.k + m <= MAX_K)) {
             let exact = ExactBackend::new(
-                BackendKind::Sw,
+                BackendKind::Rtl,
                 photons,
                 &params,
-                Some(m),
+                refine,
                 &SimOptions::default(),
             )?;
-            exact.gather(queries)?;
+            exact.gather_with_model(queries)?;
             let s = exact.stats();
             let q = s.queries.max(1) as f64;
             let fallbacks = s.uncertified + s.ties;
@@ -86,7 +89,8 @@ pub fn run(
             out.push(ExactPoint {
                 bits: b,
                 k: base.k,
-                m,
+                m: s.m,
+                chosen: s.chosen,
                 queries: s.queries,
                 core_queries: s.queries - s.outside,
                 certified: s.certified,
@@ -154,5 +158,37 @@ pub fn markdown(points: &[ExactPoint], reads_per_s: Option<(f64, &str)>) -> Stri
             "\nqueries/s: {source}, over reads/query with the fallbacks'.\n"
         ));
     }
+    s
+}
+
+/// The study's section: at `bits`, the exact configuration with the m the backend
+/// chooses against the unrefined core (the m = 0 point's core reads: the same search
+/// at k′ = k, without re-ranking), then the whole series.
+pub fn section(points: &[ExactPoint], bits: u32, reads_per_s: Option<(f64, &str)>) -> String {
+    let mut s = String::new();
+    let at = |chosen: bool, m: Option<usize>| {
+        points
+            .iter()
+            .find(|p| p.bits == bits && p.chosen == chosen && m.is_none_or(|m| p.m == m))
+    };
+    if let (Some(e), Some(u)) = (at(true, None), at(false, Some(0))) {
+        let qps = |reads: f64| {
+            reads_per_s.map_or(String::new(), |(r, _)| {
+                format!(", {:.2} M queries/s", r / reads.max(1.0) / 1e6)
+            })
+        };
+        s.push_str(&format!(
+            "At {bits} bits, k = {}: `--exact` (m = {} chosen, {:.2} % certified) reads {:.1} \
+             photons per query with its fallbacks{}; the unrefined core reads {:.1}{}.\n\n",
+            e.k,
+            e.m,
+            100.0 * e.certified_share(),
+            e.reads(),
+            qps(e.reads()),
+            u.core_reads,
+            qps(u.core_reads),
+        ));
+    }
+    s.push_str(&markdown(points, reads_per_s));
     s
 }
