@@ -18,8 +18,7 @@
 //! (one rounding of the subtraction, one of the division, an underflow term for a
 //! subnormal quotient). Inside the box `|(x − o)/s| < 2^17` (at most 16 coordinate
 //! bits, an axis up to twice its extent wide), so each position is off by at most
-//! `1/2 + 2^-35` steps per axis, and a query–photon difference by at most
-//! `e = 1 + 2^-34` steps per axis, the query's own rounding included.
+//! `1/2 + 2^-35` steps per axis (the underflow term is far below 2^-35).
 //!
 //! # δ for each metric (in grid steps)
 //! Write `p̂ = (p − o)/s`, `q̂ = (q − o)/s` for the exact real grid positions and `G`
@@ -34,9 +33,10 @@
 //!   `ρ2 = |c − v|₂ + √3·2^-35`: `δ2 = √3/2 + ρ2` (at most √3).
 //!
 //! The worst case, a query on a cell corner, gives 3 and √3 steps; knowing the
-//! query's own offset makes δ about a quarter smaller on average. [`DELTA_MARGIN`] is added on top: besides the 2^-35 terms it absorbs
-//! evaluating `|c − v|` and `√G − δ` in f64 (G < 2^34, so `√G` is off by at most
-//! 2^-36; `c − v` is exact, the rest a few roundings of numbers below 2^18).
+//! query's own offset makes δ about a quarter smaller on average. [`DELTA_MARGIN`]
+//! is added to the photon's part: besides the 2^-35 terms it absorbs evaluating
+//! `|c − v|` and `√G − δ` in f64 (G < 2^34, so `√G` is off by at most 2^-36; `c − v`
+//! is exact, the rest a few roundings of numbers below 2^18).
 //!
 //! # From real distances to the float backend's numbers
 //! The float backend compares `d = fl(Σ|Δ|²)` (L2) or `fl(Σ|Δ|)` (L1) of the f64
