@@ -61,8 +61,8 @@ fn gather_exact_writes_the_float_bytes_on_every_quantized_backend() {
     let (photons, queries) = hard_map(41);
     let p = write(dir.path(), "p.csv", &points_csv(&photons, true));
     let q = write(dir.path(), "q.csv", &points_csv(&queries, false));
-    // (backend, metric, k, radius, --refine): verilator on one case to keep CI short.
-    let cases: [Case; 7] = [
+    // Verilator on two cases, one per metric, to keep CI short.
+    let cases: [Case; 8] = [
         ("sw", "l2", "8", None, None),
         ("sw", "l1", "5", Some("0.7"), None),
         ("sw", "l2", "300", None, Some("0")),
@@ -70,6 +70,7 @@ fn gather_exact_writes_the_float_bytes_on_every_quantized_backend() {
         ("rtl", "l2", "6", Some("1.2"), None),
         ("rtl", "l1", "10", None, Some("4")),
         ("verilator", "l1", "7", None, None),
+        ("verilator", "l2", "4", Some("0.9"), Some("3")),
     ];
     for (i, (backend, metric, k, radius, refine)) in cases.into_iter().enumerate() {
         let mut common = vec!["--metric", metric, "--k", k];
