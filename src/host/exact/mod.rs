@@ -388,8 +388,16 @@ impl GatherBackend for ExactBackend {
     }
 
     fn describe(&self) -> Option<String> {
+        let core = match &self.core {
+            Core::Sw => "candidates: the software model of the core (sw)".to_string(),
+            Core::Hw { .. } => format!(
+                "candidates: the simulated core ({}), its found list K = k' = {} + m, \
+                 its other options as for --backend {}",
+                self.kind, self.map.params.k, self.kind
+            ),
+        };
         Some(format!(
-            "{}\n{}",
+            "{}\n{core}\n{}",
             self.map.describe(),
             self.stats().summary()
         ))
