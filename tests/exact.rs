@@ -380,3 +380,28 @@ fn exact_series_is_monotone_in_m() {
         "{table}"
     );
 }
+
+/// One thread or three: the same answers and the same run summary (m, certified
+/// count, reads), on the software model and on the simulated core.
+#[test]
+fn exact_is_the_same_whatever_the_thread_count() {
+    let mut r = rng(51);
+    let photons = uniform(&mut r, 600, 0.0, 1.0);
+    let queries = uniform(&mut r, 80, -0.1, 1.1);
+    for kind in [BackendKind::Sw, BackendKind::Rtl] {
+        let p = params(6, Some(0.2), 9, Metric::L2);
+        let run = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let e =
+                    ExactBackend::new(kind, &photons, &p, None, &SimOptions::default()).unwrap();
+                let g = e.gather(&queries).unwrap();
+                (bits_of(&g), e.stats().summary())
+            })
+        };
+        assert_eq!(run(1), run(3), "{kind}");
+    }
+}
