@@ -6,7 +6,8 @@
 //! 1. `hw::rtl` — driver, native simulation, export, cross-simulation, shell
 //! 2. `host::{error, limits, output, stages}` — the host's plumbing
 //! 3. `host::map` — quantizer, kd-tree, kNN
-//! 4. `host::{gather, csvio}` — gather backends and their file formats
+//! 4. `host::{gather, csvio, exact}` — gather backends, their file formats, the
+//!    exact re-ranking
 //! 5. `host::render` — scene, photons, renderer
 //! 6. `host::workload` — benchmark workloads; `host::study` — the speed/error study
 //! 7. the binary (`main.rs`, `cli/`)
@@ -14,7 +15,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-const LAYERS: [(&str, usize); 14] = [
+const LAYERS: [(&str, usize); 15] = [
     ("hw::rtl", 1),
     ("hw", 0),
     ("host::error", 2),
@@ -24,6 +25,7 @@ const LAYERS: [(&str, usize); 14] = [
     ("host::map", 3),
     ("host::gather", 4),
     ("host::csvio", 4),
+    ("host::exact", 4),
     ("host::render", 5),
     ("host::workload", 6),
     ("host::study", 6),

@@ -1,9 +1,10 @@
 //! The host-side tests in one test binary: the software kNN against brute force,
-//! the renderer, the CLI (end to end through the binary, with its error paths), the
+//! the exact re-ranking against the float search, the renderer, the CLI (end to end through the binary, with its error paths), the
 //! `rtl` backend through the CLI, the layering of the source tree, numerical
 //! stability of the radiance estimate and `photon-fpga study`.
 
 mod cli;
+mod exact;
 mod knn;
 mod layers;
 mod render;

@@ -5,7 +5,6 @@ use crate::cli::set_threads;
 use clap::Args;
 use photon_fpga::host::csvio;
 use photon_fpga::host::error::{Error, Result};
-use photon_fpga::host::gather::make_backend;
 use photon_fpga::host::limits::{self};
 use photon_fpga::host::output::Output;
 use std::path::PathBuf;
@@ -43,17 +42,14 @@ pub fn gather(args: &GatherArgs) -> Result<()> {
     }
     limits::check_gather_memory(
         queries.points.len() as u64,
-        params.k,
+        args.opts.gathered_k(params.k)?,
         photons.points.len() as u64,
         &format!("the lines of {}", args.queries.display()),
     )?;
     // The grid covers the photons alone: a query never changes another's answer.
-    let backend = make_backend(
-        args.opts.backend,
-        &photons.points,
-        &params,
-        &args.opts.sim(&vcd),
-    )?;
+    let backend = args
+        .opts
+        .backend(&photons.points, &params, &args.opts.sim(&vcd))?;
     for (q, line) in queries.points.iter().zip(&queries.lines) {
         backend
             .check_query(*q)
@@ -61,6 +57,11 @@ pub fn gather(args: &GatherArgs) -> Result<()> {
     }
     let results = backend.gather(&queries.points)?;
     csvio::write_neighbours(&out, &results)?;
+    if args.opts.exact {
+        if let Some(info) = backend.describe() {
+            println!("{info}");
+        }
+    }
     if let Some(v) = vcd {
         v.commit()?;
     }

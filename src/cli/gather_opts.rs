@@ -6,8 +6,12 @@ use super::core_args::CoreOpts;
 use super::values::MetricArg;
 use clap::Args;
 use photon_fpga::host::error::{Error, Result};
-use photon_fpga::host::gather::{BackendKind, GatherParams, HW_CAPACITY};
+use photon_fpga::host::exact::ExactBackend;
+use photon_fpga::host::gather::{
+    make_backend, BackendKind, GatherBackend, GatherParams, HW_CAPACITY,
+};
 use photon_fpga::host::limits::MEMORY_CAPACITY;
+use photon_fpga::host::map::quantize::Point;
 use photon_fpga::host::output::{Output, Staged};
 use photon_fpga::hw::config::{CoreConfig, MAX_ADDRESS_BITS, MAX_HW_COORD_BITS};
 use photon_fpga::hw::controller::Controller;
@@ -44,6 +48,15 @@ pub struct GatherOpts {
     /// VCD file (also: env PHOTON_FPGA_VCD=path).
     #[arg(long)]
     pub vcd: Option<PathBuf>,
+    /// With --backend sw, rtl or verilator: the float search's exact answers, from
+    /// k + m grid candidates per query re-ranked by exact distance on the host
+    /// (certified per query; the float search answers the rest).
+    #[arg(long)]
+    pub exact: bool,
+    /// With --exact: m, the extra grid candidates per query [default: chosen on a
+    /// sample of the queries].
+    #[arg(long, requires = "exact")]
+    pub refine: Option<usize>,
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
@@ -55,6 +68,37 @@ pub struct GatherOpts {
 }
 
 impl GatherOpts {
+    /// Photons gathered per query as the memory sees them: k, or with `--exact` the
+    /// most candidates the core may return.
+    pub fn gathered_k(&self, k: usize) -> Result<usize> {
+        if self.exact {
+            photon_fpga::host::exact::largest_k_prime(self.backend, k, self.refine)
+        } else {
+            Ok(k)
+        }
+    }
+
+    /// The backend these options ask for over `photons` (`--exact` wraps the
+    /// quantized one).
+    pub fn backend(
+        &self,
+        photons: &[Point],
+        params: &GatherParams,
+        sim: &SimOptions,
+    ) -> Result<Box<dyn GatherBackend>> {
+        if self.exact {
+            Ok(Box::new(ExactBackend::new(
+                self.backend,
+                photons,
+                params,
+                self.refine,
+                sim,
+            )?))
+        } else {
+            make_backend(self.backend, photons, params, sim)
+        }
+    }
+
     /// The waveform output (`--vcd` or env PHOTON_FPGA_VCD; rtl and verilator), checked now
     /// and staged: the simulator writes a temporary file that becomes the VCD only
     /// when the whole run succeeds.
@@ -116,6 +160,9 @@ impl GatherOpts {
         } else {
             self.core.traversal.map_or(Traversal::default(), Into::into)
         };
+        if self.exact {
+            photon_fpga::host::exact::check(self.backend, k, self.refine)?;
+        }
         let base = CoreConfig::builder().k(k).metric(metric);
         let core = self.core.builder(base, controller)?;
         let capacity = match (self.capacity, hw) {

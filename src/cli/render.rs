@@ -5,7 +5,6 @@ use crate::cli::gather_opts::GatherOpts;
 use crate::cli::set_threads;
 use clap::{Args, Parser};
 use photon_fpga::host::error::{Error, Result};
-use photon_fpga::host::gather::make_backend;
 use photon_fpga::host::limits::{self, MAX_EMITTED};
 use photon_fpga::host::output::Output;
 use photon_fpga::host::render::photons;
@@ -89,7 +88,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     let (w, h) = args.size;
     limits::check_gather_memory(
         w as u64 * h as u64 * args.spp as u64,
-        params.k,
+        args.opts.gathered_k(params.k)?,
         params.capacity as u64,
         &format!("--size {w}x{h} × --spp {}", args.spp),
     )?;
@@ -126,7 +125,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     }
     let positions = render::photon_points(&photons);
     let backend = t.time("kd-tree build", || {
-        make_backend(args.opts.backend, &positions, &params, &args.opts.sim(&vcd))
+        args.opts.backend(&positions, &params, &args.opts.sim(&vcd))
     })?;
     let pass = render::render_image(
         &scene,

@@ -9,7 +9,7 @@ use crate::host::map::quantize::{GridPoint, Point, Quantizer};
 use crate::hw::config::{CoreConfig, ReadProfile, MAX_ADDRESS_BITS};
 use crate::hw::config_builder::CoreBuilder;
 use crate::hw::metric::Metric;
-use crate::hw::rtl::driver::{HwQuery, SimStats};
+use crate::hw::rtl::driver::{HwQuery, HwResult, SimStats};
 use crate::hw::rtl::native::{run_gather, Engine, SimOptions};
 use crate::hw::traversal::Traversal;
 use rayon::prelude::*;
@@ -494,47 +494,12 @@ impl GatherBackend for RtlBackend {
                 GridPoint::Outside(g) => outside.push((i, g)),
             }
         }
-        // Right-sized Q, unless one was given: from what the software search costs on an even
-        // sample of these queries, instead of the worst-case issue interval.
-        let mut config = self.config;
-        let profile: ReadProfile = hw
-            .iter()
-            .step_by(hw.len().div_ceil(512).max(1))
-            .map(|q| {
-                let c = &config;
-                knn::search_with(&m.tree, q.coords, c.k, q.radius, c.metric, c.traversal)
-                    .read_profile()
-            })
-            .sum();
-        if self.fit_q {
-            config.fit_queries_per_port(&profile);
-        }
-        // Each query's answer depends only on the map and the query, not on which
-        // QueryModule or simulation serves it, so independent simulations of the
-        // core on chunks of the stream give the same results for any thread count.
-        // A waveform dump wants one simulation.
-        let chunks = if self.options.vcd.is_some()
-            || std::env::var_os(crate::hw::rtl::native::VCD_ENV).is_some()
-        {
-            1
-        } else {
-            rayon::current_num_threads().max(1)
-        };
-        let size = hw.len().div_ceil(chunks).max(1);
-        let runs: Vec<_> = hw
-            .par_chunks(size)
-            .map(|chunk| Ok(run_gather(&config, m.tree.image(), chunk, &self.options)?))
-            .collect::<Result<_>>()?;
         let mut out: Vec<Gathered> = vec![Gathered::default(); queries.len()];
-        let mut stats = self.stats.lock().expect("stats lock");
-        for (results, s) in runs {
-            stats.push(s);
-            for r in results {
-                out[r.id as usize] = Gathered {
-                    neighbours: m.neighbours(&r.found),
-                    visited: r.visited,
-                };
-            }
+        for r in run_core(m, self.config, self.fit_q, &self.options, &hw, &self.stats)? {
+            out[r.id as usize] = Gathered {
+                neighbours: m.neighbours(&r.found),
+                visited: r.visited,
+            };
         }
         let far: Vec<(usize, Gathered)> = outside
             .par_iter()
@@ -545,4 +510,60 @@ impl GatherBackend for RtlBackend {
         }
         Ok(out)
     }
+}
+
+/// Run `hw` through simulations of the core `config` on `map`'s tree (Q sized from
+/// the queries first if `fit_q`), their cycle counts appended to `stats`; the
+/// results in no particular order (each names its query by `id`).
+pub fn run_core(
+    map: &QuantizedMap,
+    mut config: CoreConfig,
+    fit_q: bool,
+    options: &SimOptions,
+    hw: &[HwQuery],
+    stats: &Mutex<Vec<SimStats>>,
+) -> Result<Vec<HwResult>> {
+    // Right-sized Q, unless one was given: from what the software search costs on an even
+    // sample of these queries, instead of the worst-case issue interval.
+    if fit_q {
+        let profile: ReadProfile = hw
+            .iter()
+            .step_by(hw.len().div_ceil(512).max(1))
+            .map(|q| {
+                let c = &config;
+                knn::search_with(
+                    &map.tree,
+                    q.coords,
+                    q.k as usize,
+                    q.radius,
+                    c.metric,
+                    c.traversal,
+                )
+                .read_profile()
+            })
+            .sum();
+        config.fit_queries_per_port(&profile);
+    }
+    // Each query's answer depends only on the map and the query, not on which
+    // QueryModule or simulation serves it, so independent simulations of the
+    // core on chunks of the stream give the same results for any thread count.
+    // A waveform dump wants one simulation.
+    let chunks =
+        if options.vcd.is_some() || std::env::var_os(crate::hw::rtl::native::VCD_ENV).is_some() {
+            1
+        } else {
+            rayon::current_num_threads().max(1)
+        };
+    let size = hw.len().div_ceil(chunks).max(1);
+    let runs: Vec<_> = hw
+        .par_chunks(size)
+        .map(|chunk| Ok(run_gather(&config, map.tree.image(), chunk, options)?))
+        .collect::<Result<_>>()?;
+    let mut stats = stats.lock().expect("stats lock");
+    let mut out = Vec::with_capacity(hw.len());
+    for (results, s) in runs {
+        stats.push(s);
+        out.extend(results);
+    }
+    Ok(out)
 }

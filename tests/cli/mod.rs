@@ -345,4 +345,5 @@ fn gather_lines(args: &[&str], out: &Path) -> Vec<String> {
 }
 
 mod backends;
+mod exact;
 mod limits;

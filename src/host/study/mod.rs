@@ -8,8 +8,10 @@
 //!
 //! One job per file: `plan` (what is swept), `metrics` (the error measures),
 //! `hwcost` (simulated reads per cycle and `synth/results.json`), `sweep` (the runs),
-//! `figures` (Figs. 3–6 data), `plots` and `report` (the files written).
+//! `figures` (Figs. 3–6 data), `plots` and `report` (the files written);
+//! `exact_series` (the `--exact` re-ranking's certified share and reads against m).
 
+pub mod exact_series;
 pub mod figures;
 pub mod hwcost;
 pub mod metrics;
