@@ -8,13 +8,14 @@
 //! 3. `host::map` — quantizer, kd-tree, kNN
 //! 4. `host::{gather, csvio}` — gather backends and their file formats
 //! 5. `host::render` — scene, photons, renderer
-//! 6. `host::workload` — benchmark workloads; `host::study` — the speed/error study
+//! 6. `host::workload` — benchmark workloads; `host::study` — the speed/error study;
+//!    `host::banking` — the banked store's bank-conflict model
 //! 7. the binary (`main.rs`, `cli/`)
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-const LAYERS: [(&str, usize); 14] = [
+const LAYERS: [(&str, usize); 15] = [
     ("hw::rtl", 1),
     ("hw", 0),
     ("host::error", 2),
@@ -27,6 +28,7 @@ const LAYERS: [(&str, usize); 14] = [
     ("host::render", 5),
     ("host::workload", 6),
     ("host::study", 6),
+    ("host::banking", 6),
     // host/mod.rs only declares the modules.
     ("host", 2),
     ("cli", 7),
