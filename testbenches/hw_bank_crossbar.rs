@@ -1,15 +1,16 @@
-//! BankCrossbar against an independent cycle model: random requests (random
-//! banks, a hot bank, withdrawn and changed requests while waiting), memories that
-//! answer junk in every cycle after a row was not read, and random resets. Every
-//! cycle each requester's `ready`, each bank's enable and row, and each answer
-//! must be the model's (per bank: the lowest asking requester above the last one
-//! granted, else the lowest); every granted read's answer must arrive two cycles
+//! BankCrossbar against an independent cycle model, with one and two ports per
+//! bank: random requests (random banks, a hot bank, withdrawn and changed requests
+//! while waiting), memories that answer junk in every cycle after a row was not
+//! read, and random resets. Every cycle each requester's `ready`, each bank port's
+//! enable and row, and each answer must be the model's (per bank port: the lowest
+//! asking requester above the last one it granted, else the lowest; the second
+//! port among those the first left waiting); every granted read's answer must arrive two cycles
 //! later, exactly once, with its tag and the word at its bank's row; nothing
 //! arrives that was not asked for. The exported Verilog passes yosys, Verilator
 //! lint and Icarus, and replays a recorded run cycle for cycle in both simulators.
 
 use crate::common::{clock_cycle, rng, settle};
-use photon_fpga::hw::bank_crossbar::BankCrossbar;
+use photon_fpga::hw::bank_crossbar::{BankCrossbar, BankPort};
 use photon_fpga::hw::rtl::export::export_block;
 use photon_fpga::hw::rtl::xsim::{compare, Recorder, XsimRun};
 use photon_fpga::hw::rtl::xsim_tb::{self, Simulator};
@@ -23,6 +24,7 @@ use std::process::Command;
 struct Shape {
     requesters: usize,
     banks: usize,
+    ports: usize,
     rows: usize,
     word_bits: u32,
     tag_bits: u32,
@@ -37,6 +39,7 @@ const SHAPES: [Shape; 5] = [
     Shape {
         requesters: 1,
         banks: 1,
+        ports: 1,
         rows: 16,
         word_bits: 64,
         tag_bits: 4,
@@ -48,6 +51,7 @@ const SHAPES: [Shape; 5] = [
     Shape {
         requesters: 4,
         banks: 2,
+        ports: 1,
         rows: 32,
         word_bits: 32,
         tag_bits: 4,
@@ -59,6 +63,7 @@ const SHAPES: [Shape; 5] = [
     Shape {
         requesters: 3,
         banks: 16,
+        ports: 2,
         rows: 64,
         word_bits: 36,
         tag_bits: 8,
@@ -70,6 +75,7 @@ const SHAPES: [Shape; 5] = [
     Shape {
         requesters: 8,
         banks: 8,
+        ports: 1,
         rows: 64,
         word_bits: 32,
         tag_bits: 4,
@@ -81,6 +87,7 @@ const SHAPES: [Shape; 5] = [
     Shape {
         requesters: 16,
         banks: 4,
+        ports: 2,
         rows: 16,
         word_bits: 20,
         tag_bits: 5,
@@ -99,10 +106,20 @@ struct Due {
     word: u64,
 }
 
+/// Port `k` (port `k % ports` of bank `k / ports`) of the crossbar.
+fn port(uut: &mut BankCrossbar, k: usize, ports: usize) -> &mut BankPort {
+    if k.is_multiple_of(ports) {
+        &mut uut.banks[k / ports]
+    } else {
+        &mut uut.second[k / ports]
+    }
+}
+
 /// Run `s` against the model; the recording of the run if `record`.
 fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
     let (d, b) = (s.requesters, s.banks);
-    let mut uut = BankCrossbar::new(d, b, s.word_bits, s.tag_bits);
+    let np = b * s.ports;
+    let mut uut = BankCrossbar::new(d, b, s.ports, s.word_bits, s.tag_bits);
     uut.connect_all();
     check_all(&uut).expect("BankCrossbar checks");
     let mut r = rng(s.seed);
@@ -111,10 +128,11 @@ fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
         .map(|_| (0..s.rows).map(|_| r.gen::<u64>() & word_mask).collect())
         .collect();
     let mut recorder = record.then(Recorder::default);
-    // The model: each bank's last grant, each memory's registered row (None: not
-    // read), each requester's offered request and its reads due.
-    let mut last: Vec<Option<usize>> = vec![None; b];
-    let mut bram_row: Vec<Option<usize>> = vec![None; b];
+    // The model, per bank port (port p of bank j at j * ports + p): its last grant
+    // and its memory's registered row (None: not read); per requester its offered
+    // request and its reads due.
+    let mut last: Vec<Option<usize>> = vec![None; np];
+    let mut bram_row: Vec<Option<usize>> = vec![None; np];
     let mut offer: Vec<Option<(usize, usize, u64)>> = vec![None; d];
     let mut due: Vec<VecDeque<Due>> = vec![VecDeque::new(); d];
     let mut next_tag = vec![0u64; d];
@@ -146,12 +164,12 @@ fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
             uut.clients[i].tag.next = tag.into();
         }
         // A memory answers its last row, junk after a cycle without a read.
-        for j in 0..b {
-            let w = match bram_row[j] {
-                Some(row) => mem[j][row],
+        for (k, row) in bram_row.iter().enumerate() {
+            let w = match row {
+                Some(row) => mem[k / s.ports][*row],
                 None => r.gen::<u64>(),
             };
-            uut.banks[j].word.next = w.into();
+            port(&mut uut, k, s.ports).word.next = w.into();
         }
         uut.reset.next = reset;
         settle(&mut uut);
@@ -159,29 +177,33 @@ fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
             rec.sample(&uut, c as u64);
         }
         // The model's grants.
-        let mut winner: Vec<Option<usize>> = vec![None; b];
-        for j in 0..b {
+        // The second port serves those the first left waiting.
+        let mut winner: Vec<Option<usize>> = vec![None; np];
+        for k in 0..np {
+            let (j, first) = (k / s.ports, k.is_multiple_of(s.ports));
             let asking: Vec<usize> = (0..d)
                 .filter(|&i| !reset && offer[i].is_some_and(|o| o.0 == j))
+                .filter(|&i| first || winner[k - 1] != Some(i))
                 .collect();
-            winner[j] = asking
+            winner[k] = asking
                 .iter()
                 .copied()
-                .find(|&i| last[j].is_none_or(|l| i > l))
+                .find(|&i| last[k].is_none_or(|l| i > l))
                 .or(asking.first().copied());
         }
         for (i, o) in offer.iter().enumerate() {
-            let won = o.is_some_and(|o| winner[o.0] == Some(i));
+            let won = o.is_some_and(|o| (0..s.ports).any(|p| winner[o.0 * s.ports + p] == Some(i)));
             assert_eq!(
                 uut.clients[i].ready.val(),
                 won,
                 "{s:?}: cycle {c}, ready {i}"
             );
         }
-        for (j, w) in winner.iter().enumerate() {
-            assert_eq!(uut.banks[j].enable.val(), w.is_some(), "cycle {c}");
+        for (k, w) in winner.iter().enumerate() {
+            let bp = port(&mut uut, k, s.ports);
+            assert_eq!(bp.enable.val(), w.is_some(), "cycle {c}, port {k}");
             let row = w.map_or(0, |i| offer[i].unwrap().1);
-            assert_eq!(uut.banks[j].row.val().to_u64(), row as u64, "cycle {c}");
+            assert_eq!(bp.row.val().to_u64(), row as u64, "cycle {c}, port {k}");
         }
         // The answers due now.
         for (i, due) in due.iter_mut().enumerate() {
@@ -204,16 +226,18 @@ fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
             }
         }
         // The edge: grants move, memories register their rows.
-        for j in 0..b {
-            bram_row[j] = winner[j].map(|i| offer[i].unwrap().1);
-            if let Some(i) = winner[j] {
-                let (_, row, tag) = offer[i].unwrap();
+        for k in 0..np {
+            bram_row[k] = winner[k].map(|i| offer[i].unwrap().1);
+        }
+        for k in 0..np {
+            if let Some(i) = winner[k] {
+                let (j, row, tag) = offer[i].unwrap();
                 due[i].push_back(Due {
                     cycle: c + 2,
                     tag,
                     word: mem[j][row],
                 });
-                last[j] = Some(i);
+                last[k] = Some(i);
                 offer[i] = None;
                 granted += 1;
             }
@@ -252,10 +276,11 @@ fn run_tool(cmd: &mut Command, what: &str) {
     ignore = "needs yosys, verilator and iverilog"
 )]
 fn exported_verilog_lints_and_replays_cycle_for_cycle() {
-    for s in [&SHAPES[1], &SHAPES[3]] {
+    for s in [&SHAPES[1], &SHAPES[3], &SHAPES[4]] {
         let e = export_block(BankCrossbar::new(
             s.requesters,
             s.banks,
+            s.ports,
             s.word_bits,
             s.tag_bits,
         ))
