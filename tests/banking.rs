@@ -174,10 +174,17 @@ fn the_cycle_model_meets_its_closed_forms_and_bounds() {
             assert_eq!(m.offered, 0);
         }
     }
-    // One bank and no replica: the whole core reads at most one photon a cycle,
-    // and with many datapaths it is kept busy.
+    // One bank and no replica: the whole core reads at most one photon a cycle
+    // per bank port, and with many datapaths it is kept busy.
     let m = run(&machine(8, 0, 0, Issue::Rotate), &reads, &order);
     assert!(m.cycles >= total && (m.cycles as f64) < total as f64 * 1.05);
+    let two = Machine {
+        bank_ports: 2,
+        ..machine(8, 0, 0, Issue::Rotate)
+    };
+    let m = run(&two, &reads, &order);
+    assert_eq!(m.reads, total);
+    assert!(2 * m.cycles >= total && (2 * m.cycles) as f64 <= total as f64 * 1.1);
 }
 
 #[test]

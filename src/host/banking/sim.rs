@@ -7,7 +7,8 @@
 //! loop plus the interconnect's registers); it issues at most one read per cycle.
 //! A read of a replicated node goes to the datapath's own copy and always
 //! succeeds; a read below goes to its bank, which serves one read per cycle per
-//! port, round robin among the datapaths asking. The read a datapath offers is
+//! port, round robin among the datapaths asking (per port, as the BankCrossbar's
+//! arbiters: a second port serves the datapaths the first left waiting). The read a datapath offers is
 //! its oldest ready slot's; refused, under [`Issue::InOrder`] it offers the same
 //! read again next cycle (the datapath stalls), under [`Issue::Rotate`] that slot
 //! goes to the back of the ready queue and the next slot offers its read (the slot
@@ -112,7 +113,8 @@ pub fn run(m: &Machine, reads: &[Vec<u32>], order: &[usize]) -> Measured {
         per_datapath: vec![0; m.datapaths],
         ..Measured::default()
     };
-    let mut rr = vec![0usize; banks];
+    // Per bank port, the round robin's next start (the last granted + 1).
+    let mut rr = vec![0usize; banks * m.bank_ports];
     let mut next = order.iter().copied().filter(|&q| !reads[q].is_empty());
     let mut pending = next.next();
     let mut live = 0usize;
@@ -164,21 +166,27 @@ pub fn run(m: &Machine, reads: &[Vec<u32>], order: &[usize]) -> Measured {
             while j < requests.len() && requests[j].0 == b {
                 j += 1;
             }
-            // Round robin: the first requester at or after the bank's pointer.
+            // Each port of the bank in turn (the BankCrossbar's arbiters): round
+            // robin among the requesters no earlier port took, the first at or
+            // after the port's pointer.
             let group = &requests[i..j];
-            let start = group
-                .iter()
-                .position(|&(_, d)| d >= rr[b as usize])
-                .unwrap_or(0);
-            let take = m.bank_ports.min(group.len());
-            for k in 0..take {
-                let d = group[(start + k) % group.len()].1;
+            let mut took = 0;
+            for p in 0..m.bank_ports {
+                let ptr = &mut rr[b as usize * m.bank_ports + p];
+                let free = |&&(_, d): &&(u32, usize)| !granted[d];
+                let pick = group
+                    .iter()
+                    .filter(free)
+                    .find(|&&(_, d)| d >= *ptr)
+                    .or_else(|| group.iter().find(free));
+                let Some(&(_, d)) = pick else { break };
                 granted[d] = true;
-                rr[b as usize] = d + 1;
+                *ptr = d + 1;
+                took += 1;
                 out.per_bank[b as usize] += 1;
                 out.bank_reads += 1;
             }
-            out.refused += (group.len() - take) as u64;
+            out.refused += (group.len() - took) as u64;
             i = j;
         }
         for (d, dp) in dps.iter_mut().enumerate() {
