@@ -273,7 +273,9 @@ fn the_banking_command_writes_its_report_and_refuses_bad_options() {
     }
     std::fs::remove_file(&out).unwrap();
     for (bad, message) in [
-        (["--k", "0"], "--k must be at least 1"),
+        (["--k", "0"], "--k must be in 1..=1024, got 0"),
+        (["--k", "5000"], "--k must be in 1..=1024, got 5000"),
+        (["--spp", "20000"], "at most 4194304 queries"),
         (["--spp", "0"], "--spp must be at least 1"),
         (["--photons", "0"], "--photons must be in"),
     ] {

@@ -15,6 +15,11 @@ use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::traversal::Traversal;
 use std::path::PathBuf;
 
+/// Largest k and query count measured: every query's reads are kept in memory
+/// (about 120 reads of 4 bytes per query at k = 32 on the default map).
+const MAX_K: usize = 1024;
+const MAX_QUERIES: u64 = 1 << 22;
+
 #[derive(Args)]
 pub struct BankingArgs {
     /// Photons emitted from the light (the default render's).
@@ -54,8 +59,19 @@ pub fn banking(args: &BankingArgs) -> Result<()> {
     if args.spp == 0 {
         return Err(Error::new("--spp must be at least 1, got 0"));
     }
-    if args.k == 0 {
-        return Err(Error::new("--k must be at least 1, got 0"));
+    if args.k == 0 || args.k > MAX_K {
+        return Err(Error::new(format!(
+            "--k must be in 1..={MAX_K}, got {}",
+            args.k
+        )));
+    }
+    let queries = args.size.0 as u64 * args.size.1 as u64 * args.spp as u64;
+    if queries > MAX_QUERIES {
+        return Err(Error::new(format!(
+            "--size {}x{} × --spp {} is {queries} queries; the read streams are held in \
+             memory, at most {MAX_QUERIES} queries",
+            args.size.0, args.size.1, args.spp
+        )));
     }
     let out = Output::check(&args.out, &[])?;
     let settings = RenderSettings {

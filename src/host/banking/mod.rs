@@ -1,6 +1,6 @@
 //! The banked photon store, measured in software: one kd-tree spread over many
-//! BlockRAM banks and shared by D barrel datapaths (issue: real photon maps on real
-//! devices). The read stream is the software search's, which the barrel datapath
+//! BlockRAM banks and shared by D barrel datapaths, so that maps far larger than
+//! one BlockRAM copy per core are searched at many reads per cycle. The read stream is the software search's, which the barrel datapath
 //! matches read for read; a cycle model of D datapaths × B banks replays it under
 //! each bank mapping and query order (`photon-fpga banking` writes the numbers to
 //! docs/BANKING.md, every number with where it comes from).

@@ -36,8 +36,8 @@ pub struct Device {
 }
 
 /// Lattice ECP5-85k: 208 DP16KD of 18 Kbit (widest true-dual-port shape 1K × 18;
-/// the 512 × 36 shape is pseudo-dual-port, one read port, which is all a bank
-/// needs). Barrel datapath: 4 DP16KD and about 2,700 LUT4s each (42,781 LUT4s for
+/// the 512 × 36 shape is pseudo-dual-port, one read port, which is all a
+/// single-ported bank needs; two read ports take two 1K × 18 halves of a word). Barrel datapath: 4 DP16KD and about 2,700 LUT4s each (42,781 LUT4s for
 /// 16 datapaths of the placed-and-routed T = 8 array).
 pub const ECP5_85K: Device = Device {
     name: "ECP5-85k",
