@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 mod cli;
+use cli::banking::{banking, BankingArgs};
 use cli::bench_core::{bench_core, BenchCoreArgs};
 use cli::export::{export, ExportArgs};
 use cli::gather::{gather, GatherArgs};
@@ -32,6 +33,10 @@ enum Cmd {
     /// Speed against error: sweep bits, metric, k and photons; write the table,
     /// the Pareto plot and the paper's Figs. 3-6.
     Study(StudyArgs),
+    /// The banked photon store's bank conflicts, measured on the default render's
+    /// read stream (bank mappings, query orders, D datapaths x B banks); writes
+    /// docs/BANKING.md.
+    Banking(BankingArgs),
 }
 
 fn main() -> ExitCode {
@@ -42,6 +47,7 @@ fn main() -> ExitCode {
         Some(Cmd::BenchCore(a)) => bench_core(a),
         Some(Cmd::Render(a)) => render(a),
         Some(Cmd::Study(a)) => study(a),
+        Some(Cmd::Banking(a)) => banking(a),
         None => render(&RenderArgs::default()),
     };
     match result {

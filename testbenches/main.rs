@@ -4,6 +4,8 @@
 
 mod common;
 mod hw_array;
+mod hw_bank_crossbar;
+mod hw_bank_map;
 mod hw_blocks;
 mod hw_config;
 mod hw_core;

@@ -9,7 +9,8 @@
 //! 4. `host::{gather, csvio, exact}` — gather backends, their file formats, the
 //!    exact re-ranking
 //! 5. `host::render` — scene, photons, renderer
-//! 6. `host::workload` — benchmark workloads; `host::study` — the speed/error study
+//! 6. `host::workload` — benchmark workloads; `host::study` — the speed/error study;
+//!    `host::banking` — the banked store's bank-conflict model
 //! 7. the binary (`main.rs`, `cli/`)
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -29,6 +30,7 @@ const LAYERS: [(&str, usize); 15] = [
     ("host::render", 5),
     ("host::workload", 6),
     ("host::study", 6),
+    ("host::banking", 6),
     // host/mod.rs only declares the modules.
     ("host", 2),
     ("cli", 7),

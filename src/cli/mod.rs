@@ -1,6 +1,7 @@
 //! The subcommands that are more than a call into the library; `main.rs` parses
 //! and dispatches.
 
+pub mod banking;
 pub mod bench_core;
 pub mod core_args;
 pub mod export;

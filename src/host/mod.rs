@@ -4,8 +4,9 @@
 //! (`render`) and the shared plumbing (errors, limits, atomic output, timing).
 //!
 //! Layers, lowest first (tests/layers.rs checks them): `error`, `limits`,
-//! `output`, `stages` → `map` → `gather`, `csvio`, `exact` → `render` → `workload`, `study`.
+//! `output`, `stages` → `map` → `gather`, `csvio`, `exact` → `render` → `workload`, `study`, `banking`.
 
+pub mod banking;
 pub mod csvio;
 pub mod error;
 pub mod exact;

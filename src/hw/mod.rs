@@ -64,6 +64,8 @@
 
 pub mod array;
 pub mod axis_dist;
+pub mod bank_crossbar;
+pub mod bank_map;
 pub mod barrel_port;
 pub mod block_ram;
 pub mod cell_bound;

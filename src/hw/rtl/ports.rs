@@ -8,7 +8,8 @@ use rust_hdl::core::atom::{Atom, AtomKind};
 use rust_hdl::prelude::*;
 
 /// One port of the exported `top` module, named as in the Verilog (`bundle$member`
-/// for a member of a `LogicInterface`).
+/// for a member of a `LogicInterface`; `bundle$i$member` for a member of the i-th
+/// of a `Vec` of them, whose bundle is then `bundle$i`).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Port {
     pub name: String,
@@ -17,14 +18,15 @@ pub struct Port {
 }
 
 impl Port {
-    /// The bundle this port belongs to (`query` for `query$valid`), if any.
+    /// The bundle this port belongs to (`query` for `query$valid`, `clients$0` for
+    /// `clients$0$valid`), if any.
     pub fn bundle(&self) -> Option<&str> {
-        self.name.split_once('$').map(|(b, _)| b)
+        self.name.rsplit_once('$').map(|(b, _)| b)
     }
 
     /// The member name within its bundle, or the whole name.
     pub fn member(&self) -> &str {
-        self.name.split_once('$').map_or(&self.name, |(_, m)| m)
+        self.name.rsplit_once('$').map_or(&self.name, |(_, m)| m)
     }
 
     /// Hexadecimal digits of a value of this port (Verilog's `%h` width).

@@ -32,7 +32,7 @@
 //! of the port's width, sampled just before rising edge `CYCLE` (what that edge acts
 //! on). For every stream bundle `B` (ports `B$valid`, `B$ready` and its data
 //! members), in port order, a line when a beat moves; then the status outputs (the
-//! outputs outside any bundle) when they change and at cycle 0:
+//! outputs outside any stream bundle) when they change and at cycle 0:
 //!
 //! ```text
 //! CYCLE B member member ...         a beat of bundle B moved (valid && ready)
@@ -83,7 +83,8 @@ pub struct Bundle {
 }
 
 /// The stream bundles of `ports` (those with `valid` and `ready` members), in port
-/// order, and the status outputs (outputs outside any bundle).
+/// order, and the status outputs (outputs outside any stream bundle, in port
+/// order).
 pub fn bundles(ports: &[Port]) -> (Vec<Bundle>, Vec<usize>) {
     let mut bundles: Vec<Bundle> = vec![];
     let mut status = vec![];
@@ -112,8 +113,19 @@ pub fn bundles(ports: &[Port]) -> (Vec<Bundle>, Vec<usize>) {
             _ => bundles[at].members.push(i),
         }
     }
-    bundles.retain(|b| b.valid != usize::MAX && b.ready != usize::MAX);
-    (bundles, status)
+    let (streams, others): (Vec<Bundle>, Vec<Bundle>) = bundles
+        .into_iter()
+        .partition(|b| b.valid != usize::MAX && b.ready != usize::MAX);
+    for b in others {
+        status.extend(
+            [b.valid, b.ready]
+                .into_iter()
+                .chain(b.members)
+                .filter(|&i| i != usize::MAX && !ports[i].input),
+        );
+    }
+    status.sort_unstable();
+    (streams, status)
 }
 
 /// The stimulus columns: every input but the clock.
@@ -141,6 +153,16 @@ impl Observer for Recorder {
         let block = c.dut.block().ok_or_else(|| {
             HwError::CrossSim("the recorder needs rust-hdl's native simulation".into())
         })?;
+        self.sample(block, c.index);
+        Ok(())
+    }
+}
+
+impl Recorder {
+    /// Record cycle `cycle` of `block` (any block exported as `top`): its inputs
+    /// applied and settled, its rising edge next. A block bench drives its block
+    /// itself and calls this once per cycle, then [`Recorder::finish`].
+    pub fn sample(&mut self, block: &dyn rust_hdl::prelude::Block, cycle: u64) {
         if self.ports.is_empty() {
             self.ports = ports::ports(block);
             self.columns = stimulus_columns(&self.ports);
@@ -153,7 +175,6 @@ impl Observer for Recorder {
             self.stimulus.push('\n');
         }
         let v = ports::values(block);
-        let cycle = c.index;
         let fields: Vec<&str> = self.columns.iter().map(|&i| v[i].as_str()).collect();
         self.stimulus.push_str(&fields.join(" "));
         self.stimulus.push('\n');
@@ -172,7 +193,19 @@ impl Observer for Recorder {
             self.status = Some(st);
         }
         self.cycles += 1;
-        Ok(())
+    }
+
+    /// The recording as a run to replay (no search results).
+    pub fn finish(self) -> XsimRun {
+        let mut responses = self.responses;
+        let _ = writeln!(responses, "END {}", self.cycles);
+        XsimRun {
+            ports: self.ports,
+            stimulus: self.stimulus,
+            cycles: self.cycles,
+            responses,
+            results: vec![],
+        }
     }
 }
 

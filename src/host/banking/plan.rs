@@ -1,0 +1,243 @@
+//! B, L and D from the map and the device: how many banks one copy of the map
+//! spreads over, how many top levels each datapath keeps its own copy of, and how
+//! many datapaths the rest of the BlockRAM holds.
+//!
+//! * A bank is one column of BlockRAMs in the device's widest port shape (a photon
+//!   word fits one BlockRAM's width on both devices), as deep as its share of the
+//!   map needs: `B = 2^b` banks of `rows = (N >> b) + 1` words (the row of heap
+//!   address `a` is `a >> b`, see `mapping`).
+//! * `L`: the top levels fill one BlockRAM beside each datapath (`2^L − 1` nodes
+//!   no deeper than one BlockRAM's words); a map that small needs no banks.
+//! * `D`: each datapath costs its replica plus its own memories (the barrel port's
+//!   offsets and found lists); D is what the BlockRAM left after the banks holds,
+//!   capped by the logic budget and by `B / banks_per_datapath` (the bank model's
+//!   measured curve: fewer banks per datapath than that and the conflicts cost
+//!   more than a datapath gains).
+//! * `B` is a power of two, at most `2^L` (so the mappings are bijections,
+//!   `mapping`) and at most `max_banks`: of those, the one giving the most
+//!   datapaths, then the fewest BlockRAMs (rounding each bank up to whole
+//!   BlockRAMs wastes some), then the most banks (fewer conflicts).
+
+use std::fmt;
+
+/// A device's BlockRAM and logic.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Device {
+    pub name: &'static str,
+    pub brams: u32,
+    /// (words, bits) of one BlockRAM port in its widest true-dual-port shape.
+    pub shape: (u32, u32),
+    /// Logic cells (ECP5 LUT4s, Virtex-6 6-input LUTs).
+    pub luts: u32,
+    /// One barrel datapath's own BlockRAMs (offsets, found lists) and logic, from
+    /// the synthesised barrel core (synth/REPORT.md: 2 datapaths per core).
+    pub datapath_brams: u32,
+    pub datapath_luts: u32,
+}
+
+/// Lattice ECP5-85k: 208 DP16KD of 18 Kbit (widest true-dual-port shape 1K × 18;
+/// the 512 × 36 shape is pseudo-dual-port, one read port, which is all a
+/// single-ported bank needs; two read ports take two 1K × 18 halves of a word). Barrel datapath: 4 DP16KD and about 2,700 LUT4s each (42,781 LUT4s for
+/// 16 datapaths of the placed-and-routed T = 8 array).
+pub const ECP5_85K: Device = Device {
+    name: "ECP5-85k",
+    brams: 208,
+    shape: (512, 36),
+    luts: 83_640,
+    datapath_brams: 4,
+    datapath_luts: 2_700,
+};
+
+/// Xilinx XC6VSX475T: 1,064 RAMB36 (1K × 36). Barrel datapath: 4 RAMB18 = 2 RAMB36
+/// and about 1,400 LUTs each (yosys counts of the 2 × 16-slot barrel core).
+pub const XC6VSX475T: Device = Device {
+    name: "XC6VSX475T",
+    brams: 1_064,
+    shape: (1024, 36),
+    luts: 297_600,
+    datapath_brams: 2,
+    datapath_luts: 1_400,
+};
+
+/// What the plan is asked to respect.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// Fewest datapaths worth building.
+    pub min_datapaths: u32,
+    /// Banks per datapath below which conflicts cost more than a datapath adds.
+    pub banks_per_datapath: u32,
+    /// Largest bank count and datapath count the interconnect is built for.
+    pub max_banks: u32,
+    pub max_datapaths: u32,
+    /// Share of the device's logic the datapaths may take (the rest: the
+    /// interconnect, the result path and the I/O).
+    pub logic_share: f64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            min_datapaths: 8,
+            banks_per_datapath: 4,
+            max_banks: 1024,
+            max_datapaths: 16,
+            logic_share: 0.5,
+        }
+    }
+}
+
+/// The banked store and the datapaths for one map on one device.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BankPlan {
+    pub photons: usize,
+    /// `L`.
+    pub replicated_levels: u32,
+    /// `b` (`B = 2^b`).
+    pub bank_bits: u32,
+    /// Words per bank and BlockRAMs per bank (one column: wide enough for a word).
+    pub bank_rows: u32,
+    pub brams_per_bank: u32,
+    /// `D`.
+    pub datapaths: u32,
+    /// BlockRAMs of the banks, of the datapaths (replicas and own memories).
+    pub bank_brams: u32,
+    pub datapath_brams: u32,
+}
+
+impl BankPlan {
+    pub fn banks(&self) -> u32 {
+        1 << self.bank_bits
+    }
+    pub fn total_brams(&self) -> u32 {
+        self.bank_brams + self.datapath_brams
+    }
+}
+
+/// Why no plan exists.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum PlanError {
+    /// The photon word is wider than one BlockRAM port.
+    WordTooWide { bits: u32, device: &'static str },
+    /// The map does not fit; the largest that does (0: none).
+    MapTooLarge {
+        photons: usize,
+        device: &'static str,
+        largest: usize,
+    },
+}
+
+impl fmt::Display for PlanError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PlanError::WordTooWide { bits, device } => {
+                write!(
+                    f,
+                    "a {bits}-bit photon word is wider than a {device} BlockRAM"
+                )
+            }
+            PlanError::MapTooLarge {
+                photons,
+                device,
+                largest,
+            } => write!(
+                f,
+                "a map of {photons} photons does not fit the {device} with the banks and \
+                 datapaths it needs; the largest that fits is {largest} photons"
+            ),
+        }
+    }
+}
+
+/// The plan for `photons` photons of `word_bits` bits on `dev`.
+pub fn plan(
+    photons: usize,
+    word_bits: u32,
+    dev: &Device,
+    lim: &Limits,
+) -> Result<BankPlan, PlanError> {
+    if word_bits > dev.shape.1 {
+        return Err(PlanError::WordTooWide {
+            bits: word_bits,
+            device: dev.name,
+        });
+    }
+    plan_fit(photons, dev, lim).ok_or_else(|| PlanError::MapTooLarge {
+        photons,
+        device: dev.name,
+        largest: largest_map(dev, lim),
+    })
+}
+
+/// The best plan for `photons` (see the module docs), if any: the most
+/// datapaths, then the fewest BlockRAMs, then the most banks.
+fn plan_fit(photons: usize, dev: &Device, lim: &Limits) -> Option<BankPlan> {
+    let depth = dev.shape.0;
+    // 2^L − 1 <= depth.
+    let l = 31 - (depth + 1).leading_zeros();
+    let per_dp = 1 + dev.datapath_brams;
+    let logic = ((dev.luts as f64 * lim.logic_share) / dev.datapath_luts as f64) as u32;
+    if photons < (1usize << l) {
+        // Every node is in every datapath's replica: no banks.
+        let d = (dev.brams / per_dp).min(logic).min(lim.max_datapaths);
+        return (d >= lim.min_datapaths.max(1)).then_some(BankPlan {
+            photons,
+            replicated_levels: l,
+            bank_bits: 0,
+            bank_rows: 0,
+            brams_per_bank: 0,
+            datapaths: d,
+            bank_brams: 0,
+            datapath_brams: d * per_dp,
+        });
+    }
+    let max_b = (1u32 << l).min(lim.max_banks);
+    let mut best: Option<BankPlan> = None;
+    for b in 0..=(31 - max_b.leading_zeros()) {
+        let banks = 1u32 << b;
+        let rows = (photons as u64 >> b) + 1;
+        let per_bank = rows.div_ceil(depth as u64);
+        let bank_brams = per_bank * banks as u64;
+        if bank_brams + u64::from(lim.min_datapaths * per_dp) > u64::from(dev.brams) {
+            continue;
+        }
+        let by_bram = (dev.brams - bank_brams as u32) / per_dp;
+        let by_banks = banks / lim.banks_per_datapath.max(1);
+        let d = by_bram.min(logic).min(by_banks).min(lim.max_datapaths);
+        if d < lim.min_datapaths.max(1) {
+            continue;
+        }
+        let p = BankPlan {
+            photons,
+            replicated_levels: l,
+            bank_bits: b,
+            bank_rows: rows as u32,
+            brams_per_bank: per_bank as u32,
+            datapaths: d,
+            bank_brams: bank_brams as u32,
+            datapath_brams: d * per_dp,
+        };
+        let key = |p: &BankPlan| (p.datapaths, std::cmp::Reverse(p.bank_brams), p.bank_bits);
+        if best.as_ref().is_none_or(|q| key(&p) > key(q)) {
+            best = Some(p);
+        }
+    }
+    best
+}
+
+/// The largest photon count [`plan`] fits on `dev` (0 if none).
+pub fn largest_map(dev: &Device, lim: &Limits) -> usize {
+    if plan_fit(1, dev, lim).is_none() {
+        return 0;
+    }
+    let (mut lo, mut hi) = (1usize, 1usize << 28);
+    // plan_fit holds for lo, fails for hi.
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if plan_fit(mid, dev, lim).is_some() {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
