@@ -41,6 +41,13 @@
 //!         ├── LutRam × levels, BlockRam × 2 (block_ram.rs)  pruning bounds, far cells
 //!         └── SlotReadout (slot_readout.rs)      found photons, ids, headers (BlockRAM,
 //!                                            LUT-RAM) and its read-out sequencer
+//!
+//! Built and tested on their own, not yet in a core (found lists of hundreds of
+//! photons; one tree banked over many BlockRAMs for many barrel datapaths):
+//! FoundHeap (found_heap.rs)             per-slot max-heaps in per-level BlockRAMs
+//! └── HeapStage × levels + 1 (heap_stage.rs)  one level of insert / replace
+//! BankCrossbar (bank_crossbar.rs)       D requesters × B banks, round robin per bank
+//! BankMap (bank_map.rs)                 heap address → replica, bank and row
 //! ```
 //!
 //! A QueryModule issues a read at most every `CoreConfig::issue_interval()` =
