@@ -9,7 +9,7 @@
 //! arrives that was not asked for. The exported Verilog passes yosys, Verilator
 //! lint and Icarus, and replays a recorded run cycle for cycle in both simulators.
 
-use crate::common::{clock_cycle, rng, settle};
+use crate::common::{clock_cycle, lint_top, rng, settle};
 use photon_fpga::hw::bank_crossbar::{BankCrossbar, BankPort};
 use photon_fpga::hw::rtl::export::export_block;
 use photon_fpga::hw::rtl::xsim::{compare, Recorder, XsimRun};
@@ -17,7 +17,6 @@ use photon_fpga::hw::rtl::xsim_tb::{self, Simulator};
 use rand::Rng;
 use rust_hdl::prelude::*;
 use std::collections::VecDeque;
-use std::process::Command;
 
 /// One crossbar shape and its stimulus.
 #[derive(Clone, Copy, Debug)]
@@ -260,16 +259,6 @@ fn every_read_returns_to_its_requester_once_round_robin_per_bank() {
     }
 }
 
-fn run_tool(cmd: &mut Command, what: &str) {
-    let out = cmd.output().unwrap_or_else(|e| panic!("{what}: {e}"));
-    assert!(
-        out.status.success(),
-        "{what} failed:\n{}\n{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
-
 #[test]
 #[cfg_attr(
     not(all(has_yosys, has_verilator, has_iverilog)),
@@ -287,36 +276,7 @@ fn exported_verilog_lints_and_replays_cycle_for_cycle() {
         .unwrap();
         let dir = tempfile::tempdir().unwrap();
         std::fs::write(dir.path().join("top.v"), &e.verilog).unwrap();
-        run_tool(
-            Command::new("yosys").current_dir(dir.path()).args([
-                "-q",
-                "-p",
-                "read_verilog top.v; hierarchy -check -top top; proc; check -assert",
-            ]),
-            "yosys check",
-        );
-        run_tool(
-            Command::new("verilator").current_dir(dir.path()).args([
-                "--lint-only",
-                "-Wno-WIDTH",
-                // One `always @(*)` per module: valid/ready between modules looks
-                // like a loop to Verilator; yosys `check -assert` rejects real ones.
-                "-Wno-UNOPTFLAT",
-                "--top-module",
-                "top",
-                "top.v",
-            ]),
-            "verilator lint",
-        );
-        run_tool(
-            Command::new("iverilog").current_dir(dir.path()).args([
-                "-g2005",
-                "-o",
-                "/dev/null",
-                "top.v",
-            ]),
-            "iverilog compile",
-        );
+        lint_top(dir.path());
         let run = run_against_model(s, true).unwrap();
         assert_eq!(run.ports, e.ports);
         for sim in [Simulator::Icarus, Simulator::Verilator] {

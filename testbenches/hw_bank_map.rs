@@ -65,46 +65,8 @@ fn bank_and_row_are_the_models_xor_fold() {
 )]
 fn exported_verilog_lints() {
     use photon_fpga::hw::rtl::export::export_block;
-    use std::process::Command;
     let e = export_block(BankMap::new(10, 7, 19)).unwrap();
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("top.v"), &e.verilog).unwrap();
-    for (what, argv) in [
-        (
-            "yosys check",
-            vec![
-                "yosys",
-                "-q",
-                "-p",
-                "read_verilog top.v; hierarchy -check -top top; proc; check -assert",
-            ],
-        ),
-        (
-            "verilator lint",
-            vec![
-                "verilator",
-                "--lint-only",
-                "-Wno-WIDTH",
-                "--top-module",
-                "top",
-                "top.v",
-            ],
-        ),
-        (
-            "iverilog compile",
-            vec!["iverilog", "-g2005", "-o", "/dev/null", "top.v"],
-        ),
-    ] {
-        let out = Command::new(argv[0])
-            .args(&argv[1..])
-            .current_dir(dir.path())
-            .output()
-            .unwrap_or_else(|e| panic!("{what}: {e}"));
-        assert!(
-            out.status.success(),
-            "{what} failed:\n{}{}",
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        );
-    }
+    crate::common::lint_top(dir.path());
 }

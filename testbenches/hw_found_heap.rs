@@ -14,7 +14,7 @@ use rust_hdl::prelude::*;
 use std::collections::VecDeque;
 use std::process::Command;
 
-use crate::common::{clock_cycle, rng, settle};
+use crate::common::{clock_cycle, lint_top, rng, settle};
 
 fn cycle(uut: &mut FoundHeap) {
     clock_cycle(uut, |u| &mut u.clock);
@@ -147,40 +147,7 @@ fn found_heap_verilog_is_clean() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("top.v"), generate_verilog(&uut)).unwrap();
 
-    let check = |cmd: &mut Command, what: &str| {
-        let out = cmd.current_dir(dir.path()).output().unwrap_or_else(|e| {
-            panic!("{what}: {e} (apt-get install -y yosys verilator iverilog)")
-        });
-        assert!(
-            out.status.success(),
-            "{what} failed:\n{}{}",
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        );
-    };
-    check(
-        Command::new("yosys").args([
-            "-q",
-            "-p",
-            "read_verilog top.v; hierarchy -check -top top; proc; check -assert",
-        ]),
-        "yosys check",
-    );
-    check(
-        Command::new("verilator").args([
-            "--lint-only",
-            "-Wno-WIDTH",
-            "-Wno-UNOPTFLAT",
-            "--top-module",
-            "top",
-            "top.v",
-        ]),
-        "verilator lint",
-    );
-    check(
-        Command::new("iverilog").args(["-g2005", "-o", "/dev/null", "top.v"]),
-        "iverilog compile",
-    );
+    lint_top(dir.path());
 }
 
 /// `o` as the hexadecimal of the exported `op` port (the `LogicStruct`'s bits).

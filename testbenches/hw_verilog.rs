@@ -2,7 +2,7 @@
 //! no undriven or multiply driven nets), Verilator lint and Icarus. Without those
 //! tools the tests are ignored (build.rs), and under CI=true a missing tool fails.
 
-use crate::common::small_config;
+use crate::common::{lint_top, require, run_tool, small_config};
 use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
@@ -14,25 +14,6 @@ use photon_fpga::hw::traversal::Traversal;
 use std::process::Command;
 
 /// The tests below run only where build.rs found the tools (or under CI=true).
-fn require(tool: &str) {
-    let found = Command::new(tool).arg("-V").output().is_ok()
-        || Command::new(tool).arg("--version").output().is_ok();
-    assert!(
-        found,
-        "{tool} is not installed: apt-get install -y yosys verilator iverilog"
-    );
-}
-
-fn run(cmd: &mut Command, what: &str) {
-    let out = cmd.output().unwrap_or_else(|e| panic!("{what}: {e}"));
-    assert!(
-        out.status.success(),
-        "{what} failed:\n{}\n{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
-
 fn check_config(cfg: &CoreConfig) {
     let verilog = export_verilog(cfg).expect("export").verilog;
     assert!(verilog.contains("module top"));
@@ -48,47 +29,7 @@ fn check_config(cfg: &CoreConfig) {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("top.v");
     std::fs::write(&path, &verilog).unwrap();
-    require("yosys");
-    {
-        run(
-            Command::new("yosys").current_dir(dir.path()).args([
-                "-q",
-                "-p",
-                "read_verilog top.v; hierarchy -check -top top; proc; check -assert",
-            ]),
-            "yosys check",
-        );
-    }
-    require("verilator");
-    {
-        run(
-            Command::new("verilator").current_dir(dir.path()).args([
-                "--lint-only",
-                "-Wno-WIDTH",
-                // rust-hdl emits one `always @(*)` per module, so a valid/ready pair
-                // between two modules looks like a loop at block granularity. That
-                // is Verilator's performance warning, not a real loop: yosys
-                // `check -assert` above rejects true combinational loops.
-                "-Wno-UNOPTFLAT",
-                "--top-module",
-                "top",
-                "top.v",
-            ]),
-            "verilator lint",
-        );
-    }
-    require("iverilog");
-    {
-        run(
-            Command::new("iverilog").current_dir(dir.path()).args([
-                "-g2005",
-                "-o",
-                "/dev/null",
-                "top.v",
-            ]),
-            "iverilog compile",
-        );
-    }
+    lint_top(dir.path());
 }
 
 #[test]
@@ -249,7 +190,7 @@ fn generic_synth(cfg: &CoreConfig) -> (usize, usize, usize) {
     let script = "read_verilog top.v; synth -flatten -top top -run begin:fine; opt -full; \
                   techmap; opt -fast; abc -fast; opt -fast; tee -o before.txt stat; \
                   opt_dff -sat; opt_clean; tee -o after.txt stat";
-    run(
+    run_tool(
         Command::new("yosys")
             .current_dir(dir.path())
             .args(["-q", "-p", script]),

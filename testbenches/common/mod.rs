@@ -137,3 +137,66 @@ pub fn small_config(
         .build()
         .expect("a small core within the limits")
 }
+
+/// `tool` is installed (else the test fails, naming the packages to install).
+pub fn require(tool: &str) {
+    let found = std::process::Command::new(tool).arg("-V").output().is_ok()
+        || std::process::Command::new(tool)
+            .arg("--version")
+            .output()
+            .is_ok();
+    assert!(
+        found,
+        "{tool} is not installed: apt-get install -y yosys verilator iverilog"
+    );
+}
+
+/// Run `cmd`; fail the test with its output unless it succeeds.
+pub fn run_tool(cmd: &mut std::process::Command, what: &str) {
+    let out = cmd.output().unwrap_or_else(|e| panic!("{what}: {e}"));
+    assert!(
+        out.status.success(),
+        "{what} failed:\n{}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// The exported `top.v` in `dir` passes yosys `check -assert` (no undriven or
+/// multiply driven nets, no combinational loops), Verilator's lint and an Icarus
+/// compile.
+pub fn lint_top(dir: &std::path::Path) {
+    use std::process::Command;
+    require("yosys");
+    run_tool(
+        Command::new("yosys").current_dir(dir).args([
+            "-q",
+            "-p",
+            "read_verilog top.v; hierarchy -check -top top; proc; check -assert",
+        ]),
+        "yosys check",
+    );
+    require("verilator");
+    run_tool(
+        Command::new("verilator").current_dir(dir).args([
+            "--lint-only",
+            "-Wno-WIDTH",
+            // rust-hdl emits one `always @(*)` per module, so a valid/ready pair
+            // between two modules looks like a loop at block granularity. That is
+            // Verilator's performance warning, not a real loop: yosys `check
+            // -assert` above rejects true combinational loops.
+            "-Wno-UNOPTFLAT",
+            "--top-module",
+            "top",
+            "top.v",
+        ]),
+        "verilator lint",
+    );
+    require("iverilog");
+    run_tool(
+        Command::new("iverilog")
+            .current_dir(dir)
+            .args(["-g2005", "-o", "/dev/null", "top.v"]),
+        "iverilog compile",
+    );
+}
