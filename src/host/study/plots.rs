@@ -1,6 +1,5 @@
-//! The study's plots: the Pareto plot of error against hardware
-//! throughput, the `--exact` series against m and the paper's Figs. 3–6, drawn
-//! with plotters into an RGB buffer
+//! The study's plots: the `--exact` series against m and the paper's Figs. 3–6
+//! (the Pareto plot is `pareto`'s), drawn with plotters into an RGB buffer
 //! and encoded with the `image` crate. The font is bundled (DejaVu Sans,
 //! `assets/`), so the plots look the same on any machine.
 
@@ -8,19 +7,17 @@ use crate::host::error::{Error, Result};
 use crate::host::study::exact_series::{ExactPoint, ExactSeries};
 use crate::host::study::figures::{Breakdown, FigPoint, Figures, HW_PARTS, SW_PARTS};
 use crate::host::study::plot_axes::{count, trim, Ticked};
-use crate::host::study::sweep::Row;
-use crate::hw::metric::Metric;
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;
 
-type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
-type Drawn = std::result::Result<(), Box<dyn std::error::Error>>;
+pub(super) type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+pub(super) type Drawn = std::result::Result<(), Box<dyn std::error::Error>>;
 
 /// The legend box every chart here draws.
-fn legend<'a, CT: CoordTranslate>(
+pub(super) fn legend<'a, CT: CoordTranslate>(
     chart: &mut ChartContext<'a, BitMapBackend<'a>, CT>,
     position: SeriesLabelPosition,
     size: u32,
@@ -35,8 +32,8 @@ fn legend<'a, CT: CoordTranslate>(
     Ok(())
 }
 
-const FONT: &str = "sans-serif";
-const COLORS: [RGBColor; 4] = [
+pub(super) const FONT: &str = "sans-serif";
+pub(super) const COLORS: [RGBColor; 4] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
@@ -56,7 +53,7 @@ fn register_font() {
 }
 
 /// Draw a `w` x `h` PNG at `path`.
-fn png(path: &Path, w: u32, h: u32, draw: impl FnOnce(&Area) -> Drawn) -> Result<()> {
+pub(super) fn png(path: &Path, w: u32, h: u32, draw: impl FnOnce(&Area) -> Drawn) -> Result<()> {
     register_font();
     let fail = |e: &dyn std::fmt::Display| Error::new(format!("{}: {e}", path.display()));
     let mut buf = vec![255u8; (w * h * 3) as usize];
@@ -68,83 +65,6 @@ fn png(path: &Path, w: u32, h: u32, draw: impl FnOnce(&Area) -> Drawn) -> Result
     }
     let img = image::RgbImage::from_raw(w, h, buf).expect("buffer of w x h x 3");
     img.save(path).map_err(|e| fail(&e))
-}
-
-/// (lo, hi) of `v` widened by `pad` (a factor, for log axes).
-fn log_range(v: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
-    let (lo, hi) = v
-        .filter(|x| x.is_finite() && *x > 0.0)
-        .fold((f64::INFINITY, 0.0f64), |(l, h), x| (l.min(x), h.max(x)));
-    if lo > hi {
-        (1.0, 10.0)
-    } else {
-        (lo / pad, hi * pad)
-    }
-}
-
-/// Image error against hardware queries/s, one series per metric, points labelled
-/// bits/k: `rows` are the points to show (one scene, one photon count).
-pub fn pareto(path: &Path, rows: &[&Row], title: &str) -> Result<()> {
-    let pts: Vec<(Metric, bool, f64, f64, String)> = rows
-        .iter()
-        .filter_map(|r| {
-            let q = r.hw.as_ref()?.queries_per_s?;
-            let label = format!("{}/{}", r.bits, r.k);
-            Some([
-                (r.metric, false, q, 100.0 * r.err_float, label.clone()),
-                (r.metric, true, q, 100.0 * r.err_float_host, label),
-            ])
-        })
-        .flatten()
-        .collect();
-    let (x0, x1) = log_range(pts.iter().map(|p| p.2), 1.3);
-    let (y0, y1) = log_range(pts.iter().map(|p| p.3), 1.5);
-    png(path, 1000, 700, |root| {
-        let mut chart = ChartBuilder::on(root)
-            .caption(title, (FONT, 20))
-            .margin(15)
-            .x_label_area_size(50)
-            .y_label_area_size(70)
-            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
-        chart
-            .configure_mesh()
-            .x_desc("hardware queries/s per core (simulated reads/cycle x clock, see STUDY.md)")
-            .y_desc("image rel. RMSE vs float render (%)")
-            .axis_desc_style((FONT, 15))
-            .label_style((FONT, 13))
-            .draw()?;
-        let series = [
-            (Metric::L1, false),
-            (Metric::L2, false),
-            (Metric::L1, true),
-            (Metric::L2, true),
-        ];
-        for (i, (metric, host)) in series.into_iter().enumerate() {
-            let color = COLORS[i];
-            let series: Vec<_> = pts
-                .iter()
-                .filter(|p| p.0 == metric && p.1 == host)
-                .collect();
-            if series.is_empty() {
-                continue;
-            }
-            let what = if host {
-                "radius on the host"
-            } else {
-                "core's grid radius"
-            };
-            chart
-                .draw_series(series.iter().map(|p| {
-                    EmptyElement::at((p.2, p.3))
-                        + Circle::new((0, 0), 4, color.filled())
-                        + Text::new(p.4.clone(), (5, -12), (FONT, 10))
-                }))?
-                .label(format!("{metric}, {what} (labels: bits/k)"))
-                .legend(move |(x, y)| Circle::new((x, y), 5, color.filled()));
-        }
-        legend(&mut chart, SeriesLabelPosition::LowerRight, 14)?;
-        Ok(())
-    })
 }
 
 /// A number of a point of the `--exact` series.

@@ -9,8 +9,8 @@ use crate::host::study::exact_report;
 use crate::host::study::exact_series::ExactSeries;
 use crate::host::study::figures::{Figures, FIG_BITS, FIG_K, FIG_METRIC, HW_PARTS, SW_PARTS};
 use crate::host::study::plan::{Plan, HW_MAX_BITS, HW_MAX_K};
-use crate::host::study::plots;
 use crate::host::study::sweep::{Row, Sweep};
+use crate::host::study::{pareto, plots};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -428,9 +428,10 @@ pub fn write_all(
         .iter()
         .filter(|r| &r.scene == name && r.emitted == plan.photons[0])
         .collect();
-    plots::pareto(
+    pareto::pareto(
         &dir.join("pareto.png"),
         &base,
+        exact,
         &format!(
             "{name}, {} emitted photons: image error against core throughput",
             plan.photons[0]
