@@ -11,3 +11,4 @@ mod render;
 mod rtl;
 mod stability;
 mod study;
+mod study_exact;
