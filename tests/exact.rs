@@ -343,7 +343,7 @@ fn exact_rtl_equals_float_on_small_maps() {
 fn exact_series_is_monotone_in_m() {
     use photon_fpga::host::render::renderer::{eye_queries, photon_points, query_points};
     use photon_fpga::host::render::{photons::trace_photons, scene::Scene, RenderSettings};
-    use photon_fpga::host::study::exact_series;
+    use photon_fpga::host::study::{exact_report, exact_series};
     let scene = Scene::cornell_box();
     let photons = photon_points(&trace_photons(&scene, 8000, 3, false));
     let settings = RenderSettings {
@@ -370,7 +370,11 @@ fn exact_series_is_monotone_in_m() {
         }
         assert!(w[3].certified > w[0].certified, "{w:?}");
     }
-    let table = exact_series::section(&pts, 10, Some((2e8, "assumed")));
+    let table = format!(
+        "{}{}",
+        exact_report::headline(&pts, 10, None),
+        exact_report::markdown(&pts)
+    );
     let rows = table
         .lines()
         .filter(|l| l.starts_with("| 10 ") || l.starts_with("| 8 "));

@@ -13,3 +13,4 @@ mod render;
 mod rtl;
 mod stability;
 mod study;
+mod study_exact;

@@ -1,6 +1,7 @@
 //! `photon-fpga study` through the binary: `--quick` writes the table,
-//! the CSV and the plots, and the table keeps its invariants; the error measures
-//! against independent computations; bad input refused before any work.
+//! the CSV and the plots, and the table keeps its invariants (its `--exact` series:
+//! `study_exact`); the error measures against independent computations; bad input
+//! refused before any work.
 
 use assert_cmd::Command;
 use photon_fpga::host::gather::{FloatBackend, GatherBackend, GatherParams, Gathered, Neighbour};
@@ -36,7 +37,11 @@ fn run_quick(out: &Path, threads: &str) -> Vec<BTreeMap<String, String>> {
         .arg(out)
         .assert()
         .success();
-    let mut r = csv::Reader::from_path(out.join("study.csv")).unwrap();
+    read_csv(&out.join("study.csv"))
+}
+
+fn read_csv(path: &Path) -> Vec<BTreeMap<String, String>> {
+    let mut r = csv::Reader::from_path(path).unwrap();
     let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
     r.records()
         .map(|rec| {
@@ -114,10 +119,25 @@ fn quick_study_writes_a_complete_table_whose_error_falls_with_bits() {
         md.contains("| l1 | 10 | 10 |") && md.contains("[P&R]"),
         "{md}"
     );
-    for png in ["pareto.png", "fig3.png", "fig4.png", "fig5.png", "fig6.png"] {
-        let img = image::open(out.join(png)).unwrap_or_else(|e| panic!("{png}: {e}"));
+    for png in [
+        "pareto.png",
+        "exact.png",
+        "fig3.png",
+        "fig4.png",
+        "fig5.png",
+        "fig6.png",
+    ] {
+        let bytes = std::fs::read(out.join(png)).unwrap();
+        assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "{png}: not a PNG");
+        let img = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
+            .unwrap_or_else(|e| panic!("{png}: {e}"));
         assert!(img.width() >= 800 && img.height() >= 400, "{png}");
+        // Drawn on: more than a blank page.
+        let rgb = img.to_rgb8();
+        let inked = rgb.pixels().filter(|p| p.0 != [255, 255, 255]).count();
+        assert!(inked > 1000, "{png}: {inked} non-white pixels");
     }
+    crate::study_exact::check_exact_series(&out, &md);
     // Same seed, same table whatever the thread count (the measured software
     // queries/s, the last column, aside).
     let again = run_quick(&dir.path().join("again"), "1");
@@ -131,6 +151,12 @@ fn quick_study_writes_a_complete_table_whose_error_falls_with_bits() {
             .collect()
     };
     assert_eq!(strip(&rows), strip(&again));
+    // The exact series has no measured column: the same bytes.
+    assert!(
+        std::fs::read(out.join("exact.csv")).unwrap()
+            == std::fs::read(dir.path().join("again/exact.csv")).unwrap(),
+        "exact.csv depends on the thread count"
+    );
 }
 
 #[test]

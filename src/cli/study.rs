@@ -11,7 +11,7 @@ use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::study::hwcost::SynthResults;
 use photon_fpga::host::study::plan::{Plan, HW_MAX_K};
 use photon_fpga::host::study::report::{self, OutDir};
-use photon_fpga::host::study::{figures, sweep};
+use photon_fpga::host::study::{exact_series, figures, sweep};
 use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
@@ -24,7 +24,7 @@ pub struct StudyArgs {
     #[arg(long)]
     pub scene: Option<PathBuf>,
     /// A reduced sweep for tests (under a minute in a debug build): one scene,
-    /// 32x32, 3000 photons, bits 6/10/16, k = 10.
+    /// 32x32, 3000 photons, bits 6/10/16, k = 10 (the --exact series: k = 10).
     #[arg(long)]
     pub quick: bool,
     /// The synthesis results the clocks and areas come from (synth/report.py's
@@ -44,7 +44,8 @@ pub struct StudyArgs {
     /// point of the sweep.
     #[command(flatten)]
     pub core: CoreOpts,
-    /// Output directory: study.csv, STUDY.md, pareto.png, fig3.png … fig6.png.
+    /// Output directory: study.csv, STUDY.md, exact.csv, pareto.png, exact.png,
+    /// fig3.png … fig6.png.
     #[arg(long)]
     pub out: PathBuf,
 }
@@ -93,6 +94,8 @@ pub fn study(args: &StudyArgs) -> Result<()> {
     plan.traversal = traversal;
     let bar = ProgressBar::new(0);
     let result = sweep::run(&plan, &rows, &bar)?;
+    bar.set_message("the --exact series");
+    let exact = exact_series::study(&plan, &result, &rows)?;
     bar.set_message("figures 3-6");
     // The core's reads per second at the figures' configuration, where simulated.
     let hw_rate = |k: usize| -> Option<f64> {
@@ -124,7 +127,7 @@ pub fn study(args: &StudyArgs) -> Result<()> {
     }
     command += &args.core.flags();
     command += &format!(" --out {}", args.out.display());
-    report::write_all(out.staging(), &plan, &result, &figs, &command)?;
+    report::write_all(out.staging(), &plan, &result, &exact, &figs, &command)?;
     out.commit()?;
     println!(
         "{} points; wrote {} in {}",

@@ -1,7 +1,8 @@
 //! The study's `--exact` series: for each coordinate width and each m, what share of
 //! the queries the certificate proves (`host::exact`), how many photon reads a query
-//! costs the core and the host's float fallbacks, and what a retry on the core would
-//! have cost instead of the fallback.
+//! costs the core and the host's float fallbacks, what a retry on the core would
+//! have cost instead of the fallback, and whether every answer is the float
+//! search's (it must be: that is what `--exact` promises).
 //!
 //! The core's candidates are the software model's (`sw`), which the simulated core
 //! equals read for read; a point's hardware queries/s is the core's photon reads per
@@ -10,10 +11,32 @@
 
 use crate::host::error::Result;
 use crate::host::exact::ExactBackend;
-use crate::host::gather::{BackendKind, GatherParams};
+use crate::host::gather::{BackendKind, FloatBackend, GatherBackend, GatherParams, Gathered};
 use crate::host::map::quantize::{GridPoint, Point};
+use crate::host::study::hwcost::{self, Cost, ReportRow};
+use crate::host::study::plan::Plan;
+use crate::host::study::sweep::{self, Sweep};
 use crate::hw::config::MAX_K;
+use crate::hw::metric::Metric;
 use crate::hw::rtl::native::SimOptions;
+use rayon::prelude::*;
+
+/// The core's photon reads per second behind a point: simulated reads per cycle
+/// and the clock, each with where it comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExactHw {
+    pub reads_per_cycle: f64,
+    /// `HwSim::source` of the simulation the reads per cycle come from.
+    pub reads_source: String,
+    /// The clock and area `synth/results.json` has for the core with K = k′.
+    pub cost: Cost,
+}
+
+impl ExactHw {
+    pub fn reads_per_s(&self) -> Option<f64> {
+        self.cost.fmax_mhz.map(|f| self.reads_per_cycle * f * 1e6)
+    }
+}
 
 /// One (bits, m) point of the series.
 #[derive(Clone, Debug, PartialEq)]
@@ -39,6 +62,11 @@ pub struct ExactPoint {
     pub retry_reads: f64,
     /// The float search's reads per fallback query.
     pub fallback_reads: f64,
+    /// Queries whose answer (photons and distances, bit for bit) differs from the
+    /// float search's: 0, or `--exact` is wrong.
+    pub differ: u64,
+    /// Where the core's reads per second come from, if simulated (the study).
+    pub hw: Option<ExactHw>,
 }
 
 impl ExactPoint {
@@ -55,6 +83,20 @@ impl ExactPoint {
     pub fn queries_per_s(&self, reads_per_s: f64) -> f64 {
         reads_per_s / self.reads().max(1.0)
     }
+
+    /// Hardware queries per second, fallbacks included, where simulated and clocked.
+    pub fn hw_queries_per_s(&self) -> Option<f64> {
+        Some(self.queries_per_s(self.hw.as_ref()?.reads_per_s()?))
+    }
+}
+
+/// Whether two answers are the same photons at the same distances, bit for bit.
+fn same(a: &Gathered, b: &Gathered) -> bool {
+    a.neighbours.len() == b.neighbours.len()
+        && a.neighbours
+            .iter()
+            .zip(&b.neighbours)
+            .all(|(x, y)| x.photon == y.photon && x.distance.to_bits() == y.distance.to_bits())
 }
 
 /// The series on `photons` and `queries` for each width of `bits` and each m of
@@ -67,6 +109,7 @@ pub fn run(
     bits: &[u32],
     ms: &[Option<usize>],
 ) -> Result<Vec<ExactPoint>> {
+    let float = FloatBackend::new(photons, base)?.gather(queries)?;
     let mut out = vec![];
     for &b in bits {
         let params = GatherParams {
@@ -81,7 +124,8 @@ pub fn run(
                 refine,
                 &SimOptions::default(),
             )?;
-            exact.gather_with_model(queries)?;
+            let got = exact.gather_with_model(queries)?;
+            let differ = got.iter().zip(&float).filter(|(g, f)| !same(g, f)).count() as u64;
             let s = exact.stats();
             let q = s.queries.max(1) as f64;
             let fallbacks = s.uncertified + s.ties;
@@ -100,6 +144,8 @@ pub fn run(
                 retry_certified,
                 retry_reads: retry_reads as f64 / (fallbacks.max(1)) as f64,
                 fallback_reads: s.host_reads as f64 / (fallbacks + s.outside).max(1) as f64,
+                differ,
+                hw: None,
             });
         }
     }
@@ -107,88 +153,74 @@ pub fn run(
 }
 
 /// The uncertified queries of `exact`'s last gather retried at `k_retry`: how many a
-/// retry certifies and the retries' core reads.
+/// retry certifies and the retries' core reads (integer sums: the same on any
+/// number of threads).
 fn retry(exact: &ExactBackend, queries: &[Point], k_retry: usize) -> (u64, u64) {
     let m = exact.last_m();
     let k = exact.map.params.k;
-    let (mut certified, mut reads) = (0, 0u64);
-    for &q in queries {
-        let Ok(GridPoint::Inside(c)) = exact.map.locate(q) else {
-            continue;
-        };
-        if exact.certify(q, c, k + m).0 {
-            continue;
-        }
-        let (ok, r) = exact.certify(q, c, k_retry.max(k + m));
-        certified += ok as u64;
-        reads += r as u64;
-    }
-    (certified, reads)
+    queries
+        .par_iter()
+        .map(|&q| {
+            let Ok(GridPoint::Inside(c)) = exact.map.locate(q) else {
+                return (0, 0);
+            };
+            if exact.certify(q, c, k + m).0 {
+                return (0, 0);
+            }
+            let (ok, r) = exact.certify(q, c, k_retry.max(k + m));
+            (ok as u64, r as u64)
+        })
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
 }
 
-/// The series as a Markdown table; `reads_per_s` (the core's photon reads per second
-/// and where that figure comes from) adds hardware queries/s.
-pub fn markdown(points: &[ExactPoint], reads_per_s: Option<(f64, &str)>) -> String {
-    let mut s = String::from(
-        "| bits | k | m | certified | fallbacks | core reads/query | fallback reads/query | \
-         reads/query | retry at K = 64: certifies / reads | queries/s |\n\
-         |---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
-    );
-    for p in points {
-        let qps = reads_per_s.map_or("".into(), |(r, _)| {
-            format!("{:.2} M", p.queries_per_s(r) / 1e6)
-        });
-        s.push_str(&format!(
-            "| {} | {} | {} | {:.2} % | {} | {:.1} | {:.2} | {:.1} | {} of {} / {:.1} | {qps} |\n",
-            p.bits,
-            p.k,
-            p.m,
-            100.0 * p.certified_share(),
-            p.fallbacks,
-            p.core_reads,
-            p.host_reads,
-            p.reads(),
-            p.retry_certified,
-            p.fallbacks,
-            p.retry_reads,
-        ));
-    }
-    if let Some((_, source)) = reads_per_s {
-        s.push_str(&format!(
-            "\nqueries/s: {source}, over reads/query with the fallbacks'.\n"
-        ));
-    }
-    s
+/// The study's series: its scene and photons, and its points.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExactSeries {
+    pub scene: String,
+    pub emitted: usize,
+    pub stored: usize,
+    pub metric: Metric,
+    pub k: usize,
+    pub points: Vec<ExactPoint>,
 }
 
-/// The study's section: at `bits`, the exact configuration with the m the backend
-/// chooses against the unrefined core (the m = 0 point's core reads: the same search
-/// at k′ = k, without re-ranking), then the whole series.
-pub fn section(points: &[ExactPoint], bits: u32, reads_per_s: Option<(f64, &str)>) -> String {
-    let mut s = String::new();
-    let at = |chosen: bool, m: Option<usize>| {
-        points
-            .iter()
-            .find(|p| p.bits == bits && p.chosen == chosen && m.is_none_or(|m| p.m == m))
+/// The series of `plan` (its first scene at the base photon count, the sweep's eye
+/// queries), each point with the core's reads per second: the reads per cycle of
+/// the sweep's simulation of this scene, metric and k at the nearest simulated bits
+/// (as the sweep's own points take theirs), and the clock `report` has for the core
+/// with K = k′ = k + m (labelled assumed where it has none).
+pub fn study(plan: &Plan, sweep: &Sweep, report: &[ReportRow]) -> Result<ExactSeries> {
+    let (name, scene) = &plan.scenes[0];
+    let emitted = plan.photons[0];
+    let eye = sweep::eye(scene, plan);
+    let (ph, pts) = sweep::photons(scene, emitted, plan.seed)?;
+    let base = GatherParams {
+        k: plan.exact_k,
+        metric: plan.exact_metric,
+        traversal: plan.traversal,
+        core: plan.core,
+        ..GatherParams::default()
     };
-    if let (Some(e), Some(u)) = (at(true, None), at(false, Some(0))) {
-        let qps = |reads: f64| {
-            reads_per_s.map_or(String::new(), |(r, _)| {
-                format!(", {:.2} M queries/s", r / reads.max(1.0) / 1e6)
-            })
-        };
-        s.push_str(&format!(
-            "At {bits} bits, k = {}: `--exact` (m = {} chosen, {:.2} % certified) reads {:.1} \
-             photons per query with its fallbacks{}; the unrefined core reads {:.1}{}.\n\n",
-            e.k,
-            e.m,
-            100.0 * e.certified_share(),
-            e.reads(),
-            qps(e.reads()),
-            u.core_reads,
-            qps(u.core_reads),
-        ));
+    let mut points = run(&pts, &eye.points, &base, &plan.exact_bits, &plan.exact_ms)?;
+    let metric = plan.exact_metric.to_string();
+    for p in &mut points {
+        let nearest = sweep
+            .sims
+            .iter()
+            .filter(|((s, m, k, _), _)| s == name && *m == metric && *k == plan.exact_k)
+            .min_by_key(|((.., b), _)| (*b as i64 - p.bits as i64).abs());
+        p.hw = nearest.map(|(_, sim)| ExactHw {
+            reads_per_cycle: sim.reads_per_cycle(),
+            reads_source: sim.source(),
+            cost: hwcost::cost(report, p.k + p.m, p.bits, plan.exact_metric),
+        });
     }
-    s.push_str(&markdown(points, reads_per_s));
-    s
+    Ok(ExactSeries {
+        scene: name.clone(),
+        emitted,
+        stored: ph.len(),
+        metric: plan.exact_metric,
+        k: plan.exact_k,
+        points,
+    })
 }

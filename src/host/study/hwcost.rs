@@ -359,6 +359,20 @@ pub struct Cost {
     pub area_source: String,
 }
 
+impl Cost {
+    /// The table's tag for the clock: placed and routed for this configuration, or
+    /// assumed from another row.
+    pub fn clock_tag(&self) -> &'static str {
+        if self.fmax_source.starts_with("placed") {
+            "[P&R]"
+        } else if self.fmax_source.starts_with("assumed") {
+            "[assumed]"
+        } else {
+            ""
+        }
+    }
+}
+
 /// What REPORT.md says about a core of `k`, `bits`, `metric`: the matching row
 /// (one with a clock first); without a matching clock, the first row's clock that
 /// has one, labelled assumed.

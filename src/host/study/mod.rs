@@ -8,14 +8,19 @@
 //!
 //! One job per file: `plan` (what is swept), `metrics` (the error measures),
 //! `hwcost` (simulated reads per cycle and `synth/results.json`), `sweep` (the runs),
-//! `figures` (Figs. 3–6 data), `plots` and `report` (the files written);
-//! `exact_series` (the `--exact` re-ranking's certified share and reads against m).
+//! `figures` (Figs. 3–6 data), `pareto` and `plots` (with `plot_axes`: readable
+//! ticks, labels that do not overlap) and `report` (the files written);
+//! `exact_series` (the `--exact` re-ranking's certified share and reads against m)
+//! and `exact_report` (its CSV and section).
 
+pub mod exact_report;
 pub mod exact_series;
 pub mod figures;
 pub mod hwcost;
 pub mod metrics;
+pub mod pareto;
 pub mod plan;
+pub mod plot_axes;
 pub mod plots;
 pub mod report;
 pub mod sweep;

@@ -23,6 +23,19 @@ pub fn corridor() -> Scene {
     .expect("the built-in corridor scene is valid")
 }
 
+/// The `--exact` series' coordinate bits: around the paper's 10.
+pub const EXACT_BITS: [u32; 3] = [8, 10, 12];
+
+/// The `--exact` series' m: a ladder up to k = 32's found-list headroom (k′ ≤ 64),
+/// then the m `--exact` chooses.
+fn exact_ms() -> Vec<Option<usize>> {
+    [0, 4, 8, 12, 16, 24, 32]
+        .into_iter()
+        .map(Some)
+        .chain([None])
+        .collect()
+}
+
 #[derive(Clone, Debug)]
 pub struct Plan {
     /// (name, scene), first the one the figures and the README's numbers use.
@@ -56,6 +69,13 @@ pub struct Plan {
     pub fig_query_fractions: Vec<usize>,
     /// Fig. 5/6's k values.
     pub fig_ks: Vec<usize>,
+    /// The `--exact` series (first scene, base photon count): its metric and k (the
+    /// render's defaults, or the quick sweep's k), its coordinate bits and its m
+    /// (`None`: the m `--exact` chooses).
+    pub exact_metric: Metric,
+    pub exact_k: usize,
+    pub exact_bits: Vec<u32>,
+    pub exact_ms: Vec<Option<usize>>,
     pub quick: bool,
 }
 
@@ -90,13 +110,18 @@ impl Plan {
             fig_photons: vec![25_000, 50_000, 100_000, 200_000, 400_000],
             fig_query_fractions: vec![8, 4, 2, 1],
             fig_ks: vec![10, 32, 64, 100, 500],
+            exact_metric: Metric::L2,
+            exact_k: 32,
+            exact_bits: EXACT_BITS.to_vec(),
+            exact_ms: exact_ms(),
             quick: false,
         }
     }
 
     /// `--quick`: a sweep small enough for a debug-build test (under a minute): the
     /// first scene only, a 32 x 32 image, a few thousand photons, bits {6, 10, 16},
-    /// k = 10, the native simulation on a handful of queries.
+    /// k = 10, the native simulation on a handful of queries; the `--exact` series
+    /// at k = 10.
     pub fn quick(scene: Option<(String, Scene)>) -> Plan {
         let scene = scene.unwrap_or_else(|| ("cornell".to_string(), Scene::cornell_box()));
         Plan {
@@ -120,6 +145,10 @@ impl Plan {
             fig_photons: vec![1000, 3000],
             fig_query_fractions: vec![2, 1],
             fig_ks: vec![10, 32],
+            exact_metric: Metric::L2,
+            exact_k: 10,
+            exact_bits: EXACT_BITS.to_vec(),
+            exact_ms: exact_ms(),
             quick: true,
         }
     }

@@ -1,22 +1,23 @@
-//! The study's plots: the Pareto plot of error against hardware
-//! throughput and the paper's Figs. 3–6, drawn with plotters into an RGB buffer
+//! The study's plots: the `--exact` series against m and the paper's Figs. 3–6
+//! (the Pareto plot is `pareto`'s), drawn with plotters into an RGB buffer
 //! and encoded with the `image` crate. The font is bundled (DejaVu Sans,
 //! `assets/`), so the plots look the same on any machine.
 
 use crate::host::error::{Error, Result};
+use crate::host::study::exact_series::{ExactPoint, ExactSeries};
 use crate::host::study::figures::{Breakdown, FigPoint, Figures, HW_PARTS, SW_PARTS};
-use crate::host::study::sweep::Row;
-use crate::hw::metric::Metric;
+use crate::host::study::plot_axes::{count, trim, Ticked};
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;
 
-type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
-type Drawn = std::result::Result<(), Box<dyn std::error::Error>>;
+pub(super) type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+pub(super) type Drawn = std::result::Result<(), Box<dyn std::error::Error>>;
 
 /// The legend box every chart here draws.
-fn legend<'a, CT: CoordTranslate>(
+pub(super) fn legend<'a, CT: CoordTranslate>(
     chart: &mut ChartContext<'a, BitMapBackend<'a>, CT>,
     position: SeriesLabelPosition,
     size: u32,
@@ -31,8 +32,8 @@ fn legend<'a, CT: CoordTranslate>(
     Ok(())
 }
 
-const FONT: &str = "sans-serif";
-const COLORS: [RGBColor; 4] = [
+pub(super) const FONT: &str = "sans-serif";
+pub(super) const COLORS: [RGBColor; 4] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
@@ -52,7 +53,7 @@ fn register_font() {
 }
 
 /// Draw a `w` x `h` PNG at `path`.
-fn png(path: &Path, w: u32, h: u32, draw: impl FnOnce(&Area) -> Drawn) -> Result<()> {
+pub(super) fn png(path: &Path, w: u32, h: u32, draw: impl FnOnce(&Area) -> Drawn) -> Result<()> {
     register_font();
     let fail = |e: &dyn std::fmt::Display| Error::new(format!("{}: {e}", path.display()));
     let mut buf = vec![255u8; (w * h * 3) as usize];
@@ -66,80 +67,134 @@ fn png(path: &Path, w: u32, h: u32, draw: impl FnOnce(&Area) -> Drawn) -> Result
     img.save(path).map_err(|e| fail(&e))
 }
 
-/// (lo, hi) of `v` widened by `pad` (a factor, for log axes).
-fn log_range(v: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
-    let (lo, hi) = v
-        .filter(|x| x.is_finite() && *x > 0.0)
-        .fold((f64::INFINITY, 0.0f64), |(l, h), x| (l.min(x), h.max(x)));
-    if lo > hi {
-        (1.0, 10.0)
-    } else {
-        (lo / pad, hi * pad)
+/// A number of a point of the `--exact` series.
+type Value<'a> = &'a dyn Fn(&ExactPoint) -> f64;
+
+/// One panel of the `--exact` figure: `value` of every point against m, a line per
+/// coordinate width (and `dashed`, if given, as a dashed line of the same colour),
+/// the m `--exact` chooses marked with a triangle.
+fn exact_panel(
+    area: &Area,
+    title: &str,
+    y_desc: &str,
+    s: &ExactSeries,
+    value: Value,
+    dashed: Option<(&str, Value)>,
+    y_range: (f64, f64),
+) -> Drawn {
+    let mut widths: Vec<u32> = s.points.iter().map(|p| p.bits).collect();
+    widths.sort_unstable();
+    widths.dedup();
+    let mut ms: Vec<usize> = s.points.iter().filter(|p| !p.chosen).map(|p| p.m).collect();
+    ms.sort_unstable();
+    ms.dedup();
+    let top = s.points.iter().map(|p| p.m).max().unwrap_or(1).max(1) as f64;
+    let ticks: Vec<f64> = ms.iter().map(|&m| m as f64).collect();
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, (FONT, 16))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d(
+            Ticked::<RangedCoordf64>::new(-0.02 * top..top * 1.04, ticks, vec![]),
+            y_range.0..y_range.1,
+        )?;
+    chart
+        .configure_mesh()
+        .x_label_formatter(&|x| trim(*x))
+        .y_label_formatter(&|y| trim(*y))
+        .x_desc(format!("m (the core searches k' = k + m = {} + m)", s.k))
+        .y_desc(y_desc)
+        .axis_desc_style((FONT, 13))
+        .label_style((FONT, 12))
+        .draw()?;
+    for (i, &b) in widths.iter().enumerate() {
+        let c = COLORS[i % COLORS.len()];
+        let mut line: Vec<&ExactPoint> = s
+            .points
+            .iter()
+            .filter(|p| p.bits == b && !p.chosen)
+            .collect();
+        line.sort_by_key(|p| p.m);
+        let pts: Vec<(f64, f64)> = line.iter().map(|p| (p.m as f64, value(p))).collect();
+        chart
+            .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))?
+            .label(format!("{b} bits"))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2)));
+        chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, c.filled())))?;
     }
+    if let Some((name, f)) = dashed {
+        for (i, &b) in widths.iter().enumerate() {
+            let c = COLORS[i % COLORS.len()];
+            let mut line: Vec<&ExactPoint> = s
+                .points
+                .iter()
+                .filter(|p| p.bits == b && !p.chosen)
+                .collect();
+            line.sort_by_key(|p| p.m);
+            let d: Vec<(f64, f64)> = line.iter().map(|p| (p.m as f64, f(p))).collect();
+            let series = chart.draw_series(DashedLineSeries::new(d, 6, 4, c.stroke_width(1)))?;
+            if i == 0 {
+                series.label(name).legend(|(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(1))
+                });
+            }
+        }
+    }
+    let chosen: Vec<(usize, &ExactPoint)> = s
+        .points
+        .iter()
+        .filter(|p| p.chosen)
+        .map(|p| (widths.iter().position(|&b| b == p.bits).unwrap_or(0), p))
+        .collect();
+    chart
+        .draw_series(chosen.iter().map(|&(i, p)| {
+            TriangleMarker::new(
+                (p.m as f64, value(p)),
+                8,
+                COLORS[i % COLORS.len()].stroke_width(2),
+            )
+        }))?
+        .label("m chosen by --exact")
+        .legend(|(x, y)| TriangleMarker::new((x + 8, y), 6, BLACK.stroke_width(2)));
+    legend(&mut chart, SeriesLabelPosition::LowerRight, 12)?;
+    Ok(())
 }
 
-/// Image error against hardware queries/s, one series per metric, points labelled
-/// bits/k: `rows` are the points to show (one scene, one photon count).
-pub fn pareto(path: &Path, rows: &[&Row], title: &str) -> Result<()> {
-    let pts: Vec<(Metric, bool, f64, f64, String)> = rows
-        .iter()
-        .filter_map(|r| {
-            let q = r.hw.as_ref()?.queries_per_s?;
-            let label = format!("{}/{}", r.bits, r.k);
-            Some([
-                (r.metric, false, q, 100.0 * r.err_float, label.clone()),
-                (r.metric, true, q, 100.0 * r.err_float_host, label),
-            ])
-        })
-        .flatten()
-        .collect();
-    let (x0, x1) = log_range(pts.iter().map(|p| p.2), 1.3);
-    let (y0, y1) = log_range(pts.iter().map(|p| p.3), 1.5);
-    png(path, 1000, 700, |root| {
-        let mut chart = ChartBuilder::on(root)
-            .caption(title, (FONT, 20))
-            .margin(15)
-            .x_label_area_size(50)
-            .y_label_area_size(70)
-            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
-        chart
-            .configure_mesh()
-            .x_desc("hardware queries/s per core (simulated reads/cycle x clock, see STUDY.md)")
-            .y_desc("image rel. RMSE vs float render (%)")
-            .axis_desc_style((FONT, 15))
-            .label_style((FONT, 13))
-            .draw()?;
-        let series = [
-            (Metric::L1, false),
-            (Metric::L2, false),
-            (Metric::L1, true),
-            (Metric::L2, true),
-        ];
-        for (i, (metric, host)) in series.into_iter().enumerate() {
-            let color = COLORS[i];
-            let series: Vec<_> = pts
-                .iter()
-                .filter(|p| p.0 == metric && p.1 == host)
-                .collect();
-            if series.is_empty() {
-                continue;
-            }
-            let what = if host {
-                "radius on the host"
-            } else {
-                "core's grid radius"
-            };
-            chart
-                .draw_series(series.iter().map(|p| {
-                    EmptyElement::at((p.2, p.3))
-                        + Circle::new((0, 0), 4, color.filled())
-                        + Text::new(p.4.clone(), (5, -12), (FONT, 10))
-                }))?
-                .label(format!("{metric}, {what} (labels: bits/k)"))
-                .legend(move |(x, y)| Circle::new((x, y), 5, color.filled()));
-        }
-        legend(&mut chart, SeriesLabelPosition::LowerRight, 14)?;
-        Ok(())
+/// The `--exact` series: the certified share and the photon reads per query (core
+/// and float fallbacks) against m, a line per coordinate width.
+pub fn exact(path: &Path, s: &ExactSeries) -> Result<()> {
+    let shares = s.points.iter().map(|p| 100.0 * p.certified_share());
+    let low = shares.fold(100.0f64, f64::min);
+    let low = ((low - 5.0) / 10.0).floor().max(0.0) * 10.0;
+    let reads = s.points.iter().map(|p| p.reads()).fold(0.0f64, f64::max);
+    let what = format!(
+        "{}, {} emitted photons, {}, k = {}",
+        s.scene,
+        count(s.emitted as f64),
+        s.metric,
+        s.k
+    );
+    png(path, 1200, 520, |root| {
+        let (l, r) = root.split_horizontally(600);
+        exact_panel(
+            &l,
+            &format!("--exact: certified queries ({what})"),
+            "certified (% of the core's queries)",
+            s,
+            &|p| 100.0 * p.certified_share(),
+            None,
+            (low, 101.0),
+        )?;
+        exact_panel(
+            &r,
+            "--exact: photon reads per query, float fallbacks included",
+            "photon reads / query",
+            s,
+            &|p| p.reads(),
+            Some(("the core's reads alone (dashed)", &|p| p.core_reads)),
+            (0.0, reads.max(1.0) * 1.15),
+        )
     })
 }
 

@@ -1,21 +1,26 @@
 //! The study's files: `study.csv` (every point), `STUDY.md` (the tables
-//! with a provenance legend), `pareto.png` and `fig3.png`…`fig6.png`, written into
+//! with a provenance legend), `exact.csv` (the `--exact` series), `pareto.png`,
+//! `exact.png` and `fig3.png`…`fig6.png`, written into
 //! a staging directory beside the output and moved into place only when all of
 //! them are done, so a failed study leaves nothing behind.
 
 use crate::host::error::{Error, Result};
+use crate::host::study::exact_report;
+use crate::host::study::exact_series::ExactSeries;
 use crate::host::study::figures::{Figures, FIG_BITS, FIG_K, FIG_METRIC, HW_PARTS, SW_PARTS};
 use crate::host::study::plan::{Plan, HW_MAX_BITS, HW_MAX_K};
-use crate::host::study::plots;
 use crate::host::study::sweep::{Row, Sweep};
+use crate::host::study::{pareto, plots};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// The files a study writes, in this order.
-pub const FILES: [&str; 7] = [
+pub const FILES: [&str; 9] = [
     "study.csv",
     "STUDY.md",
+    "exact.csv",
     "pareto.png",
+    "exact.png",
     "fig3.png",
     "fig4.png",
     "fig5.png",
@@ -259,7 +264,13 @@ fn table(out: &mut String, rows: &[&Row]) {
 }
 
 /// `STUDY.md`.
-pub fn markdown(plan: &Plan, sweep: &Sweep, figs: &Figures, command: &str) -> String {
+pub fn markdown(
+    plan: &Plan,
+    sweep: &Sweep,
+    exact: &ExactSeries,
+    figs: &Figures,
+    command: &str,
+) -> String {
     let mut o = String::new();
     let _ = writeln!(o, "# Speed against error: the study\n");
     let _ = writeln!(
@@ -357,6 +368,13 @@ pub fn markdown(plan: &Plan, sweep: &Sweep, figs: &Figures, command: &str) -> St
             o.push('\n');
         }
     }
+    let series_rows: Vec<&Row> = sweep
+        .rows
+        .iter()
+        .filter(|r| r.scene == exact.scene && r.emitted == exact.emitted)
+        .collect();
+    o.push_str(&exact_report::section(exact, &series_rows));
+    o.push('\n');
     let _ = writeln!(
         o,
         "## The paper's figures (§3), from this run\n\n\
@@ -395,11 +413,13 @@ pub fn write_all(
     dir: &Path,
     plan: &Plan,
     sweep: &Sweep,
+    exact: &ExactSeries,
     figs: &Figures,
     command: &str,
 ) -> Result<()> {
     csv(&dir.join("study.csv"), &sweep.rows)?;
-    let md = markdown(plan, sweep, figs, command);
+    exact_report::csv(&dir.join("exact.csv"), exact)?;
+    let md = markdown(plan, sweep, exact, figs, command);
     let path = dir.join("STUDY.md");
     std::fs::write(&path, md).map_err(|e| Error::new(format!("{}: {e}", path.display())))?;
     let (name, _) = &plan.scenes[0];
@@ -408,13 +428,15 @@ pub fn write_all(
         .iter()
         .filter(|r| &r.scene == name && r.emitted == plan.photons[0])
         .collect();
-    plots::pareto(
+    pareto::pareto(
         &dir.join("pareto.png"),
         &base,
+        exact,
         &format!(
             "{name}, {} emitted photons: image error against core throughput",
             plan.photons[0]
         ),
     )?;
+    plots::exact(&dir.join("exact.png"), exact)?;
     plots::figures(dir, figs)
 }
