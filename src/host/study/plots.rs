@@ -70,6 +70,17 @@ pub(super) fn png(path: &Path, w: u32, h: u32, draw: impl FnOnce(&Area) -> Drawn
 /// A number of a point of the `--exact` series.
 type Value<'a> = &'a dyn Fn(&ExactPoint) -> f64;
 
+/// The series' points at `bits` coordinate bits by m (the chosen m is marked apart).
+fn line_at(s: &ExactSeries, bits: u32) -> Vec<&ExactPoint> {
+    let mut line: Vec<&ExactPoint> = s
+        .points
+        .iter()
+        .filter(|p| p.bits == bits && !p.chosen)
+        .collect();
+    line.sort_by_key(|p| p.m);
+    line
+}
+
 /// One panel of the `--exact` figure: `value` of every point against m, a line per
 /// coordinate width (and `dashed`, if given, as a dashed line of the same colour),
 /// the m `--exact` chooses marked with a triangle.
@@ -110,13 +121,10 @@ fn exact_panel(
         .draw()?;
     for (i, &b) in widths.iter().enumerate() {
         let c = COLORS[i % COLORS.len()];
-        let mut line: Vec<&ExactPoint> = s
-            .points
+        let pts: Vec<(f64, f64)> = line_at(s, b)
             .iter()
-            .filter(|p| p.bits == b && !p.chosen)
+            .map(|p| (p.m as f64, value(p)))
             .collect();
-        line.sort_by_key(|p| p.m);
-        let pts: Vec<(f64, f64)> = line.iter().map(|p| (p.m as f64, value(p))).collect();
         chart
             .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))?
             .label(format!("{b} bits"))
@@ -126,13 +134,7 @@ fn exact_panel(
     if let Some((name, f)) = dashed {
         for (i, &b) in widths.iter().enumerate() {
             let c = COLORS[i % COLORS.len()];
-            let mut line: Vec<&ExactPoint> = s
-                .points
-                .iter()
-                .filter(|p| p.bits == b && !p.chosen)
-                .collect();
-            line.sort_by_key(|p| p.m);
-            let d: Vec<(f64, f64)> = line.iter().map(|p| (p.m as f64, f(p))).collect();
+            let d: Vec<(f64, f64)> = line_at(s, b).iter().map(|p| (p.m as f64, f(p))).collect();
             let series = chart.draw_series(DashedLineSeries::new(d, 6, 4, c.stroke_width(1)))?;
             if i == 0 {
                 series.label(name).legend(|(x, y)| {
