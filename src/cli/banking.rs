@@ -8,7 +8,6 @@ use clap::Args;
 use photon_fpga::host::banking::report::{report, Sweep};
 use photon_fpga::host::banking::stream::ImageStream;
 use photon_fpga::host::error::{Error, Result};
-use photon_fpga::host::limits::MAX_EMITTED;
 use photon_fpga::host::output::Output;
 use photon_fpga::host::render::RenderSettings;
 use photon_fpga::hw::metric::Metric;
@@ -50,15 +49,7 @@ pub struct BankingArgs {
 
 pub fn banking(args: &BankingArgs) -> Result<()> {
     set_threads(args.threads)?;
-    if args.photons == 0 || args.photons > MAX_EMITTED {
-        return Err(Error::new(format!(
-            "--photons must be in 1..={MAX_EMITTED}, got {}",
-            args.photons
-        )));
-    }
-    if args.spp == 0 {
-        return Err(Error::new("--spp must be at least 1, got 0"));
-    }
+    crate::cli::render::check_photons_and_spp(args.photons, args.spp)?;
     if args.k == 0 || args.k > MAX_K {
         return Err(Error::new(format!(
             "--k must be in 1..={MAX_K}, got {}",

@@ -72,15 +72,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     let params = args.opts.params(32)?;
     params.validate(1)?;
     // Everything that can be refused is refused before any photon is traced.
-    if args.photons == 0 || args.photons > MAX_EMITTED {
-        return Err(Error::new(format!(
-            "--photons must be in 1..={MAX_EMITTED}, got {}",
-            args.photons
-        )));
-    }
-    if args.spp == 0 {
-        return Err(Error::new("--spp must be at least 1, got 0"));
-    }
+    check_photons_and_spp(args.photons, args.spp)?;
     limits::check_photon_memory(params.capacity)?;
     if let Some(e) = args.exposure {
         limits::check_positive("--exposure", e as f64)?;
@@ -156,5 +148,19 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     );
     println!("{t}");
     println!("wrote {}", args.out.display());
+    Ok(())
+}
+
+/// `--photons` and `--spp` of a traced scene (render, banking): refused before any
+/// photon is traced.
+pub fn check_photons_and_spp(photons: usize, spp: u32) -> Result<()> {
+    if photons == 0 || photons > MAX_EMITTED {
+        return Err(Error::new(format!(
+            "--photons must be in 1..={MAX_EMITTED}, got {photons}"
+        )));
+    }
+    if spp == 0 {
+        return Err(Error::new("--spp must be at least 1, got 0"));
+    }
     Ok(())
 }
