@@ -1,7 +1,7 @@
 //! CoreConfig: the paper's core, what `for_map` derives from a map, and the limits.
 
 use crate::common::*;
-use photon_fpga::hw::config::{CoreConfig, BARREL_SLOTS, MAX_K, PORTS};
+use photon_fpga::hw::config::{CoreConfig, BARREL_SLOTS, MAX_K_MODULES, PORTS};
 use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
@@ -67,8 +67,8 @@ fn limits_are_errors_not_panics() {
     let layout = PhotonLayout::new([10, 10, 10]);
     let tree = pack(&[[1, 2, 3]], layout);
     assert!(CoreConfig::for_map(tree.image(), 0, Metric::L2).is_err());
-    assert!(CoreConfig::for_map(tree.image(), MAX_K + 1, Metric::L2).is_err());
-    assert!(CoreConfig::for_map(tree.image(), MAX_K, Metric::L2).is_ok());
+    assert!(CoreConfig::for_map(tree.image(), MAX_K_MODULES + 1, Metric::L2).is_err());
+    assert!(CoreConfig::for_map(tree.image(), MAX_K_MODULES, Metric::L2).is_ok());
     // 3 x 11 bits + 2 need the 64-bit word; 16 bits on an axis exceed the datapath.
     let wide = pack(&[[1, 2, 3]], PhotonLayout::new([11, 10, 10]));
     let cfg = CoreConfig::for_map(wide.image(), 4, Metric::L1).unwrap();
@@ -118,7 +118,8 @@ fn the_builder_refuses_bad_combinations_by_name() {
     assert!(e.contains("slots_per_port = 33"), "{e}");
     let e = err(CoreConfig::builder().modules_per_port(0));
     assert!(e.contains("modules_per_port = 0"), "{e}");
-    assert!(err(CoreConfig::builder().k(MAX_K + 1)).contains(&format!("K = {}", MAX_K + 1)));
+    let k = MAX_K_MODULES + 1;
+    assert!(err(CoreConfig::builder().k(k)).contains(&format!("K = {k}")));
     assert!(err(CoreConfig::builder().trees(9)).contains("trees = 9"));
     assert!(err(CoreConfig::builder().address_bits(21)).contains("address_bits (H) = 21"));
     let e = err(CoreConfig::builder().layout(PhotonLayout::new([16, 4, 4])));

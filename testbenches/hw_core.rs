@@ -71,7 +71,7 @@ fn run_case(
 
 /// Queries that stress the boundary rules on `points`: on photons (split planes),
 /// at the grid corners, radius 0 / exact / huge, k = 1, K, N.
-fn hard_queries(
+pub(crate) fn hard_queries(
     points: &[[u32; 3]],
     layout: PhotonLayout,
     metric: Metric,

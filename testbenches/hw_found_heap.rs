@@ -7,7 +7,7 @@
 //! to 1, 7, 63 and 1023), full and partly filled lists. The exported Verilog is
 //! checked by yosys, Verilator lint and Icarus.
 
-use photon_fpga::hw::found_heap::FoundHeap;
+use photon_fpga::hw::found_heap::{FoundHeap, MIN_SPACING};
 use photon_fpga::hw::heap_stage::HeapOp;
 use rand::Rng;
 use rust_hdl::prelude::*;
@@ -31,14 +31,14 @@ fn op(replace: bool, slot: usize, key: u64, size: usize) -> HeapOp {
     }
 }
 
-/// One run: `k`-entry lists in a heap of `levels` levels, `steps` cycles.
-fn run(levels: usize, k: usize, steps: usize, seed: u64) {
+/// One run: `k`-entry lists in a heap of `levels` levels, `steps` cycles, operations
+/// from the first `slots` slots, each slot's `spacing` cycles apart at least.
+fn run_spaced(levels: usize, k: usize, steps: usize, seed: u64, spacing: usize, slots: usize) {
     assert!(k < 1 << levels);
     let mut uut = FoundHeap::new(levels, 4);
     uut.connect_all();
     check_all(&uut).unwrap();
     let mut r = rng(seed);
-    let spacing = levels + 2;
     let mut lists: Vec<Vec<u64>> = vec![vec![]; 16];
     let mut last = [-(spacing as i64); 16];
     // Expected (slot, max) per cycle, two cycles after the operation enters.
@@ -53,7 +53,7 @@ fn run(levels: usize, k: usize, steps: usize, seed: u64) {
         let mut o = HeapOp::default();
         let mut e = None;
         if (t as usize) < steps {
-            let slot = r.gen_range(0..16);
+            let slot = r.gen_range(0..slots);
             if t - last[slot] >= spacing as i64 && r.gen_bool(0.8) {
                 let l = &mut lists[slot];
                 // Keys from a small range, so that equal keys occur too.
@@ -129,6 +129,25 @@ fn run(levels: usize, k: usize, steps: usize, seed: u64) {
     assert!(lists.iter().any(|l| l.len() == k), "no list filled up");
 }
 
+/// [`run_spaced`] at the block's minimum spacing, from all 16 slots.
+fn run(levels: usize, k: usize, steps: usize, seed: u64) {
+    run_spaced(levels, k, steps, seed, MIN_SPACING, 16);
+}
+
+/// Operations of one slot back to back at the minimum spacing (three slots in
+/// turn), and a spacing one shorter must break the heap (the rule is tight).
+#[test]
+fn the_minimum_spacing_is_enough_and_tight() {
+    for (levels, k) in [(3, 7), (6, 50), (10, 600)] {
+        run_spaced(levels, k, 6000, 48, MIN_SPACING, 3);
+    }
+    let short = std::panic::catch_unwind(|| run_spaced(6, 50, 6000, 49, MIN_SPACING - 1, 1));
+    assert!(
+        short.is_err(),
+        "one slot's operations closer than the rule still worked"
+    );
+}
+
 #[test]
 fn roots_are_the_maxima_and_the_heaps_hold_the_lists() {
     run(1, 1, 400, 41);
@@ -172,7 +191,7 @@ fn found_heap_verilog_matches_the_simulation_cycle_for_cycle() {
     check_all(&uut).unwrap();
     let verilog = photon_fpga::hw::rtl::export::glitch_free(&generate_verilog(&uut)).unwrap();
     let mut r = rng(47);
-    let (k, spacing, flush) = (40usize, levels + 2, levels + 4);
+    let (k, spacing, flush) = (40usize, MIN_SPACING, levels + 4);
     let mut sizes = [0usize; 16];
     let mut last = [-100i64; 16];
     let mut stim = vec![];

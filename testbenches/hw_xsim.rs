@@ -11,7 +11,8 @@
 //! with the paper's re-read ascent, and as a PhotonSearchArray of two replicated
 //! trees), a K = 40 configuration with
 //! 12-bit coordinates (64-bit slot masks and photon words) and the paper configuration
-//! (random maps, a map reloaded after queries, a Cornell-box map, hard cases). Icarus simulates the
+//! (random maps, a map reloaded after queries, a Cornell-box map, hard cases), and
+//! barrel cores with found lists of K = 100 and 512 (heaps in BlockRAM). Icarus simulates the
 //! `export::glitch_free` rewrite of the export (the raw export loops forever in
 //! Icarus at the first result beat; see there). Without a simulator its tests are
 //! ignored (build.rs); under CI=true a missing simulator fails.
@@ -263,6 +264,59 @@ fn paper_cases() -> (CoreConfig, Vec<Case>) {
         },
     ];
     (cfg, cases)
+}
+
+/// Found lists deeper than the comparator tree's (the barrel core's heaps in
+/// BlockRAM): K = 100 and K = 512 on a map with a cluster of equal photons (ties at
+/// the K-th distance), squared L2 (the heap key holds distance and entry).
+fn deep_cases(k: usize, n: usize) -> (CoreConfig, Vec<Case>) {
+    let layout = PhotonLayout::new([7, 7, 7]);
+    let mut r = rng(74 + k as u64);
+    let mut a = random_points(&mut r, n, layout);
+    a.extend(vec![[90, 3, 77]; n / 3]);
+    let tree = pack(&a, layout);
+    let cfg = CoreConfig::builder()
+        .k(k)
+        .metric(Metric::L2)
+        .controller(Controller::Barrel)
+        .traversal(Traversal::Cell)
+        .slots_per_port(4)
+        .build_for(tree.image())
+        .unwrap();
+    assert!(cfg.uses_found_heap());
+    let mut qa = random_queries(&mut r, 4, layout, cfg.k, cfg.metric);
+    qa.extend(hard_queries(&a, &cfg, 2));
+    for (i, q) in qa.iter_mut().enumerate() {
+        q.id = i as u32;
+    }
+    let cases = vec![Case {
+        name: if k == 100 { "deep_k100" } else { "deep_k512" },
+        maps: vec![map(a, layout, qa)],
+        stall_seed: 5,
+    }];
+    (cfg, cases)
+}
+
+fn deep_found_lists(sim: Simulator) {
+    require(sim);
+    for (label, k, n) in [("barrel_k100", 100, 180), ("barrel_k512", 512, 600)] {
+        let (cfg, cases) = deep_cases(k, n);
+        let runs = record(&cfg, &cases);
+        let verilog = export_verilog(&cfg).unwrap().verilog;
+        cross_simulate(sim, label, &verilog, &cases, &runs).unwrap();
+    }
+}
+
+#[test]
+#[cfg_attr(not(has_iverilog), ignore = "needs iverilog")]
+fn icarus_deep_found_lists() {
+    deep_found_lists(Simulator::Icarus);
+}
+
+#[test]
+#[cfg_attr(not(has_verilator), ignore = "needs verilator")]
+fn verilator_deep_found_lists() {
+    deep_found_lists(Simulator::Verilator);
 }
 
 /// Record every case in rust-hdl and check its results against the software search.

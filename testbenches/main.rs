@@ -10,6 +10,7 @@ mod hw_blocks;
 mod hw_config;
 mod hw_core;
 mod hw_cornell;
+mod hw_deep_lists;
 mod hw_dispatcher;
 mod hw_found_heap;
 mod hw_found_rule;

@@ -255,7 +255,12 @@ fn render_fails(args: &[&str], message: &str) {
 
 #[test]
 fn rtl_refuses_what_the_core_cannot_hold() {
-    render_fails(&["--backend", "rtl", "--k", "500"], "500");
+    // Above the barrel core's K = 512, and above the QueryModules' 64.
+    render_fails(&["--backend", "rtl", "--k", "513"], "513");
+    render_fails(
+        &["--backend", "rtl", "--controller", "modules", "--k", "65"],
+        "K = 65 unsupported by the modules controller",
+    );
     render_fails(
         &["--backend", "sw", "--vcd", "x.vcd"],
         "--vcd needs --backend rtl or verilator",

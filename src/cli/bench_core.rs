@@ -247,6 +247,13 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         st.busy_cycles,
         busy_per_port.join(", ")
     );
+    // The result stream's load (paper §4.5: results leave through one port per
+    // core): a header and the found photons, one or two a beat.
+    println!(
+        "result stream: {:.1} beats per query, {:.3} beats per cycle (of at most 1)",
+        st.result_beats as f64 / queries.len().max(1) as f64,
+        st.result_beats as f64 / cycles.max(1) as f64
+    );
     println!(
         "simulation speed ({:?}): {:.0} cycles/s",
         engine,

@@ -72,7 +72,12 @@ impl GatherOpts {
     /// most candidates the core may return.
     pub fn gathered_k(&self, k: usize) -> Result<usize> {
         if self.exact {
-            photon_fpga::host::exact::largest_k_prime(self.backend, k, self.refine)
+            photon_fpga::host::exact::largest_k_prime(
+                self.backend,
+                k,
+                self.refine,
+                self.core.controller_or(Controller::Barrel).max_k(),
+            )
         } else {
             Ok(k)
         }
@@ -161,7 +166,7 @@ impl GatherOpts {
             self.core.traversal.map_or(Traversal::default(), Into::into)
         };
         if self.exact {
-            photon_fpga::host::exact::check(self.backend, k, self.refine)?;
+            photon_fpga::host::exact::check(self.backend, k, self.refine, controller.max_k())?;
         }
         let base = CoreConfig::builder().k(k).metric(metric);
         let core = self.core.builder(base, controller)?;

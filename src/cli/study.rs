@@ -9,7 +9,7 @@ use indicatif::ProgressBar;
 use photon_fpga::host::error::Result;
 use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::study::hwcost::SynthResults;
-use photon_fpga::host::study::plan::{Plan, HW_MAX_K};
+use photon_fpga::host::study::plan::Plan;
 use photon_fpga::host::study::report::{self, OutDir};
 use photon_fpga::host::study::{exact_series, figures, sweep};
 use photon_fpga::hw::config::CoreConfig;
@@ -99,7 +99,7 @@ pub fn study(args: &StudyArgs) -> Result<()> {
     bar.set_message("figures 3-6");
     // The core's reads per second at the figures' configuration, where simulated.
     let hw_rate = |k: usize| -> Option<f64> {
-        if k > HW_MAX_K {
+        if k > plan.hw_max_k() {
             return None;
         }
         result

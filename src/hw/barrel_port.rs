@@ -26,7 +26,12 @@
 //!   the lowest slot holding it: a tree of comparators over the K entries, one
 //!   level in B, two in C, the rest in M (paper §4.4 finds it bit-serially, one
 //!   cycle per distance bit, per QueryModule; one pipelined tree per port costs
-//!   less than Q MaxFinders and no cycles).
+//!   less than Q MaxFinders and no cycles). Above
+//!   [`FOUND_TREE_MAX_K`](crate::hw::config::FOUND_TREE_MAX_K) entries (the paper's
+//!   high-quality regime, §3, wants 500) a tree over K entries grows linearly, so
+//!   the lists are max-heaps in BlockRAM instead ([`FoundHeap`]): the insertion
+//!   enters the heap in A, the new root leaves it in C, log2 K levels of one
+//!   comparison each, the same maximum and the same entry.
 //! * **D** — the ascent in one step (the path memory of `Traversal::Remember`,
 //!   searched at once): the deepest level above with a pending far child within
 //!   R is where the search goes next; none: the search is over. Climbing one level
@@ -49,11 +54,14 @@
 
 use crate::hw::block_ram::{BlockRam, BramIndex, BramWord};
 use crate::hw::config::{
-    bits_for, Addr, CoreConfig, Dist, LevelMask, ModuleIndex, ModuleMask, ReadCount,
+    bits_for, low_mask, Addr, CoreConfig, Dist, Entry, LevelMask, ModuleIndex, ModuleMask,
+    ReadCount,
 };
+use crate::hw::found_heap::FoundHeap;
 use crate::hw::found_max::FoundMax;
 use crate::hw::found_rule::FoundRule;
 use crate::hw::free_pick::FreePick;
+use crate::hw::heap_stage::{HeapKey, HeapOp};
 use crate::hw::lut_ram::{LutRam, RamIndex};
 use crate::hw::query_limits::QueryLimits;
 use crate::hw::search_module::SearchModule;
@@ -82,7 +90,7 @@ pub struct BarrelPort<const W: usize> {
     visited_mask: Constant<ReadCount>,
     level_mask: Constant<RamIndex>,
     pending_mask: Constant<LevelMask>,
-    entry_mask: Constant<RamIndex>,
+    entry_mask: Constant<Entry>,
     /// Levels of a slot in the offsets BlockRAMs (2^level_shift), and where the
     /// second offset of a word starts (the distance bits).
     level_shift: Constant<BramIndex>,
@@ -92,8 +100,21 @@ pub struct BarrelPort<const W: usize> {
     /// The slot state, one LUT-RAM entry per slot and field: read in A, written
     /// back in F.
     store: SlotStore,
-    /// The found distances and the comparator tree (stages B, C, M).
+    /// The found distances and the comparator tree (stages B, C, M) for K up to
+    /// 64 (above: a stub that nothing reads); above, the lists as heaps (entered in
+    /// A, the new root out in C, registered into M), keyed by the distance over the
+    /// inverted entry index ([`CoreConfig::heap_key_bits`]): the root is the
+    /// farthest photon in the lowest entry among ties, as in FoundMax.
     found_max: FoundMax,
+    heap: Vec<FoundHeap>,
+    heap_max: Vec<DFF<HeapKey>>,
+    heap_key_shift: Constant<Bits<8>>,
+    heap_entry_mask: Constant<HeapKey>,
+    no_heap_op: Constant<HeapOp>,
+    heap_mode: Constant<bool>,
+    /// The heap operation of this event (stage A) and the root it left (stage M).
+    a_heap_op: Signal<Local, HeapOp>,
+    m_heap_max: Signal<Local, HeapKey>,
     /// Each level's pruning bound, one LUT-RAM per level (all are compared at once
     /// in D): written in B, read in D.
     bound: Vec<LutRam>,
@@ -111,7 +132,7 @@ pub struct BarrelPort<const W: usize> {
     a_ev: Signal<Local, SlotEvent>,
     a_insert: Signal<Local, bool>,
     /// The found list's rule and a new query's radius and k.
-    a_rule: FoundRule<RamIndex>,
+    a_rule: FoundRule<Entry>,
     a_limits: QueryLimits,
     b_axis_off: Signal<Local, Dist>,
     a_level_bit: Signal<Local, LevelMask>,
@@ -169,6 +190,7 @@ impl<const W: usize> BarrelPort<W> {
         let slot_bits = bits_for(q.saturating_sub(1) as u64);
         let cell_bits = if cell { db } else { 1 };
         let far_index_bits = if cell { slot_bits + level_bits } else { 1 };
+        let heap = cfg.uses_found_heap();
         BarrelPort {
             clock: Default::default(),
             reset: Default::default(),
@@ -182,7 +204,7 @@ impl<const W: usize> BarrelPort<W> {
             visited_mask: Constant::new(ReadCount::from(cfg.visited_mask())),
             level_mask: Constant::new(RamIndex::from(cfg.level_index_mask())),
             pending_mask: Constant::new(LevelMask::from(cfg.pending_mask())),
-            entry_mask: Constant::new(RamIndex::from(cfg.entry_mask())),
+            entry_mask: Constant::new(Entry::from(cfg.entry_mask())),
             level_shift: Constant::new(BramIndex::from(level_bits as u64)),
             dist_shift: Constant::new(Bits::<8>::from(db as u64)),
             dist_mask_wide: Constant::new(BramWord::from(cfg.dist_mask())),
@@ -190,7 +212,20 @@ impl<const W: usize> BarrelPort<W> {
                 .map(|i| Constant::new(RamIndex::from(i as u64)))
                 .collect(),
             store: SlotStore::new(cfg),
-            found_max: FoundMax::new(cfg),
+            found_max: FoundMax::new(&CoreConfig {
+                k: if heap { 1 } else { cfg.k },
+                ..*cfg
+            }),
+            heap: (0..heap as usize)
+                .map(|_| FoundHeap::new(cfg.heap_levels(), slot_bits.max(1)))
+                .collect(),
+            heap_max: (0..heap as usize).map(|_| Default::default()).collect(),
+            heap_key_shift: Constant::new(Bits::<8>::from(cfg.entry_bits() as u64)),
+            heap_entry_mask: Constant::new(HeapKey::from(low_mask(cfg.entry_bits()))),
+            no_heap_op: Constant::new(HeapOp::default()),
+            heap_mode: Constant::new(heap),
+            a_heap_op: Default::default(),
+            m_heap_max: Default::default(),
             bound: (0..levels).map(|_| LutRam::new(q, db)).collect(),
             far_xy: BlockRam::new(far_index_bits, 2 * cell_bits),
             far_zd: BlockRam::new(far_index_bits, 2 * cell_bits),
@@ -303,6 +338,22 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.found_max.write_slot.next = self.a_slot.val();
         self.found_max.write_pos.next = self.a_rule.at.val();
         self.found_max.write_dist.next = self.search.result.val().distance;
+        // (Heaps: the same insertion as a heap insert or a replacement of the root.)
+        self.a_heap_op.next = self.no_heap_op.val();
+        self.a_heap_op.next.valid = self.a_insert.val();
+        self.a_heap_op.next.replace = self.store.read.val().full;
+        self.a_heap_op.next.slot = self.a_slot.val();
+        self.a_heap_op.next.key = (self.search.result.val().distance << self.heap_key_shift.val())
+            | (bit_cast::<32, 16>(!self.a_rule.at.val()) & self.heap_entry_mask.val());
+        if self.store.read.val().full {
+            self.a_heap_op.next.size = self.store.read.val().k;
+        } else {
+            self.a_heap_op.next.size = self.a_rule.next_count.val();
+        }
+        for h in 0..self.heap.len() {
+            self.heap[h].clock.next = self.clock.val();
+            self.heap[h].op.next = self.a_heap_op.val();
+        }
         self.readout.found_write.next = self.a_insert.val();
         self.readout.found_slot.next = self.a_slot.val();
         self.readout.found_pos.next = self.a_rule.at.val();
@@ -416,6 +467,18 @@ impl<const W: usize> Logic for BarrelPort<W> {
         if self.m_ev.q.val().run_max {
             self.d_ev.d.next.radius = self.found_max.max.val() & self.dist_mask.val();
             self.d_ev.d.next.max_pos = self.found_max.max_pos.val() & self.entry_mask.val();
+        }
+        self.m_heap_max.next = 0.into();
+        for h in 0..self.heap_max.len() {
+            self.heap_max[h].clock.next = self.clock.val();
+            self.heap_max[h].d.next = self.heap[h].max.val();
+            self.m_heap_max.next = self.heap_max[h].q.val();
+        }
+        if self.heap_mode.val() && self.m_ev.q.val().run_max {
+            self.d_ev.d.next.radius =
+                (self.m_heap_max.val() >> self.heap_key_shift.val()) & self.dist_mask.val();
+            self.d_ev.d.next.max_pos =
+                bit_cast::<16, 32>((!self.m_heap_max.val()) & self.heap_entry_mask.val());
         }
 
         // ---- Stage D: the ascent in one step. ----

@@ -30,8 +30,32 @@ pub const MAX_DIST_BITS: u32 = 32;
 /// Tree height H limit: 2^20 photon words, so a core holds at most 2^20 - 1 photons
 /// (the photon limit of the hardware backends).
 pub const MAX_ADDRESS_BITS: u32 = 20;
-/// Found-list depth limit: one bit per entry in a MaxFinder row, 64 bits wide at most.
-pub const MAX_K: usize = 64;
+/// Found-list depth limit of the core (the barrel controller's: its found lists are
+/// heaps in BlockRAM, [`FoundHeap`](crate::hw::found_heap::FoundHeap), 512 entries
+/// being the paper's high-quality regime, §3: at least 500 search photons).
+pub const MAX_K: usize = 512;
+/// Found-list depth limit of the QueryModule controller: one bit per entry in a
+/// MaxFinder row (§4.4), 64 bits wide at most, and Q rows per port; a row of hundreds
+/// of bits per QueryModule would cost more logic than the whole core.
+pub const MAX_K_MODULES: usize = 64;
+/// Above this K a barrel port keeps its found lists as heaps in BlockRAM
+/// ([`FoundHeap`](crate::hw::found_heap::FoundHeap)); up to it, as LUT-RAMs under a
+/// comparator tree ([`FoundMax`](crate::hw::found_max::FoundMax)). At 64 entries the
+/// two cost about the same logic (yosys xc6v), and the tree grows linearly with K
+/// while the heap grows with log2 K; below it the tree is smaller.
+pub const FOUND_TREE_MAX_K: usize = 64;
+/// Bits of a found heap's key (see [`CoreConfig::heap_key_bits`]).
+pub const HEAP_KEY_BITS: u32 = 32;
+
+impl Controller {
+    /// The deepest found list (K) the controller is built for.
+    pub fn max_k(self) -> usize {
+        match self {
+            Controller::Modules => MAX_K_MODULES,
+            Controller::Barrel => MAX_K,
+        }
+    }
+}
 /// Slot-mask widths the core is built with: 32 bits up to K = 32 (rust-hdl keeps
 /// `Bits<=32>` in a machine word), 64 bits beyond (a bit vector, about 1.5x slower to
 /// simulate). The choice is made once, by [`CoreConfig::slot_bits`].
@@ -71,8 +95,10 @@ pub type SlotMask<const S: usize> = Bits<S>;
 pub type ModuleMask = Bits<32>;
 /// The host's query id, returned with the result.
 pub type QueryId = Bits<32>;
-/// Found-list counts and k (<= 32).
-pub type Count = Bits<8>;
+/// Found-list counts and k (0..=K, K <= [`MAX_K`]).
+pub type Count = Bits<16>;
+/// A found-list entry index (0..K).
+pub type Entry = Bits<16>;
 /// Index of a QueryModule within its port (carried through the SearchModule).
 pub type ModuleIndex = Bits<8>;
 /// Photons read by one query.
@@ -288,10 +314,23 @@ impl CoreConfig {
                 (1u64 << MAX_ADDRESS_BITS) - 1
             )));
         }
-        if self.k == 0 || self.k > MAX_K {
+        let max_k = self.controller.max_k();
+        if self.k == 0 || self.k > max_k {
             return Err(HwError::Config(format!(
-                "K = {} unsupported (1..={MAX_K})",
-                self.k
+                "K = {} unsupported by the {} controller (1..={max_k})",
+                self.k, self.controller
+            )));
+        }
+        if self.uses_found_heap() && self.heap_key_bits() > HEAP_KEY_BITS {
+            return Err(HwError::Config(format!(
+                "K = {} with {}-bit distances ({} metric on coordinate widths {b:?}): a found \
+                 heap's key is the distance and a {}-bit entry index, {} bits, more than its \
+                 {HEAP_KEY_BITS} (fewer coordinate bits, or K <= {FOUND_TREE_MAX_K})",
+                self.k,
+                self.dist_bits(),
+                self.metric,
+                self.entry_bits(),
+                self.heap_key_bits()
             )));
         }
         if self.trees == 0 || self.trees > MAX_TREES {
@@ -407,6 +446,24 @@ impl CoreConfig {
     /// A found-list entry index (0..K).
     pub fn entry_mask(&self) -> u64 {
         low_mask(self.entry_bits())
+    }
+
+    /// Whether a barrel port keeps its found lists as heaps (K above
+    /// [`FOUND_TREE_MAX_K`]).
+    pub fn uses_found_heap(&self) -> bool {
+        self.controller == Controller::Barrel && self.k > FOUND_TREE_MAX_K
+    }
+
+    /// Levels of a found heap: `2^levels − 1 >= K` nodes.
+    pub fn heap_levels(&self) -> usize {
+        bits_for(self.k as u64) as usize
+    }
+
+    /// Bits of a found heap's key: the distance over the entry index, so that keys
+    /// are unique and the largest key is the farthest photon in the lowest entry
+    /// among ties (the list rule of knn.rs and of `FoundMax`).
+    pub fn heap_key_bits(&self) -> u32 {
+        self.dist_bits() + self.entry_bits()
     }
 
     /// One bit per found-list slot (the K slots of a one-hot slot mask).

@@ -19,14 +19,20 @@
 //! new R — comes out of stage 1, two cycles after the operation enters.
 //!
 //! The one rule for the user: two operations of one slot enter at least
-//! `levels + 2` cycles apart (an operation writes level `l` in its stage `l + 1`).
-//! The barrel datapath meets it by construction: a slot has one event in flight
-//! and comes back every slot loop. Operations of different slots never share an
-//! entry (the slot is the high part of every address).
+//! [`MIN_SPACING`] cycles apart, whatever the depth. An operation entering in cycle
+//! `t` reads level `l` in cycle `t + l` and writes it in cycle `t + l + 2`, so
+//! operations of one slot follow each other down the levels as a wavefront, each
+//! reading a level after the one before wrote it. The barrel datapath meets it by
+//! construction: a slot has one event in flight and comes back every slot loop
+//! (eleven cycles). Operations of different slots never share an entry (the slot is
+//! the high part of every address).
 
 use crate::hw::block_ram::{BlockRam, BramWord};
 use crate::hw::heap_stage::{HeapKey, HeapOp, HeapPos, HeapStage};
 use rust_hdl::prelude::*;
+
+/// The fewest cycles between two operations of one slot.
+pub const MIN_SPACING: usize = 3;
 
 #[derive(LogicBlock)]
 pub struct FoundHeap {
@@ -53,9 +59,11 @@ pub struct FoundHeap {
 }
 
 impl FoundHeap {
-    /// Heaps of up to `2^levels − 1` keys (levels 1..=13) for `2^slot_bits` slots.
+    /// Heaps of up to `2^levels − 1` keys (levels 1..=13) for `2^slot_bits` slots
+    /// (a level's pair index, slot over pair, fits the 16-bit BlockRAM index).
     pub fn new(levels: usize, slot_bits: u32) -> Self {
-        assert!((1..=13).contains(&levels) && (1..=4).contains(&slot_bits));
+        assert!((1..=13).contains(&levels) && (1..=8).contains(&slot_bits));
+        assert!(slot_bits as usize + levels - 1 <= 16);
         FoundHeap {
             clock: Default::default(),
             op: Default::default(),

@@ -15,8 +15,8 @@
 //! The tree is flat: leaves 0..P (P a power of two, at least 8), node `P + i`
 //! over nodes `2i` and `2i + 1`; each stage's winners are the next stage's leaves.
 
-use crate::hw::config::{CoreConfig, Count, Dist, ModuleIndex};
-use crate::hw::lut_ram::{LutRam, RamIndex};
+use crate::hw::config::{CoreConfig, Count, Dist, Entry, ModuleIndex};
+use crate::hw::lut_ram::LutRam;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
@@ -25,7 +25,7 @@ pub struct FoundMax {
     /// Write `write_dist` into entry `write_pos` of slot `write_slot`.
     pub write_enable: Signal<In, bool>,
     pub write_slot: Signal<In, ModuleIndex>,
-    pub write_pos: Signal<In, RamIndex>,
+    pub write_pos: Signal<In, Entry>,
     pub write_dist: Signal<In, Dist>,
     /// Read the first `read_k` entries of slot `read_slot` (stage B; a write of
     /// the cycle before shows).
@@ -33,27 +33,27 @@ pub struct FoundMax {
     pub read_k: Signal<In, Count>,
     /// Two cycles after the read (stage M): the maximum and its lowest entry.
     pub max: Signal<Out, Dist>,
-    pub max_pos: Signal<Out, RamIndex>,
+    pub max_pos: Signal<Out, Entry>,
     dist_mask: Constant<Dist>,
-    entry_index: Vec<Constant<RamIndex>>,
+    entry_index: Vec<Constant<Entry>>,
     /// One LUT-RAM per entry (padded to P with never-written ones).
     found_dist: Vec<LutRam>,
     b_node: Vec<Signal<Local, Dist>>,
-    b_node_ix: Vec<Signal<Local, RamIndex>>,
+    b_node_ix: Vec<Signal<Local, Entry>>,
     _b_leaves: usize,
     _b_inner: usize,
     _b_out: usize,
     c_leaf: Vec<DFF<Dist>>,
-    c_leaf_ix: Vec<DFF<RamIndex>>,
+    c_leaf_ix: Vec<DFF<Entry>>,
     c_node: Vec<Signal<Local, Dist>>,
-    c_node_ix: Vec<Signal<Local, RamIndex>>,
+    c_node_ix: Vec<Signal<Local, Entry>>,
     _c_leaves: usize,
     _c_inner: usize,
     _c_out: usize,
     m_leaf: Vec<DFF<Dist>>,
-    m_leaf_ix: Vec<DFF<RamIndex>>,
+    m_leaf_ix: Vec<DFF<Entry>>,
     m_node: Vec<Signal<Local, Dist>>,
-    m_node_ix: Vec<Signal<Local, RamIndex>>,
+    m_node_ix: Vec<Signal<Local, Entry>>,
     _m_leaves: usize,
     _m_inner: usize,
     _m_root: usize,
@@ -82,7 +82,7 @@ impl FoundMax {
             max_pos: Default::default(),
             dist_mask: Constant::new(Dist::from(cfg.dist_mask())),
             entry_index: (0..p)
-                .map(|i| Constant::new(RamIndex::from(i as u64)))
+                .map(|i| Constant::new(Entry::from(i as u64)))
                 .collect(),
             found_dist: (0..p)
                 .map(|i| {

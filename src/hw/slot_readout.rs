@@ -14,7 +14,7 @@
 
 use crate::hw::block_ram::{BlockRam, BramIndex, BramWord};
 use crate::hw::config::{
-    bits_for, low_mask, CoreConfig, Count, Dist, ModuleIndex, ModuleMask, ReadCount,
+    bits_for, low_mask, CoreConfig, Count, Dist, Entry, ModuleIndex, ModuleMask, ReadCount,
 };
 use crate::hw::lut_ram::{LutRam, RamIndex};
 use crate::hw::register_slice::ResultRegister;
@@ -32,7 +32,7 @@ pub struct SlotReadout {
     /// A photon entered entry `found_pos` of slot `found_slot`'s list.
     pub found_write: Signal<In, bool>,
     pub found_slot: Signal<In, ModuleIndex>,
-    pub found_pos: Signal<In, RamIndex>,
+    pub found_pos: Signal<In, Entry>,
     pub found_address: Signal<In, Bits<24>>,
     pub found_dist: Signal<In, Dist>,
     /// The search of slot `done_slot` ended with this count and photon reads.
@@ -185,7 +185,7 @@ impl Logic for SlotReadout {
         self.ids.write_data.next = self.id.val();
         self.a_found_index.next = (bit_cast::<16, 8>(self.found_slot.val())
             << self.pair_shift.val())
-            | bit_cast::<16, 8>(self.found_pos.val() >> 1);
+            | (self.found_pos.val() >> 1);
         self.a_found_entry.next =
             bit_cast::<64, 24>(self.found_address.val() & self.addr_mask.val())
                 | (bit_cast::<64, 32>(self.found_dist.val() & self.dist_mask.val())
@@ -202,7 +202,7 @@ impl Logic for SlotReadout {
         self.out_visited_mem.write_enable.next = self.done.val();
         self.out_count_mem.write_index.next = self.done_slot.val();
         self.out_visited_mem.write_index.next = self.done_slot.val();
-        self.out_count_mem.write_data.next = bit_cast::<32, 8>(self.done_count.val());
+        self.out_count_mem.write_data.next = bit_cast::<32, 16>(self.done_count.val());
         self.out_visited_mem.write_data.next = self.done_visited.val();
         self.done_bit.next = 0.into();
         if self.done.val() {
@@ -291,10 +291,10 @@ impl Logic for SlotReadout {
             self.out_fetch.d.next = false;
             self.out_header.d.next = true;
             self.hdr_count.d.next =
-                bit_cast::<8, 32>(self.out_count_mem.read_data.val()) & self.count_mask.val();
+                bit_cast::<16, 32>(self.out_count_mem.read_data.val()) & self.count_mask.val();
             self.hdr_visited.d.next =
                 self.out_visited_mem.read_data.val() & self.visited_mask.val();
-            self.hdr_last.d.next = (bit_cast::<8, 32>(self.out_count_mem.read_data.val())
+            self.hdr_last.d.next = (bit_cast::<16, 32>(self.out_count_mem.read_data.val())
                 & self.count_mask.val())
                 == 0;
         } else if self.result_fire.val() {

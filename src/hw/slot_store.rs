@@ -9,7 +9,7 @@
 //! 4 bits), and the one datapath reads and writes one slot per cycle. The port
 //! reads a slot in its first stage and writes it back in its last.
 
-use crate::hw::config::{Addr, CoreConfig, Count, Dist, LevelMask, ModuleIndex, ReadCount};
+use crate::hw::config::{Addr, CoreConfig, Count, Dist, Entry, LevelMask, ModuleIndex, ReadCount};
 use crate::hw::lut_ram::{LutRam, RamIndex};
 use crate::hw::traversal::Traversal;
 use rust_hdl::prelude::*;
@@ -28,7 +28,7 @@ pub struct SlotEvent {
     pub radius: Dist,
     pub count: Count,
     pub k: Count,
-    pub max_pos: RamIndex,
+    pub max_pos: Entry,
     pub visited: ReadCount,
     /// The level of the node just read, and the pending far children above.
     pub level: RamIndex,
@@ -70,7 +70,7 @@ pub struct SlotStore {
     visited_mask: Constant<ReadCount>,
     /// Levels (H) and found-list entries (K).
     level_mask: Constant<RamIndex>,
-    entry_mask: Constant<RamIndex>,
+    entry_mask: Constant<Entry>,
     level: LutRam,
     pending: LutRam,
     radius: LutRam,
@@ -106,7 +106,7 @@ impl SlotStore {
             count_mask: Constant::new(Count::from(cfg.count_mask())),
             visited_mask: Constant::new(ReadCount::from(cfg.visited_mask())),
             level_mask: Constant::new(RamIndex::from(cfg.level_index_mask())),
-            entry_mask: Constant::new(RamIndex::from(cfg.entry_mask())),
+            entry_mask: Constant::new(Entry::from(cfg.entry_mask())),
             level: ram(level_bits),
             pending: ram(cfg.path_levels().max(1) as u32),
             radius: ram(db),
@@ -160,10 +160,10 @@ impl Logic for SlotStore {
         self.read.next.radius = self.radius.read_data.val() & self.dist_mask.val();
         self.read.next.full = self.full.read_data.val().get_bit(0);
         self.read.next.count =
-            bit_cast::<8, 32>(self.count.read_data.val()) & self.count_mask.val();
-        self.read.next.k = bit_cast::<8, 32>(self.k.read_data.val()) & self.count_mask.val();
+            bit_cast::<16, 32>(self.count.read_data.val()) & self.count_mask.val();
+        self.read.next.k = bit_cast::<16, 32>(self.k.read_data.val()) & self.count_mask.val();
         self.read.next.max_pos =
-            bit_cast::<8, 32>(self.max_pos.read_data.val()) & self.entry_mask.val();
+            bit_cast::<16, 32>(self.max_pos.read_data.val()) & self.entry_mask.val();
         self.read.next.visited = self.visited.read_data.val() & self.visited_mask.val();
         self.read.next.off_x = self.off_x.read_data.val() & self.dist_mask.val();
         self.read.next.off_y = self.off_y.read_data.val() & self.dist_mask.val();
@@ -201,9 +201,9 @@ impl Logic for SlotStore {
         if self.write.val().full {
             self.full.write_data.next = 1.into();
         }
-        self.count.write_data.next = bit_cast::<32, 8>(self.write.val().count);
-        self.k.write_data.next = bit_cast::<32, 8>(self.write.val().k);
-        self.max_pos.write_data.next = bit_cast::<32, 8>(self.write.val().max_pos);
+        self.count.write_data.next = bit_cast::<32, 16>(self.write.val().count);
+        self.k.write_data.next = bit_cast::<32, 16>(self.write.val().k);
+        self.max_pos.write_data.next = bit_cast::<32, 16>(self.write.val().max_pos);
         self.visited.write_data.next = self.write.val().visited;
         self.off_x.write_data.next = self.write.val().off_x;
         self.off_y.write_data.next = self.write.val().off_y;

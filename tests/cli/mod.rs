@@ -288,7 +288,7 @@ fn export_verilog_files_and_errors() {
     refused(
         dir.path(),
         &export(&["--k", "65"]),
-        "K = 65 unsupported (1..=64)",
+        "K = 65 unsupported by the modules controller (1..=64)",
     );
 
     // Replicated trees: T = 3 cores inside one top; T = 9 is refused.

@@ -15,7 +15,7 @@
 //! An uncertified query could go back to the core with a larger k′. That second
 //! search starts again from the root, so it costs at least the reads of the first
 //! one and more (a larger k′ keeps a larger radius longer), it is capped by the
-//! core's found-list depth (`hw::config::MAX_K`), and it can fail again: a query
+//! core's found-list depth (its controller's K limit), and it can fail again: a query
 //! whose candidates tie at rank k needs the float search in any case. The float
 //! search of the same query reads about as many photons as the first core pass
 //! did, once, and is exact by definition. So the fallback is the float search.
@@ -40,7 +40,6 @@ use crate::host::gather::{
 };
 use crate::host::map::knn::{self, FloatDist, Scalar};
 use crate::host::map::quantize::{GridPoint, Point};
-use crate::hw::config::MAX_K;
 use crate::hw::metric::Metric;
 use crate::hw::rtl::driver::{HwQuery, SimStats};
 use crate::hw::rtl::native::{Engine, SimOptions};
@@ -56,9 +55,10 @@ type Candidates = (Vec<(u32, u64)>, u32);
 /// Queries of a gather that choose m.
 const SAMPLE: usize = 256;
 
-/// Why `--exact` cannot run on `kind` with `k` and `refine`, if it cannot; checked
-/// before any work.
-pub fn check(kind: BackendKind, k: usize, refine: Option<usize>) -> Result<()> {
+/// Why `--exact` cannot run on `kind` with `k` and `refine`, if it cannot, on a
+/// core whose found lists hold at most `max_k` (its controller's); checked before
+/// any work.
+pub fn check(kind: BackendKind, k: usize, refine: Option<usize>, max_k: usize) -> Result<()> {
     if kind == BackendKind::Float {
         return Err(Error::new(
             "--exact refines a quantized backend's answers to the float search's; \
@@ -66,12 +66,12 @@ pub fn check(kind: BackendKind, k: usize, refine: Option<usize>) -> Result<()> {
         ));
     }
     if let Some(m) = refine {
-        if kind.simulates() && k + m > MAX_K {
+        if kind.simulates() && k + m > max_k {
             return Err(Error::new(format!(
                 "--refine {m} with --k {k} asks the core for {} candidates per query; its \
-                 found list holds at most {MAX_K} (give --refine {} or less)",
+                 found list holds at most {max_k} (give --refine {} or less)",
                 k + m,
-                MAX_K.saturating_sub(k)
+                max_k.saturating_sub(k)
             )));
         }
     }
@@ -80,17 +80,22 @@ pub fn check(kind: BackendKind, k: usize, refine: Option<usize>) -> Result<()> {
 
 /// The most candidates per query an exact gather of `k` may ask for (k + the given
 /// m, or + the largest m the choice tries): what its memory must hold.
-pub fn largest_k_prime(kind: BackendKind, k: usize, refine: Option<usize>) -> Result<usize> {
-    let m = refine.unwrap_or_else(|| max_refine(kind, k));
+pub fn largest_k_prime(
+    kind: BackendKind,
+    k: usize,
+    refine: Option<usize>,
+    max_k: usize,
+) -> Result<usize> {
+    let m = refine.unwrap_or_else(|| max_refine(kind, k, max_k));
     k.checked_add(m)
         .ok_or_else(|| Error::new(format!("--refine {m} with --k {k} is too large")))
 }
 
-/// The largest m the core can take with `k`.
-fn max_refine(kind: BackendKind, k: usize) -> usize {
+/// The largest m a core of found lists up to `max_k` can take with `k`.
+fn max_refine(kind: BackendKind, k: usize, max_k: usize) -> usize {
     let ladder_top = k.max(8);
     if kind.simulates() {
-        ladder_top.min(MAX_K.saturating_sub(k))
+        ladder_top.min(max_k.saturating_sub(k))
     } else {
         ladder_top
     }
@@ -132,8 +137,9 @@ impl ExactBackend {
         refine: Option<usize>,
         sim: &SimOptions,
     ) -> Result<Self> {
-        check(kind, params.k, refine)?;
-        let k_max = largest_k_prime(kind, params.k, refine)?;
+        let max_k = params.core.chosen_controller().max_k();
+        check(kind, params.k, refine, max_k)?;
+        let k_max = largest_k_prime(kind, params.k, refine, max_k)?;
         let map = QuantizedMap::new(photons, params)?;
         let float = FloatBackend::new(photons, params)?;
         let r0 = match params.radius {
@@ -243,7 +249,11 @@ impl ExactBackend {
 
     /// m for these queries: the cheapest on an even sample (module docs).
     fn choose_m(&self, inside: &[(usize, [u32; 3])], queries: &[Point]) -> usize {
-        let top = max_refine(self.kind, self.map.params.k);
+        let top = max_refine(
+            self.kind,
+            self.map.params.k,
+            self.map.params.core.chosen_controller().max_k(),
+        );
         // 0, 1, 2, 3, 4, 6, 8, 12, 16, 24, ...: steps of about √2.
         let mut ladder: Vec<usize> = (0..usize::BITS)
             .flat_map(|i| [1usize << i, 3usize.saturating_mul(1 << i) / 2])

@@ -16,7 +16,6 @@ use crate::host::map::quantize::{GridPoint, Point};
 use crate::host::study::hwcost::{self, Cost, ReportRow};
 use crate::host::study::plan::Plan;
 use crate::host::study::sweep::{self, Sweep};
-use crate::hw::config::MAX_K;
 use crate::hw::metric::Metric;
 use crate::hw::rtl::native::SimOptions;
 use rayon::prelude::*;
@@ -57,7 +56,8 @@ pub struct ExactPoint {
     pub host_reads: f64,
     /// A retry of each uncertified query on the core at the largest k′ it holds
     /// instead of the float search: how many it would certify, and its reads per
-    /// retried query (the first pass not counted).
+    /// retried query (the first pass not counted), and that k′ (the core's K).
+    pub retry_k: usize,
     pub retry_certified: u64,
     pub retry_reads: f64,
     /// The float search's reads per fallback query.
@@ -116,7 +116,9 @@ pub fn run(
             bits: b,
             ..base.clone()
         };
-        for &refine in ms.iter().filter(|m| m.is_none_or(|m| base.k + m <= MAX_K)) {
+        // The deepest list the study's core (its controller) holds.
+        let max_k = base.core.chosen_controller().max_k();
+        for &refine in ms.iter().filter(|m| m.is_none_or(|m| base.k + m <= max_k)) {
             let exact = ExactBackend::new(
                 BackendKind::Rtl,
                 photons,
@@ -129,7 +131,7 @@ pub fn run(
             let s = exact.stats();
             let q = s.queries.max(1) as f64;
             let fallbacks = s.uncertified + s.ties;
-            let (retry_certified, retry_reads) = retry(&exact, queries, MAX_K);
+            let (retry_certified, retry_reads) = retry(&exact, queries, max_k);
             out.push(ExactPoint {
                 bits: b,
                 k: base.k,
@@ -141,6 +143,7 @@ pub fn run(
                 fallbacks,
                 core_reads: s.core_reads as f64 / q,
                 host_reads: s.host_reads as f64 / q,
+                retry_k: max_k.max(base.k + s.m),
                 retry_certified,
                 retry_reads: retry_reads as f64 / (fallbacks.max(1)) as f64,
                 fallback_reads: s.host_reads as f64 / (fallbacks + s.outside).max(1) as f64,

@@ -9,9 +9,9 @@ use crate::host::error::Result;
 use crate::host::gather::GatherParams;
 use crate::host::gather::QuantizedMap;
 use crate::host::map::knn::Scalar;
-use crate::host::study::plan::{Plan, HW_MAX_K};
+use crate::host::study::plan::Plan;
 use crate::host::study::sweep::{self, Eye};
-use crate::hw::config::CoreConfig;
+use crate::hw::config::{CoreConfig, MAX_K_MODULES};
 use crate::hw::metric::Metric;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -195,7 +195,8 @@ pub fn run(plan: &Plan, hw_reads_per_s: &dyn Fn(usize) -> Option<f64>) -> Result
             unit[2] * reads,
             unit[3] * max_finds,
         ];
-        let hw_cycles = if k <= HW_MAX_K {
+        // (The QueryModule's cost model: its MaxFinder rows stop at K = 64.)
+        let hw_cycles = if k <= MAX_K_MODULES {
             let cfg = CoreConfig::for_map(mm.tree.image(), k, FIG_METRIC)?;
             // CoreConfig::mean_read_interval's parts: the read's round trip (one of
             // its cycles is the port slot itself), a MaxFinder run of one cycle per

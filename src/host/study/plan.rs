@@ -7,9 +7,6 @@ use crate::hw::metric::Metric;
 use crate::hw::rtl::native::Engine;
 use crate::hw::traversal::Traversal;
 
-/// Largest k the core holds (`src/hw/config.rs`: K <= 64); larger k are
-/// software-only points of the sweep.
-pub const HW_MAX_K: usize = 64;
 /// Widest coordinate the core holds per axis (`src/hw/photon_word.rs`: <= 15 bits).
 pub const HW_MAX_BITS: u32 = 15;
 
@@ -153,8 +150,14 @@ impl Plan {
         }
     }
 
+    /// The largest k the study's core holds (its controller's K limit); larger k
+    /// are software-only points of the sweep.
+    pub fn hw_max_k(&self) -> usize {
+        self.core.chosen_controller().max_k()
+    }
+
     /// Whether the core can run a gather of `k` photons on a `bits`-bit grid.
-    pub fn hw_capable(k: usize, bits: u32) -> bool {
-        k <= HW_MAX_K && bits <= HW_MAX_BITS
+    pub fn hw_capable(&self, k: usize, bits: u32) -> bool {
+        k <= self.hw_max_k() && bits <= HW_MAX_BITS
     }
 }

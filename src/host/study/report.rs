@@ -8,9 +8,10 @@ use crate::host::error::{Error, Result};
 use crate::host::study::exact_report;
 use crate::host::study::exact_series::ExactSeries;
 use crate::host::study::figures::{Figures, FIG_BITS, FIG_K, FIG_METRIC, HW_PARTS, SW_PARTS};
-use crate::host::study::plan::{Plan, HW_MAX_BITS, HW_MAX_K};
+use crate::host::study::plan::{Plan, HW_MAX_BITS};
 use crate::host::study::sweep::{Row, Sweep};
 use crate::host::study::{pareto, plots};
+use crate::hw::config::MAX_K;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -81,10 +82,14 @@ impl OutDir {
 
 /// Why a point has no hardware numbers.
 fn no_hw(r: &Row) -> String {
-    if r.k > HW_MAX_K {
-        format!("n/a: software only (k > {HW_MAX_K})")
-    } else if r.bits > HW_MAX_BITS {
+    if r.bits > HW_MAX_BITS {
         format!("n/a: software only (> {HW_MAX_BITS} bits per axis)")
+    } else if !r.hw_capable {
+        format!(
+            "n/a: software only (k = {} is above the study core's K; the barrel controller \
+             holds up to {MAX_K})",
+            r.k
+        )
     } else {
         "n/a: not simulated".into()
     }

@@ -237,7 +237,7 @@ pub fn run(plan: &Plan, report: &[ReportRow], bar: &ProgressBar) -> Result<Sweep
                         let n = counts.len();
                         let sample = grid_sample(&m, &eye.points, plan.timing_sample);
                         let secs = time_search(&m, &sample);
-                        let hw_capable = Plan::hw_capable(k, bits);
+                        let hw_capable = plan.hw_capable(k, bits);
                         if hw_capable && pi == 0 && plan.hw_bits.contains(&bits) {
                             bar.set_message(format!(
                                 "{name}: simulating {metric} k={k} {bits} bits"

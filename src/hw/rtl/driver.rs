@@ -48,6 +48,8 @@ pub struct SimStats {
     /// Cycles with every QueryModule (of every tree) occupied.
     pub busy_cycles: u64,
     pub busy_reads_per_port: Vec<u64>,
+    /// Result beats taken (valid and ready): what the result stream carries.
+    pub result_beats: u64,
 }
 
 /// The load beat the host presents.
@@ -153,6 +155,7 @@ impl Observer for StatsObserver {
             }
         }
         s.cycles += 1;
+        s.result_beats += (c.outputs.result_valid && c.inputs.result_ready) as u64;
         self.searching |= c.inputs.query_valid;
         s.search_cycles += self.searching as u64;
         Ok(())
