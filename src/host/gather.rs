@@ -14,6 +14,7 @@ use crate::hw::rtl::native::{run_gather, Engine, SimOptions};
 use crate::hw::traversal::Traversal;
 use rayon::prelude::*;
 use std::fmt;
+use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 /// Which implementation answers the gathers.
@@ -72,6 +73,72 @@ pub struct GatherParams {
     /// pipelining. Its grid and H follow the map; K, metric and traversal are the
     /// fields above.
     pub core: CoreBuilder,
+    /// A core given whole (`--core FILE`): then `core` is unused, every map is
+    /// quantized onto this core's layout (by the sw backend too, so that it answers
+    /// as the core does) and must fit it, and the metric and traversal are its own.
+    pub fixed: Option<FixedCore>,
+}
+
+/// A fixed core read from a core description file
+/// ([`core_file`](crate::hw::core_file)): one core, one Verilator model, for every
+/// map that fits it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FixedCore {
+    pub config: CoreConfig,
+    /// The file it was read from, named in every refusal.
+    pub file: PathBuf,
+}
+
+impl FixedCore {
+    /// The core described by the file at `path`.
+    pub fn read(path: &Path) -> Result<Self> {
+        Ok(FixedCore {
+            config: crate::hw::core_file::read(path)?,
+            file: path.to_path_buf(),
+        })
+    }
+
+    /// Most photons the core holds: 2^H − 1.
+    pub fn max_photons(&self) -> usize {
+        self.config.tree_words() - 1
+    }
+
+    /// "the 1023 photons the core of FILE holds (address_bits = 10)".
+    pub fn photon_limit(&self) -> String {
+        format!(
+            "the {} photons the core of {} holds (address_bits = {})",
+            self.max_photons(),
+            self.file.display(),
+            self.config.address_bits
+        )
+    }
+
+    /// Why a gather of `k` in `metric` with `traversal` cannot run on this core.
+    pub fn check_gather(&self, k: usize, metric: Metric, traversal: Traversal) -> Result<()> {
+        let c = &self.config;
+        let f = self.file.display();
+        if k > c.k {
+            return Err(Error::new(format!(
+                "--k {k} exceeds the found list of the core of {f} (k = {}: at most {} \
+                 photons per query)",
+                c.k, c.k
+            )));
+        }
+        if metric != c.metric {
+            return Err(Error::new(format!(
+                "the gather's metric {metric} differs from the core of {f} (metric = {})",
+                c.metric
+            )));
+        }
+        if traversal != c.traversal {
+            return Err(Error::new(format!(
+                "the gather's traversal {traversal} differs from the core of {f} \
+                 (traversal = {})",
+                c.traversal
+            )));
+        }
+        Ok(())
+    }
 }
 
 impl Default for GatherParams {
@@ -84,6 +151,7 @@ impl Default for GatherParams {
             traversal: Traversal::default(),
             capacity: DEFAULT_CAPACITY,
             core: CoreBuilder::default(),
+            fixed: None,
         }
     }
 }
@@ -106,11 +174,25 @@ impl GatherParams {
         }
         if photons > self.capacity {
             return Err(Error::new(format!(
-                "{photons} photons exceed the configured capacity of {}",
-                self.capacity
+                "{photons} photons exceed {}",
+                self.capacity_limit()
             )));
         }
+        if let Some(f) = &self.fixed {
+            f.check_gather(self.k, self.metric, self.traversal)?;
+        }
         Ok(())
+    }
+}
+
+impl GatherParams {
+    /// What bounds the photon count, for a refusal: the fixed core's H, or the
+    /// configured capacity.
+    pub fn capacity_limit(&self) -> String {
+        match &self.fixed {
+            Some(f) if f.max_photons() == self.capacity => f.photon_limit(),
+            _ => format!("the configured capacity of {}", self.capacity),
+        }
     }
 }
 
@@ -265,7 +347,10 @@ impl QuantizedMap {
     /// query must not coarsen every other query's grid.
     pub fn new(photons: &[Point], params: &GatherParams) -> Result<Self> {
         params.validate(photons.len())?;
-        let quant = Quantizer::from_points(photons, params.bits)?;
+        let quant = match &params.fixed {
+            Some(f) => Quantizer::for_layout(photons, f.config.layout)?,
+            None => Quantizer::from_points(photons, params.bits)?,
+        };
         let tree = PackedTree::build(photons, &quant);
         let max = params.metric.max_dist(quant.axis_bits());
         let (radius_bound, radius_wide) = match params.radius {
@@ -424,16 +509,26 @@ pub struct RtlBackend {
 impl RtlBackend {
     pub fn new(photons: &[Point], params: &GatherParams, options: SimOptions) -> Result<Self> {
         let map = QuantizedMap::new(photons, params)?;
-        let config = params
-            .core
-            .k(params.k)
-            .metric(params.metric)
-            .traversal(params.traversal)
-            .build_for(map.tree.image())?;
+        let config = match &params.fixed {
+            // One core for every map: the map is checked against it, never the
+            // core fitted to the map (so one exported Verilog, one model).
+            Some(f) => {
+                f.config
+                    .check_map(map.tree.image())
+                    .map_err(|e| Error::new(format!("{}: {e}", f.file.display())))?;
+                f.config
+            }
+            None => params
+                .core
+                .k(params.k)
+                .metric(params.metric)
+                .traversal(params.traversal)
+                .build_for(map.tree.image())?,
+        };
         Ok(RtlBackend {
             map,
             config,
-            fit_q: params.core.given_queries_per_port().is_none(),
+            fit_q: params.fixed.is_none() && params.core.given_queries_per_port().is_none(),
             options,
             stats: Mutex::new(Vec::new()),
         })

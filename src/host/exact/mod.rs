@@ -133,6 +133,13 @@ impl ExactBackend {
         sim: &SimOptions,
     ) -> Result<Self> {
         check(kind, params.k, refine)?;
+        if let Some(f) = &params.fixed {
+            return Err(Error::new(format!(
+                "--exact sizes the core's found list to k + m; it does not run on the fixed \
+                 core of {} (--core)",
+                f.file.display()
+            )));
+        }
         let k_max = largest_k_prime(kind, params.k, refine)?;
         let map = QuantizedMap::new(photons, params)?;
         let float = FloatBackend::new(photons, params)?;
