@@ -103,8 +103,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
             // A fixed core: the map goes onto its grid and must fit its H.
             Some(f) => {
                 let w = workload::cornell_image_on(args.cornell_photons, cfg.layout, &settings);
-                cfg.check_map(w.tree.image())
-                    .map_err(|e| Error::new(format!("{}: {e}", f.file.display())))?;
+                f.check_map(w.tree.image())?;
                 w
             }
             None => {

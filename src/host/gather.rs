@@ -14,8 +14,10 @@ use crate::hw::rtl::native::{run_gather, Engine, SimOptions};
 use crate::hw::traversal::Traversal;
 use rayon::prelude::*;
 use std::fmt;
-use std::path::{Path, PathBuf};
 use std::sync::Mutex;
+
+mod fixed_core;
+pub use fixed_core::FixedCore;
 
 /// Which implementation answers the gathers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -77,68 +79,6 @@ pub struct GatherParams {
     /// quantized onto this core's layout (by the sw backend too, so that it answers
     /// as the core does) and must fit it, and the metric and traversal are its own.
     pub fixed: Option<FixedCore>,
-}
-
-/// A fixed core read from a core description file
-/// ([`core_file`](crate::hw::core_file)): one core, one Verilator model, for every
-/// map that fits it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FixedCore {
-    pub config: CoreConfig,
-    /// The file it was read from, named in every refusal.
-    pub file: PathBuf,
-}
-
-impl FixedCore {
-    /// The core described by the file at `path`.
-    pub fn read(path: &Path) -> Result<Self> {
-        Ok(FixedCore {
-            config: crate::hw::core_file::read(path)?,
-            file: path.to_path_buf(),
-        })
-    }
-
-    /// Most photons the core holds: 2^H − 1.
-    pub fn max_photons(&self) -> usize {
-        self.config.tree_words() - 1
-    }
-
-    /// "the 1023 photons the core of FILE holds (address_bits = 10)".
-    pub fn photon_limit(&self) -> String {
-        format!(
-            "the {} photons the core of {} holds (address_bits = {})",
-            self.max_photons(),
-            self.file.display(),
-            self.config.address_bits
-        )
-    }
-
-    /// Why a gather of `k` in `metric` with `traversal` cannot run on this core.
-    pub fn check_gather(&self, k: usize, metric: Metric, traversal: Traversal) -> Result<()> {
-        let c = &self.config;
-        let f = self.file.display();
-        if k > c.k {
-            return Err(Error::new(format!(
-                "--k {k} exceeds the found list of the core of {f} (k = {}: at most {} \
-                 photons per query)",
-                c.k, c.k
-            )));
-        }
-        if metric != c.metric {
-            return Err(Error::new(format!(
-                "the gather's metric {metric} differs from the core of {f} (metric = {})",
-                c.metric
-            )));
-        }
-        if traversal != c.traversal {
-            return Err(Error::new(format!(
-                "the gather's traversal {traversal} differs from the core of {f} \
-                 (traversal = {})",
-                c.traversal
-            )));
-        }
-        Ok(())
-    }
 }
 
 impl Default for GatherParams {
@@ -512,12 +452,7 @@ impl RtlBackend {
         let config = match &params.fixed {
             // One core for every map: the map is checked against it, never the
             // core fitted to the map (so one exported Verilog, one model).
-            Some(f) => {
-                f.config
-                    .check_map(map.tree.image())
-                    .map_err(|e| Error::new(format!("{}: {e}", f.file.display())))?;
-                f.config
-            }
+            Some(f) => f.check_map(map.tree.image())?,
             None => params
                 .core
                 .k(params.k)
