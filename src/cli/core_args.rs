@@ -25,7 +25,8 @@ pub struct CoreFileArg {
     /// it. The map is quantized onto the file's coordinate bits and refused if it
     /// does not fit (more than 2^address_bits − 1 photons, k above the file's k).
     /// It replaces the core options, the grid and the metric: giving any of them
-    /// with --core is an error.
+    /// with --core is an error. render and gather take it with --backend sw, rtl or
+    /// verilator (sw then answers exactly as the core does).
     #[arg(
         long = "core",
         id = "core",

@@ -67,8 +67,7 @@ pub struct GatherOpts {
     /// searches.
     #[command(flatten, next_help_heading = "Core options")]
     pub core: CoreOpts,
-    /// The whole core from a file (--backend sw, rtl or verilator; sw then answers
-    /// as that core does).
+    // `--core FILE`: the whole core from a core description file.
     #[command(flatten, next_help_heading = "Core options")]
     pub core_file: CoreFileArg,
 }

@@ -204,10 +204,10 @@ fn one_model_renders_maps_of_every_size_like_sw() {
 }
 
 /// The fixed core under rust-hdl's own simulation: `gather --core FILE --backend
-/// rtl` on a map far smaller than the core's H writes the very file sw does on
-/// the same core, and the core line names the file's H, not the map's; bench-core
-/// runs a Cornell map on the file's core (it checks every query against the
-/// software search itself).
+/// rtl` on a map far smaller than the core's H (40 photons in a 2^11-word tree)
+/// writes the very file sw does on the same core, k the file's K; bench-core runs
+/// a Cornell map on the file's core, H and K the file's (it checks every query
+/// against the software search itself).
 #[test]
 fn the_fixed_core_answers_small_maps_like_sw() {
     let dir = tempfile::tempdir().unwrap();
@@ -222,7 +222,7 @@ fn the_fixed_core_answers_small_maps_like_sw() {
             "--bits",
             "7",
             "--address-bits",
-            "9",
+            "11",
         ],
     );
     let file = file.display().to_string();
@@ -273,7 +273,7 @@ fn the_fixed_core_answers_small_maps_like_sw() {
     ]));
     let core = bench.lines().find(|l| l.starts_with("core: ")).unwrap();
     assert!(
-        core.contains("barrel controller") && core.contains("H = 9, K = 5"),
+        core.contains("barrel controller") && core.contains("H = 11, K = 5"),
         "{core}"
     );
 }
