@@ -32,7 +32,8 @@ pub struct BenchCoreArgs {
     seed: u64,
     /// The workload (with `cornell`, the map comes from --cornell-photons emitted
     /// photons on a --bits grid, queried at the eye-ray hits of a --cornell-size
-    /// image; H and the per-axis widths follow the map).
+    /// image; H and the per-axis widths follow the map, or with --core the map is
+    /// put on the file's grid and must fit its H).
     #[arg(long, value_enum, default_value_t = WorkloadKind::Uniform)]
     workload: WorkloadKind,
     /// Emitted photons of the `cornell` workload.
@@ -57,7 +58,10 @@ pub struct BenchCoreArgs {
     cpu: bool,
     /// Size Q from this stream (`CoreConfig::fit_queries_per_port`: the mean read
     /// interval of the software model plus slack) instead of the worst case.
-    #[arg(long, conflicts_with_all = ["modules_per_port", "slots_per_port", "queries_per_port"])]
+    #[arg(
+        long,
+        conflicts_with_all = ["modules_per_port", "slots_per_port", "queries_per_port", "core"]
+    )]
     fit_q: bool,
     /// The simulator.
     #[arg(long, value_enum, default_value_t = EngineArg::Native)]
@@ -84,6 +88,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         limits::check_positive("--fmax-mhz", f)?;
     }
     let engine: Engine = args.engine.into();
+    let fixed = args.core.fixed()?;
     let spec = args.core.builder()?;
     let mut cfg = spec.build()?;
     let w = if args.workload == WorkloadKind::Cornell {
@@ -94,13 +99,24 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
             seed: args.seed,
             ..Default::default()
         };
-        let w = workload::cornell_image(
-            args.cornell_photons,
-            usize::MAX,
-            cfg.layout.bits[0],
-            &settings,
-        );
-        cfg = spec.build_for(w.tree.image())?;
+        let w = match &fixed {
+            // A fixed core: the map goes onto its grid and must fit its H.
+            Some(f) => {
+                let w = workload::cornell_image_on(args.cornell_photons, cfg.layout, &settings);
+                f.check_map(w.tree.image())?;
+                w
+            }
+            None => {
+                let w = workload::cornell_image(
+                    args.cornell_photons,
+                    usize::MAX,
+                    cfg.layout.bits[0],
+                    &settings,
+                );
+                cfg = spec.build_for(w.tree.image())?;
+                w
+            }
+        };
         // Every query of the image, or an even sample of --queries of them.
         let want = args.queries.unwrap_or(w.queries.len());
         let step = (w.queries.len() / want.max(1)).max(1);

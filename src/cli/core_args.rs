@@ -2,16 +2,54 @@
 //! pipelining) is shared by every command that builds one: `render` and `gather`
 //! (whose grid, K and metric follow the photon map and the gather), and
 //! `export-verilog` and `bench-core`, which also take the grid ([`CoreArgs`]).
-//! Both go through the one validated constructor, `CoreBuilder::build`.
+//! Both go through the one validated constructor, `CoreBuilder::build`. `--core
+//! FILE` ([`CoreFileArg`], taken by all four the same way) gives the whole core
+//! instead, from a core description file (`hw::core_file`).
 
 use super::values::{ControllerArg, MetricArg, TraversalArg};
 use clap::Args;
 use photon_fpga::host::error::{Error, Result};
+use photon_fpga::host::gather::FixedCore;
 use photon_fpga::hw::config::{CoreConfig, MAX_HW_COORD_BITS, PORTS};
 use photon_fpga::hw::config_builder::CoreBuilder;
 use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::traversal::Traversal;
+use std::path::PathBuf;
+
+/// `--core FILE`: the whole core from a core description file.
+#[derive(Args, Clone, Debug, Default)]
+pub struct CoreFileArg {
+    /// The whole core from a core description file (TOML; export-verilog writes one
+    /// beside the Verilog): one core, one Verilator model, for every map that fits
+    /// it. The map is quantized onto the file's coordinate bits and refused if it
+    /// does not fit (more than 2^address_bits − 1 photons, k above the file's k).
+    /// It replaces the core options, the grid and the metric: giving any of them
+    /// with --core is an error. render and gather take it with --backend sw, rtl or
+    /// verilator (sw then answers exactly as the core does).
+    #[arg(
+        long = "core",
+        id = "core",
+        value_name = "FILE",
+        conflicts_with_all = [
+            "controller",
+            "traversal",
+            "modules_per_port",
+            "slots_per_port",
+            "queries_per_port",
+            "trees",
+            "unpipelined",
+        ]
+    )]
+    pub file: Option<PathBuf>,
+}
+
+impl CoreFileArg {
+    /// The core of the file given, read and checked, if one is.
+    pub fn read(&self) -> Result<Option<FixedCore>> {
+        self.file.as_deref().map(FixedCore::read).transpose()
+    }
+}
 
 /// The core's options that do not follow from the photon map.
 #[derive(Args, Clone, Debug, Default)]
@@ -150,28 +188,45 @@ impl CoreOpts {
     }
 }
 
-/// A whole core: its grid, K and metric (the paper's by default) and [`CoreOpts`].
+/// A whole core: its grid, K and metric (the paper's by default) and [`CoreOpts`],
+/// or a core description file.
 #[derive(Args)]
 pub struct CoreArgs {
     /// Found-list depth K (the largest k a query may ask for).
-    #[arg(long, default_value_t = CoreConfig::paper().k)]
+    #[arg(long, default_value_t = CoreConfig::paper().k, conflicts_with = "core")]
     k: usize,
     /// Coordinate bits on every axis.
-    #[arg(long, default_value_t = CoreConfig::paper().layout.bits[0])]
+    #[arg(long, default_value_t = CoreConfig::paper().layout.bits[0], conflicts_with = "core")]
     bits: u32,
     /// Tree height H: the TreeModule holds 2^H photon words.
-    #[arg(long, default_value_t = CoreConfig::paper().address_bits)]
+    #[arg(long, default_value_t = CoreConfig::paper().address_bits, conflicts_with = "core")]
     address_bits: u32,
     /// Distance metric (the default, l1, is the paper's 12-bit distance).
-    #[arg(long, value_enum, default_value_t = CoreConfig::paper().metric.into())]
+    #[arg(
+        long,
+        value_enum,
+        default_value_t = CoreConfig::paper().metric.into(),
+        conflicts_with = "core"
+    )]
     metric: MetricArg,
     #[command(flatten)]
     pub opts: CoreOpts,
+    #[command(flatten)]
+    pub file: CoreFileArg,
 }
 
 impl CoreArgs {
-    /// The options as a builder (the paper's controller unless one is chosen).
+    /// The core of `--core FILE`, if one was given.
+    pub fn fixed(&self) -> Result<Option<FixedCore>> {
+        self.file.read()
+    }
+
+    /// The options as a builder (the paper's controller unless one is chosen; the
+    /// file's core with `--core`).
     pub fn builder(&self) -> Result<CoreBuilder> {
+        if let Some(f) = self.fixed()? {
+            return Ok(f.config.to_builder());
+        }
         if !(1..=MAX_HW_COORD_BITS).contains(&self.bits) {
             return Err(Error::new(format!(
                 "--bits {} is out of range (1..={MAX_HW_COORD_BITS})",

@@ -17,7 +17,8 @@ pub struct ExportArgs {
     /// (for place and route; see src/hw/rtl/shell.rs).
     #[arg(long)]
     pub shell_trees: Option<usize>,
-    /// Output directory; the core goes to DIR/photon_search_core.v.
+    /// Output directory; the core goes to DIR/photon_search_core.v and its
+    /// description (for --core) to DIR/photon_search_core.toml.
     #[arg(long)]
     pub out: PathBuf,
 }
@@ -41,6 +42,14 @@ pub fn export(args: &ExportArgs) -> Result<()> {
         .map_err(|e| Error::new(format!("{}: cannot create: {e}", args.out.display())))?;
     let path = args.out.join("photon_search_core.v");
     Output::check(&path, &[])?.write(|w| w.write_all(verilog.as_bytes()))?;
+    // The core's description beside it: `--core FILE` runs every map on this core.
+    let toml_path = args.out.join(photon_fpga::hw::core_file::CORE_FILE_NAME);
+    let description = photon_fpga::hw::core_file::to_toml(&cfg);
+    Output::check(&toml_path, &[])?.write(|w| w.write_all(description.as_bytes()))?;
+    println!(
+        "wrote {}: the core's description (render, gather, bench-core --core FILE)",
+        toml_path.display()
+    );
     let sim_path = args.out.join("photon_search_core_sim.v");
     Output::check(&sim_path, &[])?.write(|w| w.write_all(sim_verilog.as_bytes()))?;
     println!(

@@ -2,13 +2,13 @@
 //! backend, capacity, VCD, threads and the core's options; validated before any
 //! work starts.
 
-use super::core_args::CoreOpts;
+use super::core_args::{CoreFileArg, CoreOpts};
 use super::values::MetricArg;
 use clap::Args;
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::exact::ExactBackend;
 use photon_fpga::host::gather::{
-    make_backend, BackendKind, GatherBackend, GatherParams, HW_CAPACITY,
+    make_backend, BackendKind, FixedCore, GatherBackend, GatherParams, HW_CAPACITY,
 };
 use photon_fpga::host::limits::MEMORY_CAPACITY;
 use photon_fpga::host::map::quantize::Point;
@@ -23,7 +23,8 @@ use std::path::PathBuf;
 /// Options every gather shares.
 #[derive(Args, Clone, Debug)]
 pub struct GatherOpts {
-    /// Photons gathered per query [default: 10 for gather, 32 for render: the core's largest found list].
+    /// Photons gathered per query [default: 10 for gather, 32 for render: the core's
+    /// largest found list; with --core, the file's k].
     #[arg(long)]
     pub k: Option<usize>,
     /// Upper search radius in world units (inclusive); unbounded if absent.
@@ -31,10 +32,11 @@ pub struct GatherOpts {
     pub radius: Option<f64>,
     /// Coordinate bits on the longest axis of the photon bounding box [default: 10]
     /// (the quantized backends sw, rtl and verilator; an error with --backend float).
-    #[arg(long)]
+    /// With --core, the grid has the file's coordinate bits.
+    #[arg(long, conflicts_with = "core")]
     pub bits: Option<u32>,
-    /// Distance metric.
-    #[arg(long, value_enum, default_value_t = MetricArg::L2)]
+    /// Distance metric (with --core, the file's).
+    #[arg(long, value_enum, default_value_t = MetricArg::L2, conflicts_with = "core")]
     pub metric: MetricArg,
     /// Who answers the gathers.
     #[arg(long, value_enum, default_value_t = BackendKind::Sw)]
@@ -51,7 +53,7 @@ pub struct GatherOpts {
     /// With --backend sw, rtl or verilator: the float search's exact answers, from
     /// k + m grid candidates per query re-ranked by exact distance on the host
     /// (certified per query; the float search answers the rest).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "core")]
     pub exact: bool,
     /// With --exact: m, the extra grid candidates per query [default: chosen on a
     /// sample of the queries].
@@ -65,6 +67,9 @@ pub struct GatherOpts {
     /// searches.
     #[command(flatten, next_help_heading = "Core options")]
     pub core: CoreOpts,
+    // `--core FILE`: the whole core from a core description file.
+    #[command(flatten, next_help_heading = "Core options")]
+    pub core_file: CoreFileArg,
 }
 
 impl GatherOpts {
@@ -139,6 +144,12 @@ impl GatherOpts {
                  --backend float searches the unquantized positions",
             ));
         }
+        if self.backend == BackendKind::Float && self.core_file.file.is_some() {
+            return Err(Error::new(
+                "--core sets the simulated core and its grid; --backend float searches the \
+                 unquantized positions (give --backend sw, rtl or verilator)",
+            ));
+        }
         if !self.backend.simulates() {
             if let Some(flag) = self.core.hardware_option_given() {
                 return Err(Error::new(format!(
@@ -155,6 +166,9 @@ impl GatherOpts {
     /// they can be before the photon map exists: a core that cannot be built for
     /// any map (a bad combination, K, Q, T out of range) is refused now.
     pub fn params(&self, default_k: usize) -> Result<GatherParams> {
+        if let Some(fixed) = self.core_file.read()? {
+            return self.fixed_params(fixed);
+        }
         let hw = self.backend.simulates();
         let k = self.k.unwrap_or(default_k);
         let metric = self.metric.into();
@@ -196,6 +210,36 @@ impl GatherOpts {
             traversal,
             capacity,
             core,
+            fixed: None,
+        })
+    }
+
+    /// The gather's parameters on the fixed core of `--core FILE`: its grid,
+    /// metric and traversal, k up to its K (its K by default), at most the photons
+    /// its H holds; refused now, naming the file, if the gather does not fit it.
+    fn fixed_params(&self, fixed: FixedCore) -> Result<GatherParams> {
+        let c = fixed.config;
+        let k = self.k.unwrap_or(c.k);
+        let capacity = match self.capacity {
+            Some(n) if n > fixed.max_photons() => {
+                return Err(Error::new(format!(
+                    "--capacity {n} exceeds {}",
+                    fixed.photon_limit()
+                )))
+            }
+            Some(n) => n,
+            None => fixed.max_photons(),
+        };
+        fixed.check_gather(k, c.metric, c.traversal)?;
+        Ok(GatherParams {
+            k,
+            radius: self.radius,
+            bits: c.layout.bits.into_iter().max().unwrap_or(1),
+            metric: c.metric,
+            traversal: c.traversal,
+            capacity,
+            core: c.to_builder(),
+            fixed: Some(fixed),
         })
     }
 }

@@ -107,10 +107,17 @@ pub fn render(args: &RenderArgs) -> Result<()> {
             photons::trace_photons_capped(&scene, args.photons, args.seed, true, params.capacity)
         })
         .ok_or_else(|| {
-            Error::new(format!(
-                "{} emitted photons store more than --capacity {} photons (stopped early)",
-                args.photons, params.capacity
-            ))
+            Error::new(match &params.fixed {
+                Some(f) if f.max_photons() == params.capacity => format!(
+                    "{} emitted photons store more than {}; tracing stopped early",
+                    args.photons,
+                    f.photon_limit()
+                ),
+                _ => format!(
+                    "{} emitted photons store more than --capacity {} photons (stopped early)",
+                    args.photons, params.capacity
+                ),
+            })
         })?;
     if photons.is_empty() {
         return Err(Error::new("no photon reached a diffuse surface"));

@@ -16,6 +16,9 @@ use rayon::prelude::*;
 use std::fmt;
 use std::sync::Mutex;
 
+mod fixed_core;
+pub use fixed_core::FixedCore;
+
 /// Which implementation answers the gathers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum BackendKind {
@@ -72,6 +75,10 @@ pub struct GatherParams {
     /// pipelining. Its grid and H follow the map; K, metric and traversal are the
     /// fields above.
     pub core: CoreBuilder,
+    /// A core given whole (`--core FILE`): then `core` is unused, every map is
+    /// quantized onto this core's layout (by the sw backend too, so that it answers
+    /// as the core does) and must fit it, and the metric and traversal are its own.
+    pub fixed: Option<FixedCore>,
 }
 
 impl Default for GatherParams {
@@ -84,6 +91,7 @@ impl Default for GatherParams {
             traversal: Traversal::default(),
             capacity: DEFAULT_CAPACITY,
             core: CoreBuilder::default(),
+            fixed: None,
         }
     }
 }
@@ -106,11 +114,25 @@ impl GatherParams {
         }
         if photons > self.capacity {
             return Err(Error::new(format!(
-                "{photons} photons exceed the configured capacity of {}",
-                self.capacity
+                "{photons} photons exceed {}",
+                self.capacity_limit()
             )));
         }
+        if let Some(f) = &self.fixed {
+            f.check_gather(self.k, self.metric, self.traversal)?;
+        }
         Ok(())
+    }
+}
+
+impl GatherParams {
+    /// What bounds the photon count, for a refusal: the fixed core's H, or the
+    /// configured capacity.
+    pub fn capacity_limit(&self) -> String {
+        match &self.fixed {
+            Some(f) if f.max_photons() == self.capacity => f.photon_limit(),
+            _ => format!("the configured capacity of {}", self.capacity),
+        }
     }
 }
 
@@ -265,7 +287,10 @@ impl QuantizedMap {
     /// query must not coarsen every other query's grid.
     pub fn new(photons: &[Point], params: &GatherParams) -> Result<Self> {
         params.validate(photons.len())?;
-        let quant = Quantizer::from_points(photons, params.bits)?;
+        let quant = match &params.fixed {
+            Some(f) => Quantizer::for_layout(photons, f.config.layout)?,
+            None => Quantizer::from_points(photons, params.bits)?,
+        };
         let tree = PackedTree::build(photons, &quant);
         let max = params.metric.max_dist(quant.axis_bits());
         let (radius_bound, radius_wide) = match params.radius {
@@ -424,16 +449,21 @@ pub struct RtlBackend {
 impl RtlBackend {
     pub fn new(photons: &[Point], params: &GatherParams, options: SimOptions) -> Result<Self> {
         let map = QuantizedMap::new(photons, params)?;
-        let config = params
-            .core
-            .k(params.k)
-            .metric(params.metric)
-            .traversal(params.traversal)
-            .build_for(map.tree.image())?;
+        let config = match &params.fixed {
+            // One core for every map: the map is checked against it, never the
+            // core fitted to the map (so one exported Verilog, one model).
+            Some(f) => f.check_map(map.tree.image())?,
+            None => params
+                .core
+                .k(params.k)
+                .metric(params.metric)
+                .traversal(params.traversal)
+                .build_for(map.tree.image())?,
+        };
         Ok(RtlBackend {
             map,
             config,
-            fit_q: params.core.given_queries_per_port().is_none(),
+            fit_q: params.fixed.is_none() && params.core.given_queries_per_port().is_none(),
             options,
             stats: Mutex::new(Vec::new()),
         })

@@ -3,7 +3,7 @@
 //! Cornell-box photon map queried at the renderer's eye-ray hits.
 
 use crate::host::map::kdtree::{KdTree, PackedTree};
-use crate::host::map::quantize::{GridPoint, Quantizer};
+use crate::host::map::quantize::{GridPoint, Point, Quantizer};
 use crate::host::render::photons::trace_photons;
 use crate::host::render::scene::Scene;
 use crate::host::render::{self, eye_queries, RenderSettings};
@@ -54,11 +54,34 @@ pub fn cornell_image(
     bits: u32,
     settings: &RenderSettings,
 ) -> Workload {
+    cornell_on(emitted, max_photons, settings, |world| {
+        Quantizer::from_points(world, bits)
+    })
+}
+
+/// [`cornell_image`] quantized onto exactly `layout` (a fixed core's grid,
+/// `Quantizer::for_layout`).
+pub fn cornell_image_on(
+    emitted: usize,
+    layout: PhotonLayout,
+    settings: &RenderSettings,
+) -> Workload {
+    cornell_on(emitted, usize::MAX, settings, |world| {
+        Quantizer::for_layout(world, layout)
+    })
+}
+
+fn cornell_on(
+    emitted: usize,
+    max_photons: usize,
+    settings: &RenderSettings,
+    grid: impl FnOnce(&[Point]) -> crate::host::error::Result<Quantizer>,
+) -> Workload {
     let scene = Scene::cornell_box();
     let mut photons = trace_photons(&scene, emitted, settings.seed, false);
     photons.truncate(max_photons);
     let world = render::photon_points(&photons);
-    let quant = Quantizer::from_points(&world, bits).expect("a Cornell-box photon map");
+    let quant = grid(&world).expect("a Cornell-box photon map");
     let points: Vec<[u32; 3]> = world.iter().map(|&p| quant.quantize(p)).collect();
     let (eye, _) = eye_queries(&scene, settings);
     let queries = render::query_points(&eye)

@@ -81,6 +81,7 @@ pub mod config_builder;
 pub mod controller;
 pub mod controller_port;
 pub mod core;
+pub mod core_file;
 pub mod dispatcher;
 pub mod dist_module;
 pub mod error;

@@ -345,5 +345,6 @@ fn gather_lines(args: &[&str], out: &Path) -> Vec<String> {
 }
 
 mod backends;
+mod core_file;
 mod exact;
 mod limits;

@@ -139,6 +139,13 @@ impl ExactBackend {
     ) -> Result<Self> {
         let max_k = params.core.chosen_controller().max_k();
         check(kind, params.k, refine, max_k)?;
+        if let Some(f) = &params.fixed {
+            return Err(Error::new(format!(
+                "--exact sizes the core's found list to k + m; it does not run on the fixed \
+                 core of {} (--core)",
+                f.file.display()
+            )));
+        }
         let k_max = largest_k_prime(kind, params.k, refine, max_k)?;
         let map = QuantizedMap::new(photons, params)?;
         let float = FloatBackend::new(photons, params)?;

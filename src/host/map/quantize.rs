@@ -75,6 +75,38 @@ impl Quantizer {
         })
     }
 
+    /// A grid over the bounding box of `points` with exactly `layout`'s widths: a
+    /// fixed core's (`--core`). The one step is the smallest that fits every axis
+    /// of the box into its own width, so any photon map quantizes onto the core.
+    pub fn for_layout(points: &[Point], layout: PhotonLayout) -> Result<Self> {
+        let Some(first) = points.first() else {
+            return Err(Error::new("the photon set is empty"));
+        };
+        let (mut lo, mut hi) = (*first, *first);
+        for p in points {
+            for a in 0..3 {
+                lo[a] = lo[a].min(p[a]);
+                hi[a] = hi[a].max(p[a]);
+            }
+        }
+        let step = (0..3)
+            .map(|a| (hi[a] - lo[a]) / layout.coord_max(a) as f64)
+            .fold(0.0, f64::max);
+        // All photons at one point: any positive step maps them all to 0.
+        let step = if step > 0.0 { step } else { 1.0 };
+        if !step.is_normal() {
+            return Err(Error::new(format!(
+                "the photons span too little ({:e} world units per grid step) for a grid in f64",
+                step
+            )));
+        }
+        Ok(Quantizer {
+            origin: lo,
+            step,
+            layout,
+        })
+    }
+
     /// Per-axis coordinate widths.
     pub fn axis_bits(&self) -> [u32; 3] {
         self.layout.bits

@@ -1,0 +1,400 @@
+//! The core description file (`export-verilog` writes it, `--core FILE` reads it):
+//! it round-trips every option of a core, the same file exports the same Verilog,
+//! one Verilator model serves maps of different sizes with the software search's
+//! very image, and a map, a gather or a file that does not fit is refused by name
+//! with exit status 2 and nothing written.
+
+use super::*;
+use photon_fpga::hw::config::CoreConfig;
+use photon_fpga::hw::controller::Controller;
+use photon_fpga::hw::core_file::{from_toml, to_toml, CORE_FILE_NAME};
+use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::photon_word::PhotonLayout;
+use photon_fpga::hw::traversal::Traversal;
+
+/// Export a core with `options` into `dir/name` and return its description file.
+fn export_core(dir: &Path, name: &str, options: &[&str]) -> PathBuf {
+    let out = dir.join(name);
+    bin()
+        .args(["export-verilog", "--out"])
+        .arg(&out)
+        .args(options)
+        .assert()
+        .success();
+    out.join(CORE_FILE_NAME)
+}
+
+fn stdout_of(args: &[String]) -> String {
+    let run = bin().args(args).assert().success();
+    String::from_utf8_lossy(&run.get_output().stdout).to_string()
+}
+
+/// Every option of `CoreConfig` survives the file: cores that differ in each
+/// option, built by the library, read back equal; the file spells Q under its
+/// controller's name.
+#[test]
+fn the_file_round_trips_every_option() {
+    let b = CoreConfig::builder;
+    let cores = [
+        CoreConfig::paper(),
+        b().controller(Controller::Barrel)
+            .traversal(Traversal::Cell)
+            .slots_per_port(11)
+            .k(40)
+            .build()
+            .unwrap(),
+        b().layout(PhotonLayout::new([12, 9, 5]))
+            .address_bits(17)
+            .metric(Metric::L2)
+            .traversal(Traversal::Reread)
+            .modules_per_port(3)
+            .trees(2)
+            .pipelined(false)
+            .build()
+            .unwrap(),
+    ];
+    for cfg in cores {
+        let text = to_toml(&cfg);
+        assert_eq!(from_toml(&text, "core.toml").unwrap(), cfg, "{text}");
+        let q = format!(
+            "{}_per_port = {}",
+            match cfg.controller {
+                Controller::Modules => "modules",
+                Controller::Barrel => "slots",
+            },
+            cfg.queries_per_port
+        );
+        assert!(text.lines().any(|l| l == q), "{q} missing from\n{text}");
+    }
+}
+
+/// `export-verilog --core FILE` of the file an export wrote writes the same
+/// Verilog, byte for byte (same SHA-256), and the same file again.
+#[test]
+fn the_same_file_exports_the_same_verilog() {
+    use sha2::{Digest, Sha256};
+    let dir = tempfile::tempdir().unwrap();
+    let options = [
+        "--controller",
+        "barrel",
+        "--k",
+        "5",
+        "--bits",
+        "6",
+        "--address-bits",
+        "7",
+        "--metric",
+        "l2",
+        "--slots-per-port",
+        "4",
+    ];
+    let file = export_core(dir.path(), "a", &options);
+    let again = dir.path().join("b");
+    bin()
+        .args(["export-verilog", "--core"])
+        .arg(&file)
+        .arg("--out")
+        .arg(&again)
+        .assert()
+        .success();
+    for name in [
+        "photon_search_core.v",
+        "photon_search_core_sim.v",
+        CORE_FILE_NAME,
+    ] {
+        let sha = |d: &Path| format!("{:x}", Sha256::digest(std::fs::read(d.join(name)).unwrap()));
+        assert_eq!(sha(&dir.path().join("a")), sha(&again), "{name} differs");
+    }
+    let text = std::fs::read_to_string(&file).unwrap();
+    let cfg = from_toml(&text, "a").unwrap();
+    assert_eq!(
+        (
+            cfg.controller,
+            cfg.k,
+            cfg.layout.bits,
+            cfg.address_bits,
+            cfg.metric,
+            cfg.queries_per_port
+        ),
+        (Controller::Barrel, 5, [6, 6, 6], 7, Metric::L2, 4)
+    );
+}
+
+/// The photon counts of a render's stdout ("N photons stored from ...").
+fn stored(stdout: &str) -> usize {
+    stdout
+        .split(" photons stored")
+        .next()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no stored count in {stdout}"))
+}
+
+/// Issue 31: `render --core FILE --backend verilator` renders maps of different
+/// photon counts from one cached model (the cache holds exactly one entry), each
+/// image byte-identical to `render --core FILE --backend sw`.
+#[test]
+#[cfg_attr(not(has_verilator), ignore = "needs verilator")]
+fn one_model_renders_maps_of_every_size_like_sw() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = tempfile::tempdir().unwrap();
+    let file = export_core(
+        dir.path(),
+        "core",
+        &[
+            "--controller",
+            "modules",
+            "--traversal",
+            "remember",
+            "--modules-per-port",
+            "3",
+            "--k",
+            "6",
+            "--bits",
+            "8",
+            "--address-bits",
+            "11",
+            "--metric",
+            "l2",
+        ],
+    );
+    let mut counts = vec![];
+    for emitted in ["300", "800"] {
+        let mut png = vec![];
+        for backend in ["sw", "verilator"] {
+            let out = dir.path().join(format!("{emitted}-{backend}.png"));
+            let run = bin()
+                .env("PHOTON_FPGA_CACHE_DIR", cache.path())
+                .args([
+                    "render",
+                    "--size",
+                    "12x10",
+                    "--spp",
+                    "1",
+                    "--photons",
+                    emitted,
+                ])
+                .args(["--backend", backend, "--core"])
+                .arg(&file)
+                .arg("--out")
+                .arg(&out)
+                .assert()
+                .success();
+            let stdout = String::from_utf8_lossy(&run.get_output().stdout).to_string();
+            counts.push(stored(&stdout));
+            png.push(std::fs::read(&out).unwrap());
+        }
+        assert!(
+            png[0] == png[1],
+            "{emitted} emitted: verilator and sw renders differ"
+        );
+    }
+    assert!(
+        counts[0] == counts[1] && counts[2] == counts[3],
+        "{counts:?}"
+    );
+    assert_ne!(
+        counts[0], counts[2],
+        "the two maps have the same photon count"
+    );
+    let entries: Vec<String> = listing(cache.path())
+        .into_iter()
+        .filter(|n| !n.ends_with(".lock") && !n.starts_with('.'))
+        .collect();
+    assert_eq!(entries.len(), 1, "one model for both maps: {entries:?}");
+}
+
+/// The fixed core under rust-hdl's own simulation: `gather --core FILE --backend
+/// rtl` on a map far smaller than the core's H (40 photons in a 2^11-word tree)
+/// writes the very file sw does on the same core, k the file's K; bench-core runs
+/// a Cornell map on the file's core, H and K the file's (it checks every query
+/// against the software search itself).
+#[test]
+fn the_fixed_core_answers_small_maps_like_sw() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = export_core(
+        dir.path(),
+        "core",
+        &[
+            "--controller",
+            "barrel",
+            "--k",
+            "5",
+            "--bits",
+            "7",
+            "--address-bits",
+            "11",
+        ],
+    );
+    let file = file.display().to_string();
+    let mut r = rand_pcg::Pcg64Mcg::seed_from_u64(11);
+    let mut pts = |n| -> Vec<[f64; 3]> {
+        (0..n)
+            .map(|_| {
+                [
+                    r.gen_range(0.0..4.0),
+                    r.gen_range(0.0..2.0),
+                    r.gen_range(0.0..1.0),
+                ]
+            })
+            .collect()
+    };
+    let p = write(dir.path(), "p.csv", &points_csv(&pts(40), false));
+    let q = write(dir.path(), "q.csv", &points_csv(&pts(25), false));
+    let (p, q) = (p.display().to_string(), q.display().to_string());
+    let mut files = vec![];
+    for backend in ["sw", "rtl"] {
+        let out = dir.path().join(format!("{backend}.csv"));
+        let args = [
+            "--photons",
+            &p,
+            "--queries",
+            &q,
+            "--core",
+            &file,
+            "--backend",
+            backend,
+        ];
+        files.push(gather_lines(&args, &out));
+    }
+    assert_eq!(files[0], files[1], "rtl and sw differ on the file's core");
+    assert_eq!(files[0].len(), 1 + 25 * 5, "k defaults to the file's K");
+    let bench = stdout_of(&strings(&[
+        "bench-core",
+        "--core",
+        &file,
+        "--workload",
+        "cornell",
+        "--cornell-photons",
+        "200",
+        "--cornell-size",
+        "6x6",
+        "--queries",
+        "12",
+    ]));
+    let core = bench.lines().find(|l| l.starts_with("core: ")).unwrap();
+    assert!(
+        core.contains("barrel controller") && core.contains("H = 11, K = 5"),
+        "{core}"
+    );
+}
+
+/// What does not fit the file's core is refused before any work, naming the limit
+/// and the file: a map beyond its H (render and gather), k above its K, a
+/// --capacity above its H; the options the file fixes given with it; a backend
+/// that runs no quantized search; and a file that is not a core (its line and
+/// value named).
+#[test]
+fn what_does_not_fit_the_file_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = export_core(dir.path(), "core", &["--k", "4", "--address-bits", "5"]);
+    let f = file.display().to_string();
+    let out = dir.path().join("r.png").display().to_string();
+    let render = |extra: &[&str]| cmdline(&["render", "--out", &out, "--core", &f], extra);
+    refused(
+        dir.path(),
+        &render(&["--photons", "100", "--backend", "verilator"]),
+        &format!("store more than the 31 photons the core of {f} holds (address_bits = 5)"),
+    );
+    refused(
+        dir.path(),
+        &render(&["--k", "5"]),
+        &format!("--k 5 exceeds the found list of the core of {f} (k = 4"),
+    );
+    refused(
+        dir.path(),
+        &render(&["--capacity", "32", "--backend", "rtl"]),
+        &format!("--capacity 32 exceeds the 31 photons the core of {f} holds"),
+    );
+    for extra in [
+        &["--trees", "2"][..],
+        &["--bits", "8"],
+        &["--metric", "l1"],
+        &["--exact"],
+    ] {
+        refused(
+            dir.path(),
+            &render(extra),
+            &format!(
+                "the argument '--core <FILE>' cannot be used with '{}",
+                extra[0]
+            ),
+        );
+    }
+    refused(
+        dir.path(),
+        &render(&["--backend", "float"]),
+        "--backend float searches the unquantized positions",
+    );
+    refused(
+        dir.path(),
+        &strings(&["bench-core", "--core", &f, "--address-bits", "6"]),
+        "the argument '--core <FILE>' cannot be used with '--address-bits",
+    );
+    // gather: a CSV map of 32 photons does not fit 2^5 - 1.
+    let p: Vec<[f64; 3]> = (0..32).map(|i| [i as f64, 0.0, 1.0]).collect();
+    let p = write(dir.path(), "p.csv", &points_csv(&p, false))
+        .display()
+        .to_string();
+    let q = write(dir.path(), "q.csv", "1,0,1\n").display().to_string();
+    fails(
+        dir.path(),
+        &["--photons", &p, "--queries", &q, "--core", &f],
+        &format!("32 photons exceed the 31 photons the core of {f} holds (address_bits = 5)"),
+    );
+    // Files that are not a core: a wrong value (its line), an unknown key, Q under
+    // the other controller's name, Q missing, a key missing, a core out of range.
+    let text = std::fs::read_to_string(&file).unwrap();
+    let bad = |name: &str, text: String, message: &str| {
+        let path = write(dir.path(), name, &text).display().to_string();
+        fails(
+            dir.path(),
+            &["--photons", &p, "--queries", &q, "--core", &path],
+            message,
+        );
+    };
+    let line = |key: &str| 1 + text.lines().position(|l| l.starts_with(key)).unwrap();
+    bad(
+        "value.toml",
+        text.replace("trees = 1", "trees = \"one\""),
+        &format!(
+            "value.toml: TOML parse error at line {}, column 9",
+            line("trees")
+        ),
+    );
+    bad(
+        "unknown.toml",
+        format!("{text}colour = 3\n"),
+        "unknown field `colour`",
+    );
+    bad(
+        "other_q.toml",
+        text.replace("modules_per_port", "slots_per_port"),
+        "given with controller modules: query slots are the barrel controller's",
+    );
+    bad(
+        "no_q.toml",
+        text.lines()
+            .filter(|l| !l.starts_with("modules_per_port"))
+            .collect::<Vec<_>>()
+            .join("\n"),
+        "no_q.toml: Q is missing: controller = \"modules\" takes modules_per_port",
+    );
+    bad(
+        "no_k.toml",
+        text.lines()
+            .filter(|l| !l.starts_with("k ="))
+            .collect::<Vec<_>>()
+            .join("\n"),
+        "missing field `k`",
+    );
+    bad(
+        "big_h.toml",
+        text.replace("address_bits = 5", "address_bits = 21"),
+        "big_h.toml: address_bits (H) = 21 unsupported",
+    );
+    fails(
+        dir.path(),
+        &["--photons", &p, "--queries", &q, "--core", "nope.toml"],
+        "nope.toml: cannot read",
+    );
+}
