@@ -68,18 +68,6 @@ def check_tree(coords, axis):
             assert coords[b, ax] >= coords[a, ax]
 
 
-def pack_words(coords, axis, coord_bits):
-    """The packed words of addresses 1..N: x, y, z from bit 0, then the split axis."""
-    bx, by, bz = coord_bits
-    c = coords[1:]
-    return (
-        c[:, 0]
-        | (c[:, 1] << bx)
-        | (c[:, 2] << (bx + by))
-        | (axis[1:] << (bx + by + bz))
-    ).astype(np.uint64)
-
-
 def distances(coords, q, metric):
     """The core's integer distance from query q to every heap address (index 0: none)."""
     d = np.abs(coords[1:] - np.asarray(q, dtype=np.int64))

@@ -29,6 +29,7 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--build", type=Path, help="build directory [default: EXPORT/sim_build_SIM]")
     ap.add_argument("--test", help="run only this test of test_photon_axis")
+    ap.add_argument("--tally", type=Path, help="append the checks passed to this file")
     ap.add_argument("--expect-fail", action="store_true", help="succeed iff a test fails")
     args = ap.parse_args()
 
@@ -97,8 +98,15 @@ def main():
             print(f"error: the testbench passed on {export}, which it must reject")
             return 1
         print(f"as expected, the testbench rejected {export}")
-        return 0
-    return 0 if ok else 1
+        passed = 1
+    elif not ok:
+        return 1
+    else:
+        passed = tests
+    if args.tally:
+        with open(args.tally, "a") as f:
+            f.write(f"{passed}\n")
+    return 0
 
 
 if __name__ == "__main__":

@@ -164,7 +164,11 @@ pub fn stream_layouts(core: &Exported, cfg: &CoreConfig) -> Result<Vec<StreamLay
     };
     Ok(vec![
         photon_layout(cfg.layout, width("load$word")?)?,
-        struct_layout("s_axis_query", QueryBeat::descriptor(), width("query$data")?)?,
+        struct_layout(
+            "s_axis_query",
+            QueryBeat::descriptor(),
+            width("query$data")?,
+        )?,
         struct_layout(
             "m_axis_result",
             ResultBeat::descriptor(),
