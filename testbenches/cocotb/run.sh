@@ -39,10 +39,12 @@ vroot="$("$py" -c 'import os, verilator; print(os.path.dirname(verilator.__file_
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 # The barrel core (render's default), whose result beats carry photon pairs, in
-# both simulators; the paper's controller (QueryModules, one photon a beat; Q = 4
-# keeps the model's build short) in Verilator.
+# both simulators; in Verilator also the paper's controller (QueryModules, one
+# photon a beat; Q = 4 keeps the model's build short) with the other metric and
+# 12-bit coordinates (a 38-bit word in an 8-byte beat).
 "$bin" export-verilog --interface axis --controller barrel --out "$work/axis" >/dev/null
-"$bin" export-verilog --interface axis --modules-per-port 4 --out "$work/modules" >/dev/null
+"$bin" export-verilog --interface axis --modules-per-port 4 --metric l2 --bits 12 \
+  --out "$work/modules" >/dev/null
 
 export PYTHONDONTWRITEBYTECODE=1
 tally="$work/tally"
