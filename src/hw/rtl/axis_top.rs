@@ -181,7 +181,7 @@ pub fn stream_layouts(core: &Exported, cfg: &CoreConfig) -> Result<Vec<StreamLay
 fn meaning(stream: &str, field: &str) -> &'static str {
     match (stream, field) {
         ("s_axis_photon", "x" | "y" | "z") => "grid coordinate",
-        ("s_axis_photon", "axis") => "split axis: 0 x, 1 y, 2 z (a leaf: any)",
+        ("s_axis_photon", "axis") => "split axis: 0 x, 1 y, 2 z",
         (_, "id") => "query tag (a result returns its low id_bits)",
         ("s_axis_query", "x" | "y" | "z") => "query grid coordinate",
         ("s_axis_query", "radius") => "inclusive radius bound, metric units",
