@@ -2,12 +2,24 @@
 //! rewrite for event-driven simulators and optionally a registered shell.
 
 use crate::cli::core_args::{describe_q, CoreArgs};
-use clap::Args;
+use clap::{Args, ValueEnum};
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::output::Output;
+use photon_fpga::hw::rtl::axis_top::axis_top;
 use photon_fpga::hw::rtl::export::export_verilog;
 use photon_fpga::hw::rtl::shell::registered_shell;
 use std::path::PathBuf;
+
+/// `--interface`: which top the export writes beside the core.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum InterfaceArg {
+    /// The bare core only: module `top` with rust-hdl's port names and a sync reset.
+    Core,
+    /// Also DIR/photon_search_axis.v: the core behind AXI4-Stream ports (aclk,
+    /// aresetn, s_axis_photon, s_axis_query, m_axis_result), and its tdata layout
+    /// as DIR/photon_search_axis.json.
+    Axis,
+}
 
 #[derive(Args)]
 pub struct ExportArgs {
@@ -17,6 +29,9 @@ pub struct ExportArgs {
     /// (for place and route; see src/hw/rtl/shell.rs).
     #[arg(long)]
     pub shell_trees: Option<usize>,
+    /// The top to write beside the core.
+    #[arg(long, value_enum, default_value_t = InterfaceArg::Core)]
+    pub interface: InterfaceArg,
     /// Output directory; the core goes to DIR/photon_search_core.v and its
     /// description (for --core) to DIR/photon_search_core.toml.
     #[arg(long)]
@@ -37,6 +52,10 @@ pub fn export(args: &ExportArgs) -> Result<()> {
     let shell = match args.shell_trees {
         Some(trees) => Some((trees, registered_shell(&exported, trees)?)),
         None => None,
+    };
+    let axis = match args.interface {
+        InterfaceArg::Core => None,
+        InterfaceArg::Axis => Some(axis_top(&exported, &cfg)?),
     };
     std::fs::create_dir_all(&args.out)
         .map_err(|e| Error::new(format!("{}: cannot create: {e}", args.out.display())))?;
@@ -62,6 +81,17 @@ pub fn export(args: &ExportArgs) -> Result<()> {
         println!(
             "wrote {}: {trees} core(s) behind a registered I/O shell",
             spath.display()
+        );
+    }
+    if let Some(axis) = axis {
+        let vpath = args.out.join("photon_search_axis.v");
+        Output::check(&vpath, &[])?.write(|w| w.write_all(axis.verilog.as_bytes()))?;
+        let jpath = args.out.join("photon_search_axis.json");
+        Output::check(&jpath, &[])?.write(|w| w.write_all(axis.json.as_bytes()))?;
+        println!(
+            "wrote {} (and its tdata layout, {}): the core behind AXI4-Stream ports",
+            vpath.display(),
+            jpath.display()
         );
     }
     println!(

@@ -54,6 +54,7 @@ fn every_value_of_every_enum_option_is_in_its_commands_help() {
         "gather --traversal",
         "gather --metric",
         "export-verilog --controller",
+        "export-verilog --interface",
         "bench-core --engine",
         "bench-core --workload",
         "study --engine",

@@ -100,5 +100,6 @@ pub fn all_value_lists() -> Vec<Vec<String>> {
         names::<EngineArg>(),
         names::<photon_fpga::host::gather::BackendKind>(),
         names::<super::bench_core::WorkloadKind>(),
+        names::<super::export::InterfaceArg>(),
     ]
 }

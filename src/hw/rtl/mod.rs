@@ -3,6 +3,7 @@
 //! and Verilator, and the registered shell for place and route. Builds on the
 //! blocks of `hw`; nothing in the blocks imports this.
 
+pub mod axis_top;
 pub mod driver;
 pub mod export;
 pub mod model_cache;
