@@ -145,6 +145,10 @@ CONFIGS = [
     # The largest barrel arrays (MAX_TREES = 8, and a fallback).
     Config("T=8 trees, barrel cell", replace(BARREL_CELL, trees=8), headline=True),
     Config("T=6 trees, barrel cell", replace(BARREL_CELL, trees=6)),
+    # Found lists beyond the comparator tree (paper §3's high-quality regime): the
+    # barrel core's heaps in BlockRAM, squared L2 as the default render gathers.
+    Config("barrel K=100 (L2, 2x16 slots)", replace(BARREL_CELL, k=100, metric="l2")),
+    Config("barrel K=512 (L2, 2x16 slots)", replace(BARREL_CELL, k=512, metric="l2")),
 ]
 
 
