@@ -10,33 +10,9 @@ use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::rtl::native::Engine;
 use photon_fpga::hw::traversal::Traversal;
 
-/// A command-line enum mirroring the library's `$lib`, variant for variant.
-macro_rules! mirror {
-    ($(#[$m:meta])* $name:ident => $lib:ident { $($(#[$vm:meta])* $v:ident),+ $(,)? }) => {
-        $(#[$m])*
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-        pub enum $name {
-            $($(#[$vm])* $v),+
-        }
-        impl From<$name> for $lib {
-            fn from(v: $name) -> Self {
-                match v {
-                    $($name::$v => $lib::$v),+
-                }
-            }
-        }
-        impl From<$lib> for $name {
-            fn from(v: $lib) -> Self {
-                match v {
-                    $($lib::$v => $name::$v),+
-                }
-            }
-        }
-    };
-}
-
-mirror! {
+photon_fpga::enum_mirror! {
     /// `--metric`: the distance of the search (paper §4.4).
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
     MetricArg => Metric {
         /// Squared Euclidean distance (no square root in hardware).
         L2,
@@ -45,8 +21,9 @@ mirror! {
     }
 }
 
-mirror! {
+photon_fpga::enum_mirror! {
     /// `--traversal`: how the search climbs back up the tree (paper §2.2, §4.3).
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
     TraversalArg => Traversal {
         /// Remember each level's axis distance on the way down: the ascent reads
         /// nothing (reads per query = distance tests).
@@ -59,8 +36,9 @@ mirror! {
     }
 }
 
-mirror! {
+photon_fpga::enum_mirror! {
     /// `--controller`: who runs a port's queries.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
     ControllerArg => Controller {
         /// Q QueryModules per port behind a round-robin arbiter (the paper's, §4.2).
         Modules,
@@ -71,8 +49,9 @@ mirror! {
     }
 }
 
-mirror! {
+photon_fpga::enum_mirror! {
     /// `--engine`: the simulator that runs the core.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
     EngineArg => Engine {
         /// rust-hdl's own simulation of the blocks.
         Native,

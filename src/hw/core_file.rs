@@ -24,43 +24,23 @@ use std::path::Path;
 /// The file name `export-verilog` gives the description beside `photon_search_core.v`.
 pub const CORE_FILE_NAME: &str = "photon_search_core.toml";
 
-/// A file's names for the library's enums, variant for variant (an exhaustive
-/// `match` both ways: a variant added to the library must get a name here).
-macro_rules! names {
-    ($(#[$m:meta])* $name:ident => $lib:ident { $($v:ident = $s:literal),+ $(,)? }) => {
-        $(#[$m])*
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-        pub enum $name {
-            $(#[serde(rename = $s)] $v),+
-        }
-        impl From<$name> for $lib {
-            fn from(v: $name) -> Self {
-                match v {
-                    $($name::$v => $lib::$v),+
-                }
-            }
-        }
-        impl From<$lib> for $name {
-            fn from(v: $lib) -> Self {
-                match v {
-                    $($lib::$v => $name::$v),+
-                }
-            }
-        }
-    };
-}
-
-names! {
+crate::enum_mirror! {
     /// `controller`: who runs a port's queries.
-    ControllerName => Controller { Modules = "modules", Barrel = "barrel" }
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+    #[serde(rename_all = "lowercase")]
+    ControllerName => Controller { Modules, Barrel }
 }
-names! {
+crate::enum_mirror! {
     /// `traversal`: how the search climbs back up the tree.
-    TraversalName => Traversal { Remember = "remember", Reread = "reread", Cell = "cell" }
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+    #[serde(rename_all = "lowercase")]
+    TraversalName => Traversal { Remember, Reread, Cell }
 }
-names! {
+crate::enum_mirror! {
     /// `metric`: the distance of the search.
-    MetricName => Metric { L2 = "l2", L1 = "l1" }
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+    #[serde(rename_all = "lowercase")]
+    MetricName => Metric { L2, L1 }
 }
 
 /// One core, as the file holds it.

@@ -84,6 +84,7 @@ pub mod core;
 pub mod core_file;
 pub mod dispatcher;
 pub mod dist_module;
+pub mod enum_mirror;
 pub mod error;
 pub mod found_heap;
 pub mod found_max;

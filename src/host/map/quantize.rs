@@ -35,6 +35,21 @@ pub struct Quantizer {
     pub layout: PhotonLayout,
 }
 
+/// The photons' bounding box (lowest and highest corner); none for an empty set.
+fn bounding_box(points: &[Point]) -> Result<(Point, Point)> {
+    let Some(first) = points.first() else {
+        return Err(Error::new("the photon set is empty"));
+    };
+    let (mut lo, mut hi) = (*first, *first);
+    for p in points {
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    Ok((lo, hi))
+}
+
 impl Quantizer {
     /// A grid over the bounding box of `points` with `bits` on the longest axis.
     pub fn from_points(points: &[Point], bits: u32) -> Result<Self> {
@@ -43,16 +58,7 @@ impl Quantizer {
                 "--bits {bits} is out of range (1..={MAX_COORD_BITS})"
             )));
         }
-        let Some(first) = points.first() else {
-            return Err(Error::new("the photon set is empty"));
-        };
-        let (mut lo, mut hi) = (*first, *first);
-        for p in points {
-            for a in 0..3 {
-                lo[a] = lo[a].min(p[a]);
-                hi[a] = hi[a].max(p[a]);
-            }
-        }
+        let (lo, hi) = bounding_box(points)?;
         let ext = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
         let longest = ext.iter().cloned().fold(0.0, f64::max);
         let top = ((1u64 << bits) - 1) as f64;
@@ -79,16 +85,7 @@ impl Quantizer {
     /// fixed core's (`--core`). The one step is the smallest that fits every axis
     /// of the box into its own width, so any photon map quantizes onto the core.
     pub fn for_layout(points: &[Point], layout: PhotonLayout) -> Result<Self> {
-        let Some(first) = points.first() else {
-            return Err(Error::new("the photon set is empty"));
-        };
-        let (mut lo, mut hi) = (*first, *first);
-        for p in points {
-            for a in 0..3 {
-                lo[a] = lo[a].min(p[a]);
-                hi[a] = hi[a].max(p[a]);
-            }
-        }
+        let (lo, hi) = bounding_box(points)?;
         let step = (0..3)
             .map(|a| (hi[a] - lo[a]) / layout.coord_max(a) as f64)
             .fold(0.0, f64::max);
