@@ -175,10 +175,17 @@ fn exact_refusals_come_before_any_work() {
         &render(&["--exact", "--backend", "float"]),
         "--backend float is exact already",
     );
+    // The core's K is its controller's: 512 for the barrel core (the hardware
+    // default), 64 for QueryModules.
     for backend in ["rtl", "verilator"] {
         refused(
             dir.path(),
-            &render(&["--exact", "--backend", backend, "--refine", "33"]),
+            &render(&["--exact", "--backend", backend, "--refine", "481"]),
+            "--refine 481 with --k 32 asks the core for 513 candidates per query; its found list holds at most 512",
+        );
+        refused(
+            dir.path(),
+            &render(&["--exact", "--backend", backend, "--controller", "modules", "--refine", "33"]),
             "--refine 33 with --k 32 asks the core for 65 candidates per query; its found list holds at most 64",
         );
     }
