@@ -209,8 +209,21 @@ fn exact_refusals_come_before_any_work() {
     );
     refused(
         dir.path(),
-        &gather(&["--exact", "--backend", "rtl", "--k", "70"]),
-        "K = 70 unsupported",
+        &gather(&["--exact", "--backend", "rtl", "--k", "513"]),
+        "K = 513 unsupported by the barrel controller",
+    );
+    refused(
+        dir.path(),
+        &gather(&[
+            "--exact",
+            "--backend",
+            "rtl",
+            "--controller",
+            "modules",
+            "--k",
+            "70",
+        ]),
+        "K = 70 unsupported by the modules controller",
     );
     refused(
         dir.path(),
