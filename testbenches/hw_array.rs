@@ -24,14 +24,6 @@ fn array_config(
         .expect("an array within the limits")
 }
 
-fn stalls(seed: u64) -> SimOptions {
-    SimOptions {
-        vcd: None,
-        stall_seed: Some(seed),
-        ..Default::default()
-    }
-}
-
 /// Reads of tree `t` (both its ports).
 fn tree_reads(stats: &SimStats, t: usize) -> u64 {
     stats.reads_per_port[2 * t] + stats.reads_per_port[2 * t + 1]

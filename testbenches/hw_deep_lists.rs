@@ -93,15 +93,7 @@ fn k512_stalls_second_map_and_reset() {
     let q1 = queries_for(&first, layout, metric, k);
     let q2 = queries_for(&second, layout, metric, k);
     let cfg = barrel(&t1, k, metric, Traversal::Cell);
-    let mut sim = CoreSim::new(
-        &cfg,
-        &SimOptions {
-            vcd: None,
-            stall_seed: Some(9),
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let mut sim = CoreSim::new(&cfg, &stalls(9)).unwrap();
     sim.load_map(t1.image()).unwrap();
     check_results(&cfg, &t1, &first, &q1, &sim.run_queries(&q1).unwrap());
     // A smaller map over the larger one, without a reset: stale heap entries of

@@ -8,6 +8,7 @@ use photon_fpga::hw::config::CoreConfig;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::rtl::driver::{HwQuery, HwResult};
+use photon_fpga::hw::rtl::native::SimOptions;
 use rand::Rng;
 use rand_pcg::Pcg64;
 use rust_hdl::prelude::{simulate, Block, Clock, In, Signal};
@@ -41,6 +42,15 @@ pub fn random_points(rng: &mut Pcg64, n: usize, layout: PhotonLayout) -> Vec<[u3
 
 pub fn pack(points: &[[u32; 3]], layout: PhotonLayout) -> PackedTree {
     PackedTree::from_tree(&KdTree::build(points), layout)
+}
+
+/// Simulation options with random valid/ready stalls on every stream from `seed`.
+pub fn stalls(seed: u64) -> SimOptions {
+    SimOptions {
+        vcd: None,
+        stall_seed: Some(seed),
+        ..Default::default()
+    }
 }
 
 /// Random queries on the grid with k in 1..=k_max and radii from 0 to unbounded.
