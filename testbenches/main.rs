@@ -7,6 +7,7 @@ mod hw_array;
 mod hw_axis;
 mod hw_bank_crossbar;
 mod hw_bank_map;
+mod hw_banked;
 mod hw_blocks;
 mod hw_config;
 mod hw_core;

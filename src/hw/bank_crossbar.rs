@@ -21,13 +21,17 @@
 //! the reads in flight are dropped (their answers never appear); the round robin
 //! keeps its turn.
 
-use crate::hw::block_ram::{BramIndex, BramWord};
+use crate::hw::block_ram::BramWord;
+use crate::hw::config::Addr;
 use crate::hw::config::ModuleMask;
 use crate::hw::port_arbiter::PortArbiter;
 use rust_hdl::prelude::*;
 
 /// A bank's index (up to 1,024 banks).
 pub type BankIndex = Bits<10>;
+/// A row in a bank (a heap address's high bits: as wide as an address, so that
+/// a bank is a [`TreeModule`](crate::hw::tree_module::TreeModule) without casts).
+pub type BankRow = Addr;
 /// The tag a requester gives a read, returned with its word (e.g. the slot).
 pub type BankTag = Bits<8>;
 
@@ -39,7 +43,7 @@ pub struct BankClient {
     pub valid: Signal<In, bool>,
     pub ready: Signal<Out, bool>,
     pub bank: Signal<In, BankIndex>,
-    pub row: Signal<In, BramIndex>,
+    pub row: Signal<In, BankRow>,
     pub tag: Signal<In, BankTag>,
 }
 
@@ -50,7 +54,7 @@ pub struct BankRequester {
     pub valid: Signal<Out, bool>,
     pub ready: Signal<In, bool>,
     pub bank: Signal<Out, BankIndex>,
-    pub row: Signal<Out, BramIndex>,
+    pub row: Signal<Out, BankRow>,
     pub tag: Signal<Out, BankTag>,
 }
 
@@ -58,10 +62,20 @@ pub struct BankRequester {
 /// takes a read's word in the cycle it arrives): a read's word and its request's
 /// tag.
 #[derive(LogicInterface, Default)]
+#[join = "BankAnswerIn"]
 pub struct BankAnswer {
     pub valid: Signal<Out, bool>,
     pub tag: Signal<Out, BankTag>,
     pub word: Signal<Out, BramWord>,
+}
+
+/// The requester's side of a [`BankAnswer`].
+#[derive(LogicInterface, Default)]
+#[join = "BankAnswer"]
+pub struct BankAnswerIn {
+    pub valid: Signal<In, bool>,
+    pub tag: Signal<In, BankTag>,
+    pub word: Signal<In, BramWord>,
 }
 
 /// One bank's read port, seen from the crossbar: a BlockRAM read (`word` is the
@@ -70,7 +84,7 @@ pub struct BankAnswer {
 #[join = "BankMemoryPort"]
 pub struct BankPort {
     pub enable: Signal<Out, bool>,
-    pub row: Signal<Out, BramIndex>,
+    pub row: Signal<Out, BankRow>,
     pub word: Signal<In, BramWord>,
 }
 
@@ -79,7 +93,7 @@ pub struct BankPort {
 #[join = "BankPort"]
 pub struct BankMemoryPort {
     pub enable: Signal<In, bool>,
-    pub row: Signal<In, BramIndex>,
+    pub row: Signal<In, BankRow>,
     pub word: Signal<Out, BramWord>,
 }
 

@@ -8,8 +8,7 @@
 //! (bank, row) pairs of distinct addresses differ, and each bank holds
 //! `(N >> b) + 1` rows. Combinational: an XOR of the address's `b`-bit groups.
 
-use crate::hw::bank_crossbar::BankIndex;
-use crate::hw::block_ram::BramIndex;
+use crate::hw::bank_crossbar::{BankIndex, BankRow};
 use crate::hw::config::Addr;
 use rust_hdl::prelude::*;
 
@@ -21,7 +20,7 @@ pub struct BankMap {
     pub replicated: Signal<Out, bool>,
     /// Its bank and row, for a node below the replica.
     pub bank: Signal<Out, BankIndex>,
-    pub row: Signal<Out, BramIndex>,
+    pub row: Signal<Out, BankRow>,
     /// `2^L`, `b`, the low-`b`-bits mask, and the shift of each further group.
     first_banked: Constant<Addr>,
     bank_bits: Constant<Addr>,
@@ -70,6 +69,6 @@ impl Logic for BankMap {
                 ^ ((self.address.val() >> self.group_shift[g].val()) & self.low_mask.val());
         }
         self.bank.next = bit_cast::<10, 24>(self.fold.val());
-        self.row.next = bit_cast::<16, 24>(self.address.val() >> self.bank_bits.val());
+        self.row.next = self.address.val() >> self.bank_bits.val();
     }
 }

@@ -43,7 +43,8 @@
 //! read; only the order in which the port interleaves its queries differs. A read
 //! issued in F returns to A four cycles later (the SearchModule's pipeline), so a
 //! slot reads every 11 cycles and 16 slots keep the port busy
-//! ([`BARREL_SLOTS`](crate::hw::config::BARREL_SLOTS)).
+//! ([`BARREL_SLOTS`](crate::hw::config::BARREL_SLOTS)); from a banked store later,
+//! when its bank is free ([`ReadIssue`]).
 //!
 //! Result read-out is the SearchPort's packet format ([`SlotReadout`]), two photons a
 //! beat: a header beat, then the found photons in list-slot order, from two
@@ -52,6 +53,7 @@
 //! array of barrel cores answers more queries per cycle than one photon a beat on
 //! its one result stream carries.
 
+use crate::hw::bank_crossbar::{BankAnswerIn, BankRequester};
 use crate::hw::block_ram::{BlockRam, BramIndex, BramWord};
 use crate::hw::config::{
     bits_for, low_mask, Addr, CoreConfig, Dist, Entry, LevelMask, ModuleIndex, ModuleMask,
@@ -64,6 +66,7 @@ use crate::hw::free_pick::FreePick;
 use crate::hw::heap_stage::{HeapKey, HeapOp};
 use crate::hw::lut_ram::{LutRam, RamIndex};
 use crate::hw::query_limits::QueryLimits;
+use crate::hw::read_issue::ReadIssue;
 use crate::hw::search_module::SearchModule;
 use crate::hw::slot_readout::SlotReadout;
 use crate::hw::slot_store::{SlotEvent, SlotStore};
@@ -80,6 +83,8 @@ pub struct BarrelPort<const W: usize> {
     /// cycle; every slot is occupied; none is).
     pub io: PortIo<W>,
     search: SearchModule<W>,
+    /// Stage F's reads to the tree or the banks ([`ReadIssue`]).
+    issue: ReadIssue<W>,
     /// `Traversal::Cell`: prune on the far cell's distance, restore its offsets.
     cell_mode: Constant<bool>,
     all_slots: Constant<ModuleMask>,
@@ -196,6 +201,7 @@ impl<const W: usize> BarrelPort<W> {
             reset: Default::default(),
             io: Default::default(),
             search: SearchModule::new(cfg),
+            issue: ReadIssue::new(cfg),
             cell_mode: Constant::new(cell),
             all_slots: Constant::new(ModuleMask::from(cfg.port_queries_mask())),
             one_level: Constant::new(LevelMask::from(1u64)),
@@ -279,9 +285,9 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.search.clock.next = self.clock.val();
         self.search.reset.next = self.reset.val();
         self.search.photon_count.next = self.io.photon_count.val();
-        self.search.word.next = self.io.ram_data.val();
-        clock!(self, clock, store, found_max, far_xy, far_zd, readout);
+        clock!(self, clock, store, found_max, far_xy, far_zd, readout, issue);
         self.readout.reset.next = self.reset.val();
+        self.issue.reset.next = self.reset.val();
 
         // ---- Stage A: a result, else a new query into the picked free slot. ----
         // The free slot is picked a cycle ahead ([`FreePick`], the SearchPort's):
@@ -556,18 +562,25 @@ impl<const W: usize> Logic for BarrelPort<W> {
             self.f_done.next = true;
         }
         self.f_issue.next = self.f_ev.q.val().valid && (!self.f_done.val());
-        self.search.request_valid.next = self.f_issue.val();
-        self.search.request.next.query_module = self.f_ev.q.val().slot;
-        self.search.request.next.address = self.f_state.val().next_address;
-        self.search.request.next.up = false;
-        self.search.request.next.came_from_right = false;
-        self.search.request.next.x = 0.into();
-        self.search.request.next.y = 0.into();
-        self.search.request.next.z = 0.into();
-        self.search.request.next.radius = self.f_state.val().radius;
-        self.search.request.next.full = self.f_state.val().full;
-        self.io.ram_address.next = self.f_state.val().next_address;
-        self.io.reading.next = self.f_issue.val();
+        self.issue.push.next = self.f_issue.val();
+        self.issue.push_request.next.query_module = self.f_ev.q.val().slot;
+        self.issue.push_request.next.address = self.f_state.val().next_address;
+        self.issue.push_request.next.up = false;
+        self.issue.push_request.next.came_from_right = false;
+        self.issue.push_request.next.x = 0.into();
+        self.issue.push_request.next.y = 0.into();
+        self.issue.push_request.next.z = 0.into();
+        self.issue.push_request.next.radius = self.f_state.val().radius;
+        self.issue.push_request.next.full = self.f_state.val().full;
+        // The read reaches the SearchModule now (one tree) or once memory takes it.
+        self.search.request_valid.next = self.issue.request_valid.val();
+        self.search.request.next = self.issue.request.val();
+        self.search.word.next = self.issue.word.val();
+        self.io.ram_address.next = self.issue.ram_address.val();
+        self.issue.ram_data.next = self.io.ram_data.val();
+        BankRequester::link(&mut self.io.bank, &mut self.issue.bank);
+        BankAnswerIn::link(&mut self.io.bank_answer, &mut self.issue.bank_answer);
+        self.io.reading.next = self.issue.reading.val();
         // The state write (every event), and the header of a finished search.
         self.store.write_enable.next = self.f_ev.q.val().valid;
         self.store.write_index.next = self.f_ev.q.val().slot;

@@ -163,7 +163,26 @@ pub struct CoreConfig {
     /// Who runs a port's queries: Q QueryModules (the paper's) or Q slots of one
     /// shared datapath ([`Controller::Barrel`]).
     pub controller: Controller,
+    /// `None`: each tree is a TreeModule holding the whole map. Some: one map in
+    /// a banked store shared by every datapath ([`Banking`]).
+    pub banking: Option<Banking>,
 }
+
+/// A banked photon store: the map spread over `2^bank_bits` BlockRAM banks, its
+/// top `replicated_levels` levels (read by every query) copied beside each pair
+/// of barrel datapaths (`trees` copies, two datapaths each: the BlockRAM's two
+/// ports), the nodes below in bank and row by [`BankMap`](crate::hw::bank_map::BankMap),
+/// reached through a [`BankCrossbar`](crate::hw::bank_crossbar::BankCrossbar)
+/// with two read ports per bank. Why and how measured: `host::banking` and
+/// docs/BANKING.md.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Banking {
+    pub bank_bits: u32,
+    pub replicated_levels: u32,
+}
+
+/// Banks limit (the crossbar's 10-bit bank index).
+pub const MAX_BANK_BITS: u32 = 10;
 
 impl CoreConfig {
     /// Bits of a distance in this metric and layout.
@@ -278,9 +297,32 @@ impl CoreConfig {
         bits_for(self.queries_per_port.saturating_sub(1) as u64).max(1)
     }
 
-    /// Photon words the TreeModule holds.
+    /// Photon words the map may hold (the banked store holds as many).
     pub fn tree_words(&self) -> usize {
         1 << self.address_bits
+    }
+
+    /// Address bits of each TreeModule: the whole map's H, or with banks the
+    /// replicated levels L.
+    pub fn tree_address_bits(&self) -> u32 {
+        self.banking
+            .map_or(self.address_bits, |b| b.replicated_levels)
+    }
+
+    /// TreeModule ports, one datapath each: two per tree.
+    pub fn datapaths(&self) -> usize {
+        PORTS
+            * if self.banking.is_some() {
+                self.trees
+            } else {
+                1
+            }
+    }
+
+    /// T > 1 without banks: a `PhotonSearchArray` of whole cores (with banks the
+    /// trees are replicas inside one core, sharing its banks).
+    pub fn is_array(&self) -> bool {
+        self.trees > 1 && self.banking.is_none()
     }
 
     /// Check every limit of the fixed-width datapath (`CoreBuilder::build` does; for
@@ -355,6 +397,48 @@ impl CoreConfig {
                  that remembers the path (remember, cell)",
                 self.traversal
             )));
+        }
+        if let Some(b) = self.banking {
+            self.validate_banking(b)?;
+        }
+        Ok(())
+    }
+
+    fn validate_banking(&self, b: Banking) -> Result<(), HwError> {
+        let fail = |m: String| Err(HwError::Config(m));
+        if self.controller != Controller::Barrel {
+            return fail(format!(
+                "banks with controller {}: a read that waits for its bank needs the barrel \
+                 controller (a QueryModule expects its word the next cycle)",
+                self.controller
+            ));
+        }
+        if b.bank_bits == 0 || b.bank_bits > MAX_BANK_BITS {
+            return fail(format!(
+                "banks = {}: unsupported (2..={} banks, a power of two)",
+                1u64 << b.bank_bits.min(40),
+                1u32 << MAX_BANK_BITS
+            ));
+        }
+        if b.replicated_levels < b.bank_bits || b.replicated_levels >= self.address_bits {
+            return fail(format!(
+                "replicated levels = {} with {} banks and H = {}: the replica must cover at \
+                 least as many nodes as there are banks (L >= {}) and leave levels to bank \
+                 (L < H)",
+                b.replicated_levels,
+                1u64 << b.bank_bits,
+                self.address_bits,
+                b.bank_bits
+            ));
+        }
+        if self.address_bits - b.bank_bits > 16 {
+            return fail(format!(
+                "{} banks for H = {}: a bank would hold 2^{} rows, more than the 2^16 a bank \
+                 row index addresses (more banks)",
+                1u64 << b.bank_bits,
+                self.address_bits,
+                self.address_bits - b.bank_bits
+            ));
         }
         Ok(())
     }

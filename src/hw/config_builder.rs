@@ -4,7 +4,7 @@
 //! ascent, Q under the other controller's name, K, Q, T or H out of range) is
 //! refused when the configuration is made, with the option and its value named.
 
-use crate::hw::config::{CoreConfig, BARREL_SLOTS, MAX_QUERIES_PER_PORT};
+use crate::hw::config::{Banking, CoreConfig, BARREL_SLOTS, MAX_QUERIES_PER_PORT};
 use crate::hw::controller::Controller;
 use crate::hw::error::HwError;
 use crate::hw::metric::Metric;
@@ -27,6 +27,7 @@ pub struct CoreBuilder {
     controller: Controller,
     modules_per_port: Option<usize>,
     slots_per_port: Option<usize>,
+    banking: Option<Banking>,
 }
 
 impl Default for CoreBuilder {
@@ -44,6 +45,7 @@ impl Default for CoreBuilder {
             controller: Controller::default(),
             modules_per_port: None,
             slots_per_port: None,
+            banking: None,
         }
     }
 }
@@ -79,6 +81,10 @@ impl CoreBuilder {
     }
     pub fn controller(self, controller: Controller) -> Self {
         CoreBuilder { controller, ..self }
+    }
+    /// A banked store (`Controller::Barrel` only), or one whole tree per core.
+    pub fn banking(self, banking: Option<Banking>) -> Self {
+        CoreBuilder { banking, ..self }
     }
     /// QueryModules per port (`Controller::Modules` only; 1..=[`MAX_QUERIES_PER_PORT`]).
     pub fn modules_per_port(self, q: usize) -> Self {
@@ -167,6 +173,7 @@ impl CoreBuilder {
             trees: self.trees,
             traversal: self.traversal,
             controller: self.controller,
+            banking: self.banking,
         };
         cfg.queries_per_port = match self.given_queries_per_port() {
             Some(q) => q,
@@ -200,6 +207,7 @@ impl From<CoreConfig> for CoreBuilder {
             controller: cfg.controller,
             modules_per_port: None,
             slots_per_port: None,
+            banking: cfg.banking,
         }
         .queries_per_port(cfg.queries_per_port)
     }

@@ -26,6 +26,7 @@
 //! [`PortIo`](crate::hw::stream::PortIo) bundle), so the ports are wired once,
 //! whichever the controller.
 
+use crate::hw::bank_store::BankStore;
 use crate::hw::config::{Addr, CoreConfig, PORTS};
 use crate::hw::controller_port::ControllerPort;
 use crate::hw::dispatcher::Dispatcher;
@@ -45,9 +46,19 @@ pub struct PhotonSearchCore<const S: usize, const W: usize> {
     pub port_a_reading: Signal<Out, bool>,
     pub port_b_reading: Signal<Out, bool>,
     pub all_busy: Signal<Out, bool>,
-    tree: TreeModule<W>,
-    /// The TreeModule's ports A (also the load port) and B.
+    /// With banks (`CoreConfig::banking`): every port's reads this cycle (port
+    /// 2t and 2t + 1 on tree t), for the reads-per-cycle measurement.
+    pub ports_reading: Vec<Signal<Out, bool>>,
+    /// The TreeModules (the whole map, or with banks `trees` replicas of its top
+    /// levels), ports A (also the load port) and B: one controller port each.
+    trees: Vec<TreeModule<W>>,
     ports: Vec<ControllerPort<S, W>>,
+    /// The levels below the replicas (no banks: empty).
+    store: BankStore<W>,
+    banked: Constant<bool>,
+    first_banked: Constant<Addr>,
+    in_replica: Signal<Local, bool>,
+    all_idle: Signal<Local, bool>,
     dispatch: Dispatcher<QueryBeat>,
     merge: PacketMerge,
     photon_count: DFF<Addr>,
@@ -80,16 +91,28 @@ impl<const S: usize, const W: usize> PhotonSearchCore<S, W> {
             port_a_reading: Default::default(),
             port_b_reading: Default::default(),
             all_busy: Default::default(),
-            tree: TreeModule::new(cfg.address_bits, cfg.layout.word_bits()),
-            ports: (0..PORTS).map(|_| ControllerPort::new(cfg)).collect(),
-            dispatch: Dispatcher::new(PORTS),
-            merge: PacketMerge::new(PORTS),
+            ports_reading: (0..cfg.banking.map_or(0, |_| cfg.datapaths()))
+                .map(|_| Default::default())
+                .collect(),
+            trees: (0..cfg.datapaths() / PORTS)
+                .map(|_| TreeModule::new(cfg.tree_address_bits(), cfg.layout.word_bits()))
+                .collect(),
+            ports: (0..cfg.datapaths())
+                .map(|_| ControllerPort::new(cfg))
+                .collect(),
+            store: BankStore::new(cfg),
+            banked: Constant::new(cfg.banking.is_some()),
+            first_banked: Constant::new(Addr::from(1u64 << cfg.tree_address_bits())),
+            in_replica: Default::default(),
+            all_idle: Default::default(),
+            dispatch: Dispatcher::new(cfg.datapaths()),
+            merge: PacketMerge::new(cfg.datapaths()),
             photon_count: Default::default(),
             loaded: Default::default(),
             load_ready: Default::default(),
             load_fire: Default::default(),
-            stage_valid: (0..PORTS).map(|_| Default::default()).collect(),
-            stage_data: (0..PORTS).map(|_| Default::default()).collect(),
+            stage_valid: (0..cfg.datapaths()).map(|_| Default::default()).collect(),
+            stage_data: (0..cfg.datapaths()).map(|_| Default::default()).collect(),
             stages_empty: Default::default(),
             addr_mask: Constant::new(Addr::from(cfg.addr_mask())),
         }
@@ -100,8 +123,9 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, photon_count, loaded, load_ready);
-        clock!(self, clock, tree, dispatch, merge);
+        clock!(self, clock, dispatch, merge, store);
         self.merge.reset.next = self.reset.val();
+        self.store.reset.next = self.reset.val();
 
         // Queries to a port with a free QueryModule; a pending load goes first.
         self.dispatch.inbound.valid.next = self.query.valid.val();
@@ -114,7 +138,14 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
         // its valid bit waits for the dispatch, so the stage data's clock enable is
         // the stage's own flip-flop, not the dispatch decision.
         self.stages_empty.next = true;
+        self.all_idle.next = true;
         for i in 0..self.ports.len() {
+            self.all_idle.next = self.all_idle.val() && self.ports[i].io.idle.val();
+            // (Without banks nothing answers: the store's loop below is empty.)
+            self.ports[i].io.bank.ready.next = false;
+            self.ports[i].io.bank_answer.valid.next = false;
+            self.ports[i].io.bank_answer.tag.next = 0.into();
+            self.ports[i].io.bank_answer.word.next = 0.into();
             self.ports[i].clock.next = self.clock.val();
             self.ports[i].reset.next = self.reset.val();
             self.ports[i].io.photon_count.next = self.photon_count.q.val();
@@ -150,24 +181,42 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
 
         // Load: only while every QueryModule is free (no search reads port A) and no
         // query waits in a stage — decided a cycle ahead (`load_ready`).
-        self.load_ready.d.next = self.ports[0].io.idle.val()
-            && self.ports[1].io.idle.val()
+        self.load_ready.d.next = self.all_idle.val()
             && self.stages_empty.val()
             && !(self.query.valid.val() && self.dispatch.inbound.ready.val());
         self.load.ready.next = self.load_ready.q.val();
         self.load_fire.next = self.load.valid.val() && self.load.ready.val();
-        // The TreeModule: port A reads for port 0 or writes a loaded word, port B
-        // reads for port 1.
-        if self.load_fire.val() {
-            self.tree.a_address.next = self.load.address.val();
-        } else {
-            self.tree.a_address.next = self.ports[0].io.ram_address.val();
+        // Each TreeModule: port A reads for port 2t or writes a loaded word, port B
+        // reads for port 2t + 1. With banks a word below the replicated levels goes
+        // to its bank instead, the others to every replica.
+        self.in_replica.next =
+            (!self.banked.val()) || (self.load.address.val() < self.first_banked.val());
+        for t in 0..self.trees.len() {
+            self.trees[t].clock.next = self.clock.val();
+            if self.load_fire.val() {
+                self.trees[t].a_address.next = self.load.address.val();
+            } else {
+                self.trees[t].a_address.next = self.ports[2 * t].io.ram_address.val();
+            }
+            self.trees[t].a_write_enable.next = self.load_fire.val() && self.in_replica.val();
+            self.trees[t].a_write_data.next = self.load.word.val();
+            self.trees[t].b_address.next = self.ports[2 * t + 1].io.ram_address.val();
+            self.ports[2 * t].io.ram_data.next = self.trees[t].a_read_data.val();
+            self.ports[2 * t + 1].io.ram_data.next = self.trees[t].b_read_data.val();
         }
-        self.tree.a_write_enable.next = self.load_fire.val();
-        self.tree.a_write_data.next = self.load.word.val();
-        self.tree.b_address.next = self.ports[1].io.ram_address.val();
-        self.ports[0].io.ram_data.next = self.tree.a_read_data.val();
-        self.ports[1].io.ram_data.next = self.tree.b_read_data.val();
+        self.store.write_enable.next = self.load_fire.val() && !self.in_replica.val();
+        self.store.write_address.next = self.load.address.val();
+        self.store.write_word.next = self.load.word.val();
+        for i in 0..self.store.clients.len() {
+            self.store.clients[i].valid.next = self.ports[i].io.bank.valid.val();
+            self.store.clients[i].bank.next = self.ports[i].io.bank.bank.val();
+            self.store.clients[i].row.next = self.ports[i].io.bank.row.val();
+            self.store.clients[i].tag.next = self.ports[i].io.bank.tag.val();
+            self.ports[i].io.bank.ready.next = self.store.clients[i].ready.val();
+            self.ports[i].io.bank_answer.valid.next = self.store.answers[i].valid.val();
+            self.ports[i].io.bank_answer.tag.next = self.store.answers[i].tag.val();
+            self.ports[i].io.bank_answer.word.next = self.store.answers[i].word.val();
+        }
         if self.load_fire.val() {
             self.loaded.d.next = self.load.last.val();
             if self.load.last.val() {
@@ -179,8 +228,20 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
             self.loaded.d.next = false;
             self.load_ready.d.next = false;
         }
-        self.port_a_reading.next = self.ports[0].io.reading.val();
-        self.port_b_reading.next = self.ports[1].io.reading.val();
-        self.all_busy.next = self.ports[0].io.all_busy.val() && self.ports[1].io.all_busy.val();
+        self.port_a_reading.next = false;
+        self.port_b_reading.next = false;
+        self.all_busy.next = true;
+        for t in 0..self.trees.len() {
+            self.port_a_reading.next =
+                self.port_a_reading.val() || self.ports[2 * t].io.reading.val();
+            self.port_b_reading.next =
+                self.port_b_reading.val() || self.ports[2 * t + 1].io.reading.val();
+            self.all_busy.next = self.all_busy.val()
+                && self.ports[2 * t].io.all_busy.val()
+                && self.ports[2 * t + 1].io.all_busy.val();
+        }
+        for i in 0..self.ports_reading.len() {
+            self.ports_reading[i].next = self.ports[i].io.reading.val();
+        }
     }
 }

@@ -126,6 +126,11 @@ impl<const S: usize, const W: usize> Logic for SearchPort<S, W> {
         self.search.reset.next = self.reset.val();
         self.search.photon_count.next = self.io.photon_count.val();
         self.search.word.next = self.io.ram_data.val();
+        // (A QueryModule expects its word the next cycle: no banks.)
+        self.io.bank.valid.next = false;
+        self.io.bank.bank.next = 0.into();
+        self.io.bank.row.next = 0.into();
+        self.io.bank.tag.next = 0.into();
 
         // Collect the modules' status bits.
         self.requests.next = 0.into();

@@ -9,6 +9,7 @@
 //! `bundle$member` (e.g. `query$valid`) and a struct is one packed vector whose
 //! fields are slices, first field in the low bits.
 
+use crate::hw::bank_crossbar::{BankAnswerIn, BankRequester};
 use crate::hw::config::{Addr, Coord, Count, Dist, ModuleIndex, QueryId, ReadCount, Word};
 use rust_hdl::prelude::*;
 
@@ -94,6 +95,10 @@ pub struct PortIo<const W: usize> {
     pub reading: Signal<Out, bool>,
     pub all_busy: Signal<Out, bool>,
     pub idle: Signal<Out, bool>,
+    /// With a banked store (`CoreConfig::banking`, barrel controller only): the
+    /// reads below the replicated levels, to the banks, and their words.
+    pub bank: BankRequester,
+    pub bank_answer: BankAnswerIn,
 }
 
 /// A photon read and its context, from a QueryModule through the port arbiter to

@@ -30,7 +30,7 @@ pub fn export_verilog(cfg: &CoreConfig) -> Result<Exported, HwError> {
 }
 
 fn export<const S: usize, const W: usize>(cfg: &CoreConfig) -> Result<Exported, HwError> {
-    if cfg.trees == 1 {
+    if !cfg.is_array() {
         export_block(PhotonSearchCore::<S, W>::new(cfg))
     } else {
         export_block(PhotonSearchArray::<S, W>::new(cfg))

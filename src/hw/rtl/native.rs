@@ -183,7 +183,7 @@ impl Observer for VcdObserver {
 /// The native core (T = 1) or array (T > 1) for `cfg` as a boxed [`Dut`], with the
 /// slot-mask and word widths `S`, `W` that `cfg` needs.
 fn native_dut<const S: usize, const W: usize>(cfg: &CoreConfig) -> Result<Box<dyn Dut>, HwError> {
-    Ok(if cfg.trees == 1 {
+    Ok(if !cfg.is_array() {
         Box::new(NativeDut::<W, PhotonSearchCore<S, W>>::new(cfg)?)
     } else {
         Box::new(NativeDut::<W, PhotonSearchArray<S, W>>::new(cfg)?)

@@ -56,8 +56,12 @@ impl<const S: usize, const W: usize> SearchTop<W> for PhotonSearchCore<S, W> {
     fn io(&mut self) -> TopIo<'_, W> {
         top_io!(self)
     }
-    fn tree_status(&self, _t: usize) -> [bool; 3] {
-        status(self)
+    fn tree_status(&self, t: usize) -> [bool; 3] {
+        // Banks: tree t's two datapaths (ports 2t and 2t + 1).
+        match self.ports_reading.get(2 * t..2 * t + 2) {
+            Some([a, b]) => [a.val(), b.val(), self.all_busy.val()],
+            _ => status(self),
+        }
     }
 }
 

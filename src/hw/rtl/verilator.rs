@@ -477,9 +477,20 @@ impl Dut for VerilatorDut {
                 }
                 // T = 1: the core's own status; T > 1: per tree from the vectors
                 // (the array's any/every outputs are implied by them).
+                // A banked core: each port's reads from `ports_reading`.
                 "port_a_reading" if self.cfg.trees == 1 => self.status[0][0] = bit(0),
                 "port_b_reading" if self.cfg.trees == 1 => self.status[0][1] = bit(0),
-                "all_busy" if self.cfg.trees == 1 => self.status[0][2] = bit(0),
+                "all_busy" if !self.cfg.is_array() => {
+                    for s in self.status.iter_mut() {
+                        s[2] = bit(0);
+                    }
+                }
+                name if name.starts_with("ports_reading$") => {
+                    let i: usize = name["ports_reading$".len()..]
+                        .parse()
+                        .map_err(|_| verr(format!("output port `{name}`: no port index")))?;
+                    self.status[i / 2][i % 2] = bit(0);
+                }
                 "port_a_reading" | "port_b_reading" | "all_busy" => {}
                 "trees_reading_a" | "trees_reading_b" | "trees_busy" => {
                     let j = match p.name.as_str() {

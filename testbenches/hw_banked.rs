@@ -1,0 +1,148 @@
+//! The banked core (`CoreConfig::banking`: T replicas of the top L levels, two
+//! barrel datapaths each, the levels below over B banks behind the BankCrossbar):
+//! every result equals the software search read for read and brute force, under
+//! random stalls on every stream, across a second map and a reset mid-search;
+//! every photon read is counted once (no read lost or repeated by the
+//! interconnect); configurations it cannot build are refused by name.
+
+use crate::common::*;
+use crate::hw_core::hard_queries;
+use rand_pcg::Pcg64;
+use photon_fpga::hw::config::{Banking, CoreConfig};
+use photon_fpga::hw::controller::Controller;
+use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::photon_word::PhotonLayout;
+use photon_fpga::hw::rtl::driver::{HwQuery, HwResult, SimStats};
+use photon_fpga::hw::rtl::native::{run_gather, CoreSim, SimOptions};
+use photon_fpga::hw::traversal::Traversal;
+
+/// A banked barrel core for `tree`: `trees` replicas of `levels` levels, 2^`bank_bits` banks.
+fn banked(
+    tree: &photon_fpga::host::map::kdtree::PackedTree,
+    k: usize,
+    metric: Metric,
+    traversal: Traversal,
+    (trees, bank_bits, levels): (usize, u32, u32),
+) -> CoreConfig {
+    CoreConfig::builder()
+        .k(k)
+        .metric(metric)
+        .controller(Controller::Barrel)
+        .traversal(traversal)
+        .trees(trees)
+        .banking(Some(Banking {
+            bank_bits,
+            replicated_levels: levels,
+        }))
+        .build_for(tree.image())
+        .expect("a banked configuration within the limits")
+}
+
+/// The interconnect neither loses nor repeats a read: the reads the ports
+/// counted are the reads the results report.
+fn check_reads_counted(stats: &SimStats, results: &[HwResult]) {
+    let counted: u64 = stats.reads_per_port.iter().sum();
+    let reported: u64 = results.iter().map(|r| r.visited as u64).sum();
+    assert_eq!(
+        counted, reported,
+        "reads counted by the ports vs the results"
+    );
+}
+
+fn queries_for(
+    r: &mut Pcg64,
+    points: &[[u32; 3]],
+    layout: PhotonLayout,
+    metric: Metric,
+    k: usize,
+) -> Vec<HwQuery> {
+    let mut queries = random_queries(r, 50, layout, k, metric);
+    queries.extend(hard_queries(points, layout, metric, k, 7));
+    for (i, q) in queries.iter_mut().enumerate() {
+        q.id = i as u32;
+    }
+    queries
+}
+
+#[test]
+fn banked_core_matches_software_search() {
+    let layout = PhotonLayout::new([7, 7, 6]);
+    let cases = [
+        // (metric, traversal, k, (trees, bank bits, replicated levels), seed)
+        (Metric::L2, Traversal::Cell, 6, (1usize, 2u32, 3u32), 91u64),
+        (Metric::L1, Traversal::Remember, 5, (2, 3, 4), 92),
+        (Metric::L2, Traversal::Cell, 8, (3, 4, 4), 93),
+        // Found lists as heaps (K > 64) behind the banks.
+        (Metric::L2, Traversal::Cell, 70, (2, 3, 5), 94),
+    ];
+    for (metric, traversal, k, shape, seed) in cases {
+        let mut r = rng(seed);
+        let mut points = random_points(&mut r, 400, layout);
+        points.extend(vec![[5, 6, 7]; 20]);
+        let tree = pack(&points, layout);
+        let cfg = banked(&tree, k, metric, traversal, shape);
+        let queries = queries_for(&mut r, &points, layout, metric, k);
+        for opts in [SimOptions::default(), stalls(seed)] {
+            let (results, stats) = run_gather(&cfg, tree.image(), &queries, &opts).expect("sim");
+            check_results(&cfg, &tree, &points, &queries, &results);
+            check_reads_counted(&stats, &results);
+            assert_eq!(stats.reads_per_port.len(), 2 * shape.0);
+            for (p, &reads) in stats.reads_per_port.iter().enumerate() {
+                assert!(reads > 0, "datapath {p} never read: {stats:?}");
+            }
+        }
+    }
+}
+
+/// A second, smaller map over the first without reset (every replica and bank
+/// rewritten), then a reset in the middle of a search.
+#[test]
+fn banked_reload_and_reset() {
+    let layout = PhotonLayout::new([6, 6, 6]);
+    let metric = Metric::L2;
+    let mut r = rng(95);
+    let first = random_points(&mut r, 500, layout);
+    let second = random_points(&mut r, 90, layout);
+    let (t1, t2) = (pack(&first, layout), pack(&second, layout));
+    let cfg = banked(&t1, 5, metric, Traversal::Cell, (2, 3, 4));
+    let q1 = queries_for(&mut r, &first, layout, metric, 5);
+    let q2 = queries_for(&mut r, &second, layout, metric, 5);
+    let mut sim = CoreSim::new(&cfg, &stalls(96)).unwrap();
+    sim.load_map(t1.image()).unwrap();
+    check_results(&cfg, &t1, &first, &q1, &sim.run_queries(&q1).unwrap());
+    sim.load_map(t2.image()).unwrap();
+    check_results(&cfg, &t2, &second, &q2, &sim.run_queries(&q2).unwrap());
+    let partial = sim.run_queries_for(&q1, 80).unwrap();
+    assert!(partial.iter().any(Option::is_none), "the run was cut short");
+    sim.reset().unwrap();
+    sim.load_map(t1.image()).unwrap();
+    check_results(&cfg, &t1, &first, &q1, &sim.run_queries(&q1).unwrap());
+}
+
+#[test]
+fn banked_configurations_it_cannot_build_are_refused() {
+    let base = CoreConfig::builder()
+        .address_bits(12)
+        .controller(Controller::Barrel)
+        .traversal(Traversal::Cell);
+    let bank = |bank_bits, replicated_levels| {
+        Some(Banking {
+            bank_bits,
+            replicated_levels,
+        })
+    };
+    for (builder, needle) in [
+        (
+            CoreConfig::builder().address_bits(12).banking(bank(2, 4)),
+            "controller modules",
+        ),
+        (base.banking(bank(0, 4)), "banks = 1"),
+        (base.banking(bank(11, 11)), "banks = 2048"),
+        (base.banking(bank(4, 3)), "replicated levels = 3"),
+        (base.banking(bank(4, 12)), "replicated levels = 12"),
+        (base.address_bits(20).banking(bank(3, 6)), "2^17 rows"),
+    ] {
+        let e = builder.build().expect_err(needle).to_string();
+        assert!(e.contains(needle), "{e:?} should name {needle:?}");
+    }
+}
