@@ -7,7 +7,6 @@
 
 use crate::common::*;
 use crate::hw_core::hard_queries;
-use rand_pcg::Pcg64;
 use photon_fpga::hw::config::{Banking, CoreConfig};
 use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
@@ -15,6 +14,7 @@ use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::rtl::driver::{HwQuery, HwResult, SimStats};
 use photon_fpga::hw::rtl::native::{run_gather, CoreSim, SimOptions};
 use photon_fpga::hw::traversal::Traversal;
+use rand_pcg::Pcg64;
 
 /// A banked barrel core for `tree`: `trees` replicas of `levels` levels, 2^`bank_bits` banks.
 fn banked(

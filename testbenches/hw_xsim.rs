@@ -24,7 +24,7 @@ use photon_fpga::host::map::kdtree::PackedTree;
 use photon_fpga::host::render::photons::trace_photons;
 use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::render::{self, eye_queries, RenderSettings};
-use photon_fpga::hw::config::CoreConfig;
+use photon_fpga::hw::config::{Banking, CoreConfig};
 use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
@@ -317,6 +317,61 @@ fn icarus_deep_found_lists() {
 #[cfg_attr(not(has_verilator), ignore = "needs verilator")]
 fn verilator_deep_found_lists() {
     deep_found_lists(Simulator::Verilator);
+}
+
+/// The banked core: two replicas of the top 4 levels, four datapaths, 8 banks
+/// behind the crossbar; a second map over the first.
+fn banked_cases() -> (CoreConfig, Vec<Case>) {
+    let layout = PhotonLayout::new([7, 7, 6]);
+    let mut r = rng(76);
+    let a = random_points(&mut r, 300, layout);
+    let b = random_points(&mut r, 120, layout);
+    let tree = pack(&a, layout);
+    let cfg = CoreConfig::builder()
+        .k(6)
+        .metric(Metric::L2)
+        .controller(Controller::Barrel)
+        .traversal(Traversal::Cell)
+        .slots_per_port(6)
+        .trees(2)
+        .banking(Some(Banking {
+            bank_bits: 3,
+            replicated_levels: 4,
+        }))
+        .build_for(tree.image())
+        .unwrap();
+    let mut qa = random_queries(&mut r, 24, layout, cfg.k, cfg.metric);
+    qa.extend(hard_queries(&a, &cfg, 4));
+    let mut qb = random_queries(&mut r, 12, layout, cfg.k, cfg.metric);
+    for (i, q) in qa.iter_mut().chain(qb.iter_mut()).enumerate() {
+        q.id = i as u32;
+    }
+    let cases = vec![Case {
+        name: "banked",
+        maps: vec![map(a, layout, qa), map(b, layout, qb)],
+        stall_seed: 6,
+    }];
+    (cfg, cases)
+}
+
+fn banked_core(sim: Simulator) {
+    require(sim);
+    let (cfg, cases) = banked_cases();
+    let runs = record(&cfg, &cases);
+    let verilog = export_verilog(&cfg).unwrap().verilog;
+    cross_simulate(sim, "banked", &verilog, &cases, &runs).unwrap();
+}
+
+#[test]
+#[cfg_attr(not(has_iverilog), ignore = "needs iverilog")]
+fn icarus_banked_core() {
+    banked_core(Simulator::Icarus);
+}
+
+#[test]
+#[cfg_attr(not(has_verilator), ignore = "needs verilator")]
+fn verilator_banked_core() {
+    banked_core(Simulator::Verilator);
 }
 
 /// Record every case in rust-hdl and check its results against the software search.
