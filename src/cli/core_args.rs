@@ -10,7 +10,7 @@ use super::values::{ControllerArg, MetricArg, TraversalArg};
 use clap::Args;
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::gather::FixedCore;
-use photon_fpga::hw::config::{CoreConfig, MAX_HW_COORD_BITS, PORTS};
+use photon_fpga::hw::config::{Banking, CoreConfig, MAX_HW_COORD_BITS};
 use photon_fpga::hw::config_builder::CoreBuilder;
 use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::photon_word::PhotonLayout;
@@ -39,6 +39,8 @@ pub struct CoreFileArg {
             "queries_per_port",
             "trees",
             "unpipelined",
+            "banks",
+            "replicated_levels",
         ]
     )]
     pub file: Option<PathBuf>,
@@ -83,6 +85,16 @@ pub struct CoreOpts {
     /// cycles less latency, longer critical paths. For before/after timing.
     #[arg(long)]
     pub unpipelined: bool,
+    /// One map banked over B BlockRAM banks (a power of two; --controller barrel)
+    /// that every datapath reads through a crossbar: --trees replicas of the top
+    /// levels, two datapaths each (docs/BANKING.md) [default: no banks, each tree
+    /// holds the whole map].
+    #[arg(long, value_name = "B")]
+    pub banks: Option<u64>,
+    /// Levels of the tree replicated beside each pair of datapaths, with --banks
+    /// [default: 10, at least log2 B, below H].
+    #[arg(long, value_name = "L", requires = "banks")]
+    pub replicated_levels: Option<u32>,
 }
 
 impl CoreOpts {
@@ -113,6 +125,8 @@ impl CoreOpts {
             (self.queries_per_port.is_some(), "--queries-per-port"),
             (self.trees.is_some(), "--trees"),
             (self.unpipelined, "--unpipelined"),
+            (self.banks.is_some(), "--banks"),
+            (self.replicated_levels.is_some(), "--replicated-levels"),
         ]
         .into_iter()
         .find_map(|(given, name)| given.then_some(name))
@@ -137,6 +151,11 @@ impl CoreOpts {
             ("--slots-per-port", self.slots_per_port),
             ("--queries-per-port", self.queries_per_port),
             ("--trees", self.trees),
+            ("--banks", self.banks.map(|b| b as usize)),
+            (
+                "--replicated-levels",
+                self.replicated_levels.map(|l| l as usize),
+            ),
         ] {
             if let Some(v) = v {
                 out += &format!(" {flag} {v}");
@@ -183,6 +202,12 @@ impl CoreOpts {
             .or(self.queries_per_port)
         {
             b = b.queries_per_port(q);
+        }
+        if let Some(banks) = self.banks {
+            let bits = Banking::bank_bits_for(banks).map_err(|_| {
+                Error::new(format!("--banks {banks}: a power of two from 2 to 1024"))
+            })?;
+            b = b.banks(bits, self.replicated_levels);
         }
         Ok(b)
     }
@@ -246,11 +271,23 @@ impl CoreArgs {
     }
 }
 
-/// "2 x 21 QueryModules" or "2 x 16 query slots": a port's Q under its name.
+/// "2 x 21 QueryModules" or "2 x 16 query slots": a port's Q under its name
+/// (and the banks, with a banked store).
 pub fn describe_q(cfg: &CoreConfig) -> String {
     let what = match cfg.controller {
         Controller::Modules => "QueryModules",
         Controller::Barrel => "query slots",
     };
-    format!("{PORTS} x {} {what}", cfg.queries_per_port)
+    let banks = cfg.banking.map_or(String::new(), |b| {
+        format!(
+            ", {} banks below {} replicated levels",
+            1u64 << b.bank_bits,
+            b.replicated_levels
+        )
+    });
+    format!(
+        "{} x {} {what}{banks}",
+        cfg.datapaths(),
+        cfg.queries_per_port
+    )
 }

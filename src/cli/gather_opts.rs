@@ -197,9 +197,11 @@ impl GatherOpts {
             (None, false) => MEMORY_CAPACITY,
         };
         if hw && k >= 1 {
-            // The map sets the grid; any grid the quantizer can make is tried later.
+            // The map sets the grid and H; any grid the quantizer can make is tried
+            // later, and the banks (which depend on H) with it.
             core.layout(PhotonLayout::new([bits.clamp(1, MAX_HW_COORD_BITS); 3]))
                 .address_bits(1)
+                .banking(None)
                 .build()?;
         }
         Ok(GatherParams {

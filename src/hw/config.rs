@@ -181,6 +181,27 @@ pub struct Banking {
     pub replicated_levels: u32,
 }
 
+impl Banking {
+    /// The bank bits of `banks` banks: a power of two from 2 to 2^[`MAX_BANK_BITS`].
+    pub fn bank_bits_for(banks: u64) -> Result<u32, HwError> {
+        if banks < 2 || !banks.is_power_of_two() || banks > 1 << MAX_BANK_BITS {
+            return Err(HwError::Config(format!(
+                "banks = {banks}: unsupported (a power of two, 2..={})",
+                1u32 << MAX_BANK_BITS
+            )));
+        }
+        Ok(banks.trailing_zeros())
+    }
+
+    /// The replicated levels when none are given: 10 (1,023 nodes, one RAMB36
+    /// or two DP16KD of 32-bit words per replica: every query reads them, and
+    /// they take the banks' busiest addresses off the crossbar), at least as
+    /// many as the bank bits (`BankMap`) and below H.
+    pub fn default_levels(bank_bits: u32, address_bits: u32) -> u32 {
+        10.min(address_bits.saturating_sub(1)).max(bank_bits)
+    }
+}
+
 /// Banks limit (the crossbar's 10-bit bank index).
 pub const MAX_BANK_BITS: u32 = 10;
 

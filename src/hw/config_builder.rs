@@ -27,7 +27,8 @@ pub struct CoreBuilder {
     controller: Controller,
     modules_per_port: Option<usize>,
     slots_per_port: Option<usize>,
-    banking: Option<Banking>,
+    /// Bank bits and the replicated levels (None: derived when built).
+    banking: Option<(u32, Option<u32>)>,
 }
 
 impl Default for CoreBuilder {
@@ -84,7 +85,18 @@ impl CoreBuilder {
     }
     /// A banked store (`Controller::Barrel` only), or one whole tree per core.
     pub fn banking(self, banking: Option<Banking>) -> Self {
-        CoreBuilder { banking, ..self }
+        CoreBuilder {
+            banking: banking.map(|b| (b.bank_bits, Some(b.replicated_levels))),
+            ..self
+        }
+    }
+    /// 2^`bank_bits` banks with `replicated_levels` levels replicated, or
+    /// [`Banking::default_levels`] for the H the core is built with.
+    pub fn banks(self, bank_bits: u32, replicated_levels: Option<u32>) -> Self {
+        CoreBuilder {
+            banking: Some((bank_bits, replicated_levels)),
+            ..self
+        }
     }
     /// QueryModules per port (`Controller::Modules` only; 1..=[`MAX_QUERIES_PER_PORT`]).
     pub fn modules_per_port(self, q: usize) -> Self {
@@ -173,7 +185,11 @@ impl CoreBuilder {
             trees: self.trees,
             traversal: self.traversal,
             controller: self.controller,
-            banking: self.banking,
+            banking: self.banking.map(|(bank_bits, levels)| Banking {
+                bank_bits,
+                replicated_levels: levels
+                    .unwrap_or_else(|| Banking::default_levels(bank_bits, self.address_bits)),
+            }),
         };
         cfg.queries_per_port = match self.given_queries_per_port() {
             Some(q) => q,
@@ -207,9 +223,10 @@ impl From<CoreConfig> for CoreBuilder {
             controller: cfg.controller,
             modules_per_port: None,
             slots_per_port: None,
-            banking: cfg.banking,
+            banking: None,
         }
         .queries_per_port(cfg.queries_per_port)
+        .banking(cfg.banking)
     }
 }
 

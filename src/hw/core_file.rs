@@ -11,7 +11,7 @@
 //! file means one core and nothing is filled in silently. The values are checked by
 //! the one validated constructor, [`CoreBuilder::build`].
 
-use crate::hw::config::CoreConfig;
+use crate::hw::config::{Banking, CoreConfig};
 use crate::hw::config_builder::CoreBuilder;
 use crate::hw::controller::Controller;
 use crate::hw::error::HwError;
@@ -66,10 +66,16 @@ pub struct CoreFile {
     /// Q with the barrel controller: query slots per TreeModule port.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub slots_per_port: Option<usize>,
-    /// Replicated trees T.
+    /// Replicated trees T (with banks: replicas of the top levels, two datapaths each).
     pub trees: usize,
     /// The pipeline registers (BlockRAM read data, result streams).
     pub pipelined: bool,
+    /// A banked store: the banks (a power of two) and the levels replicated beside
+    /// the datapaths. Absent: each tree holds the whole map.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub banks: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub replicated_levels: Option<u32>,
 }
 
 impl From<&CoreConfig> for CoreFile {
@@ -90,6 +96,8 @@ impl From<&CoreConfig> for CoreFile {
             slots_per_port,
             trees: c.trees,
             pipelined: c.pipelined,
+            banks: c.banking.map(|b| 1u64 << b.bank_bits),
+            replicated_levels: c.banking.map(|b| b.replicated_levels),
         }
     }
 }
@@ -124,6 +132,15 @@ impl CoreFile {
         }
         if let Some(q) = self.slots_per_port {
             b = b.slots_per_port(q);
+        }
+        match (self.banks, self.replicated_levels) {
+            (Some(banks), levels) => b = b.banks(Banking::bank_bits_for(banks)?, levels),
+            (None, Some(l)) => {
+                return Err(HwError::Config(format!(
+                    "replicated_levels = {l} without banks: only a banked store replicates levels"
+                )))
+            }
+            (None, None) => {}
         }
         b.build()
     }
