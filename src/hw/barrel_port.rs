@@ -1,11 +1,10 @@
 //! BarrelPort: one TreeModule port whose Q queries share one traversal datapath
 //! (`Controller::Barrel`). The interface is the [`SearchPort`]'s.
 //!
-//! Why: a port reads at most one photon per cycle and its SearchModule answers at
-//! most one read per cycle, so at most one query per cycle has anything to decide.
-//! The paper's port (§4.5) gives each of its Q queries a whole QueryModule — a
-//! MaxFinder, comparators and a state machine — of which all but one wait in any
-//! cycle, and the QueryModules are most of the core's logic.
+//! Why: a port reads at most one photon per cycle, so at most one query per cycle
+//! has anything to decide. The paper's port (§4.5) gives each of its Q queries a
+//! whole QueryModule (MaxFinder, comparators, state machine), all but one waiting
+//! in any cycle, and the QueryModules are most of the core's logic.
 //! Here a query is a slot: its state lives in LUT-RAM and BlockRAM entries, and a
 //! result is processed by a pipeline that reads the slot's state, updates it and
 //! issues the slot's next read, one event per cycle, like a barrel processor.
@@ -46,12 +45,8 @@
 //! ([`BARREL_SLOTS`](crate::hw::config::BARREL_SLOTS)); from a banked store later,
 //! when its bank is free ([`ReadIssue`]).
 //!
-//! Result read-out is the SearchPort's packet format ([`SlotReadout`]), two photons a
-//! beat: a header beat, then the found photons in list-slot order, from two
-//! BlockRAMs (even and odd entries) written as photons enter the list. Two a beat
-//! because the port answers a query about every eleven cycles per slot, so an
-//! array of barrel cores answers more queries per cycle than one photon a beat on
-//! its one result stream carries.
+//! Result read-out is the SearchPort's packet format, two photons a beat from two
+//! BlockRAMs written as photons enter the list ([`SlotReadout`]; [`ResultBeat`](crate::hw::stream::ResultBeat) says why two).
 
 use crate::hw::bank_crossbar::{BankAnswerIn, BankRequester};
 use crate::hw::block_ram::{BlockRam, BramIndex, BramWord};
@@ -102,13 +97,11 @@ pub struct BarrelPort<const W: usize> {
     dist_shift: Constant<Bits<8>>,
     dist_mask_wide: Constant<BramWord>,
     level_index: Vec<Constant<RamIndex>>,
-    /// The slot state, one LUT-RAM entry per slot and field: read in A, written
-    /// back in F.
+    /// The slot state, one LUT-RAM entry per slot and field: read in A, written in F.
     store: SlotStore,
-    /// The found distances and the comparator tree (stages B, C, M) for K up to
-    /// 64 (above: a stub that nothing reads); above, the lists as heaps (entered in
-    /// A, the new root out in C, registered into M), keyed by the distance over the
-    /// inverted entry index ([`CoreConfig::heap_key_bits`]): the root is the
+    /// The found distances and the comparator tree (stages B, C, M) for K <= 64
+    /// (above: a stub); above, heaps (in at A, root out at C, registered into M)
+    /// keyed by the distance over the inverted entry index: the root is the
     /// farthest photon in the lowest entry among ties, as in FoundMax.
     found_max: FoundMax,
     heap: Vec<FoundHeap>,
@@ -563,15 +556,10 @@ impl<const W: usize> Logic for BarrelPort<W> {
         }
         self.f_issue.next = self.f_ev.q.val().valid && (!self.f_done.val());
         self.issue.push.next = self.f_issue.val();
-        self.issue.push_request.next.query_module = self.f_ev.q.val().slot;
-        self.issue.push_request.next.address = self.f_state.val().next_address;
-        self.issue.push_request.next.up = false;
-        self.issue.push_request.next.came_from_right = false;
-        self.issue.push_request.next.x = 0.into();
-        self.issue.push_request.next.y = 0.into();
-        self.issue.push_request.next.z = 0.into();
-        self.issue.push_request.next.radius = self.f_state.val().radius;
-        self.issue.push_request.next.full = self.f_state.val().full;
+        self.issue.push_slot.next = self.f_ev.q.val().slot;
+        self.issue.push_address.next = self.f_state.val().next_address;
+        self.issue.push_radius.next = self.f_state.val().radius;
+        self.issue.push_full.next = self.f_state.val().full;
         // The read reaches the SearchModule now (one tree) or once memory takes it.
         self.search.request_valid.next = self.issue.request_valid.val();
         self.search.request.next = self.issue.request.val();
@@ -593,9 +581,8 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.io.result.data.next = self.readout.result.data.val();
         self.readout.result.ready.next = self.io.result.ready.val();
 
-        // Slots: taken by a load, freed by their last beat.
-        // (Masked to the Q slots: the bits above are constant, and synthesis should
-        // see it without a SAT solver.)
+        // Slots: taken by a load, freed by their last beat (masked to the Q slots, so
+        // synthesis sees the bits above are constant without a SAT solver).
         self.free.d.next =
             (self.free_pick.still_free.val() | self.readout.freed.val()) & self.all_slots.val();
         if self.reset.val() {

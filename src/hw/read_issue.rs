@@ -32,7 +32,7 @@
 
 use crate::hw::bank_crossbar::{BankAnswerIn, BankIndex, BankRequester, BankRow};
 use crate::hw::bank_map::BankMap;
-use crate::hw::config::{bits_for, Addr, CoreConfig, ModuleIndex, ModuleMask, Word};
+use crate::hw::config::{bits_for, Addr, CoreConfig, Dist, ModuleIndex, ModuleMask, Word};
 use crate::hw::free_pick::FreePick;
 use crate::hw::lut_ram::LutRam;
 use crate::hw::stream::ReadRequest;
@@ -43,9 +43,12 @@ pub struct ReadIssue<const W: usize> {
     pub clock: Signal<In, Clock>,
     /// Drops every waiting read and the reads in flight.
     pub reset: Signal<In, bool>,
-    /// Stage F's read (its slot in `query_module`).
+    /// Stage F's read: slot, address, the query's radius and full flag.
     pub push: Signal<In, bool>,
-    pub push_request: Signal<In, ReadRequest>,
+    pub push_slot: Signal<In, ModuleIndex>,
+    pub push_address: Signal<In, Addr>,
+    pub push_radius: Signal<In, Dist>,
+    pub push_full: Signal<In, bool>,
     /// To the SearchModule: a read, and its word in the next cycle.
     pub request_valid: Signal<Out, bool>,
     pub request: Signal<Out, ReadRequest>,
@@ -99,7 +102,10 @@ impl<const W: usize> ReadIssue<W> {
             clock: Default::default(),
             reset: Default::default(),
             push: Default::default(),
-            push_request: Default::default(),
+            push_slot: Default::default(),
+            push_address: Default::default(),
+            push_radius: Default::default(),
+            push_full: Default::default(),
             request_valid: Default::default(),
             request: Default::default(),
             word: Default::default(),
@@ -166,15 +172,15 @@ impl<const W: usize> Logic for ReadIssue<W> {
         self.pick.reset.next = self.reset.val();
         // Every read's context, by slot.
         self.ctx_address.write_enable.next = self.push.val();
-        self.ctx_address.write_index.next = self.push_request.val().query_module;
-        self.ctx_address.write_data.next = bit_cast::<32, 24>(self.push_request.val().address);
+        self.ctx_address.write_index.next = self.push_slot.val();
+        self.ctx_address.write_data.next = bit_cast::<32, 24>(self.push_address.val());
         self.ctx_radius.write_enable.next = self.push.val();
-        self.ctx_radius.write_index.next = self.push_request.val().query_module;
-        self.ctx_radius.write_data.next = self.push_request.val().radius;
+        self.ctx_radius.write_index.next = self.push_slot.val();
+        self.ctx_radius.write_data.next = self.push_radius.val();
         self.ctx_full.write_enable.next = self.push.val();
-        self.ctx_full.write_index.next = self.push_request.val().query_module;
+        self.ctx_full.write_index.next = self.push_slot.val();
         self.ctx_full.write_data.next = 0.into();
-        if self.push_request.val().full {
+        if self.push_full.val() {
             self.ctx_full.write_data.next = 1.into();
         }
         self.ctx_address.read_index.next = self.pick.pick_index.val();
@@ -205,8 +211,8 @@ impl<const W: usize> Logic for ReadIssue<W> {
             } else if self.push.val() {
                 self.bypass.next = true;
                 self.offer_valid.d.next = true;
-                self.offer_slot.d.next = self.push_request.val().query_module;
-                self.next_address.next = self.push_request.val().address;
+                self.offer_slot.d.next = self.push_slot.val();
+                self.next_address.next = self.push_address.val();
             }
         }
         self.map.address.next = self.next_address.val();
@@ -216,8 +222,8 @@ impl<const W: usize> Logic for ReadIssue<W> {
         self.offer_row.d.next = self.map.row.val();
         self.pending.d.next = self.pick.still_free.val();
         if self.push.val() && !self.bypass.val() {
-            self.pending.d.next = self.pick.still_free.val()
-                | (self.one_slot.val() << self.push_request.val().query_module);
+            self.pending.d.next =
+                self.pick.still_free.val() | (self.one_slot.val() << self.push_slot.val());
         }
 
         // The taken read, then its word.
@@ -233,16 +239,16 @@ impl<const W: usize> Logic for ReadIssue<W> {
             self.grant_valid.d.next = false;
         }
 
+        // The request as the SearchModule takes it (it looks up the coordinates).
+        self.request.next.up = false;
+        self.request.next.came_from_right = false;
+        self.request.next.x = 0.into();
+        self.request.next.y = 0.into();
+        self.request.next.z = 0.into();
         if self.banked.val() {
             self.reading.next = self.taken.val();
             self.ram_address.next = self.offer_address.q.val();
             self.request_valid.next = self.grant_valid.q.val();
-            self.request.next = self.push_request.val();
-            self.request.next.up = false;
-            self.request.next.came_from_right = false;
-            self.request.next.x = 0.into();
-            self.request.next.y = 0.into();
-            self.request.next.z = 0.into();
             self.request.next.query_module = self.grant_slot.q.val();
             self.request.next.address = self.grant_address.q.val();
             self.request.next.radius = bit_cast::<32, 32>(self.ctx_radius.read_data.val());
@@ -254,9 +260,12 @@ impl<const W: usize> Logic for ReadIssue<W> {
             }
         } else {
             self.reading.next = self.push.val();
-            self.ram_address.next = self.push_request.val().address;
+            self.ram_address.next = self.push_address.val();
             self.request_valid.next = self.push.val();
-            self.request.next = self.push_request.val();
+            self.request.next.query_module = self.push_slot.val();
+            self.request.next.address = self.push_address.val();
+            self.request.next.radius = self.push_radius.val();
+            self.request.next.full = self.push_full.val();
             self.word.next = self.ram_data.val();
         }
     }
