@@ -71,6 +71,7 @@
 
 pub mod array;
 pub mod axis_dist;
+pub mod bank_config;
 pub mod bank_crossbar;
 pub mod bank_map;
 pub mod bank_store;
