@@ -214,6 +214,8 @@ class Sim:
     reads_per_query: float
     tests_per_query: float
     provenance: str = SIMULATED
+    # Result-stream beats per query (header and found photons), where recorded.
+    result_beats_per_query: Optional[float] = None
 
 
 @dataclass
@@ -517,6 +519,7 @@ def sim(d, opts, files, cache_only):
     cpu = re.search(r"kiddo (\d+), software search (\d+)", out)
     par = re.search(r"all (\d+) threads, same queries: kiddo (\d+)", out)
     cycles = re.search(r"(\d+) cycles after the load", out)
+    beats = re.search(r"result stream: ([\d.]+) beats per query", out)
     busy_cycles = int(busy.group(1))
     # A barrel port's slots are rarely all occupied at once (a query enters in a
     # cycle without a result, and a busy port has a result in nearly every cycle):
@@ -527,7 +530,8 @@ def sim(d, opts, files, cache_only):
         per_port = None
     s = Sim(engine="verilator", queries=SIM_QUERIES, cycles=int(cycles.group(1)) if cycles else None,
             reads_per_cycle=rpc, busy_reads_per_port=per_port, busy_cycles=busy_cycles,
-            reads_per_query=rpq, tests_per_query=tests)
+            reads_per_query=rpq, tests_per_query=tests,
+            result_beats_per_query=float(beats.group(1)) if beats else None)
     k = Kiddo(queries_per_s=float(cpu.group(1)), software_queries_per_s=float(cpu.group(2)),
               all_threads_queries_per_s=float(par.group(2)) if par else None,
               threads=int(par.group(1)) if par else None)
@@ -813,9 +817,62 @@ def render_report(res):
             tried += [f"- {r.name}, {t}" for t in e.failed]
         if tried:
             L.append("\n" + "\n".join(tried))
+    L += host_link_section(res)
     L.append("\n## Critical paths (best seed)\n")
     L.extend(crit)
     return "\n".join(L) + "\n"
+
+
+# PCIe payload bandwidth per direction (GB/s): 5 GT/s x 8 lanes, 8b/10b (the paper's
+# era); 8 GT/s x 16 lanes, 128b/130b. Assumed: no protocol overhead counted.
+LINKS = [("PCIe Gen2 x8", 4.0), ("PCIe Gen3 x16", 15.75)]
+AXIS_DOC = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs", "AXIS.md")
+
+
+def axis_bytes():
+    """(query bytes, result-beat bytes) of the AXI4-Stream top, from docs/AXIS.md
+    (written from the export's layout, which testbenches/hw_axis.rs checks)."""
+    text = open(AXIS_DOC, encoding="utf-8").read()
+    q = re.search(r"s_axis_query \((\d+) bytes\)", text)
+    r = re.search(r"m_axis_result \((\d+) bytes\)", text)
+    return int(q.group(1)), int(r.group(1))
+
+
+def result_beats(r):
+    """(beats per query, where from): simulated, else the most a packet can have."""
+    s, o = r.sim, r.options
+    if s and s.result_beats_per_query:
+        return s.result_beats_per_query, "simulated"
+    most = 1 + (-(-o.k // 2) if o.controller == "barrel" else o.k)
+    return most, "bound: K found"
+
+
+def host_link_section(res):
+    """Bytes per query in and out and the host link each row's queries/s needs."""
+    qb, rb = axis_bytes()
+    L = ["\n## Host link\n",
+         f"Bytes per query over the AXI4-Stream top (`export-verilog --interface axis`, docs/AXIS.md): "
+         f"{qb} in (one query beat), {rb} per result beat out (header, then the found photons: one a beat "
+         "with the modules controller, two with the barrel). Beats per query are *simulated* (bench-core's "
+         "result stream on the row's queries) where recorded, else the packet of K photons (a bound). "
+         "GB/s = queries/s x bytes. Links, per direction, payload only (*assumed*): "
+         + ", ".join(f"{n} {g} GB/s" for n, g in LINKS)
+         + "; a row a link cannot feed is marked *short*.\n",
+         "| configuration | throughput | queries/s | bytes in / query | beats out / query | GB/s in | GB/s out | "
+         + " | ".join(n for n, _ in LINKS) + " |",
+         "|---|---|---:|---:|---:|---:|---:|" + "---|" * len(LINKS)]
+    for r in res.rows:
+        beats, src = result_beats(r)
+        rates = []
+        if "queries_per_s" in r.figures:
+            rates.append(("one core, placed and routed", r.figures["queries_per_s"].value))
+        rates += [(f"{d.device} fitted ({d.cores} cores)", d.queries_per_s) for d in r.device_fit]
+        for what, qps in rates:
+            gin, gout = qps * qb / 1e9, qps * beats * rb / 1e9
+            fits = ["feeds" if max(gin, gout) <= g else "**short**" for _, g in LINKS]
+            L.append(f"| {r.name} | {what} | {qps / 1e6:,.2f} M | {qb} | {beats:.1f} ({src}) | {gin:.2f} | "
+                     f"{gout:.2f} | " + " | ".join(fits) + " |")
+    return L
 
 
 def render_headline(res):
