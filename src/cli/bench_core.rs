@@ -90,7 +90,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     let engine: Engine = args.engine.into();
     let fixed = args.core.fixed()?;
     let spec = args.core.builder()?;
-    let mut cfg = spec.build()?;
+    let mut cfg = args.core.config()?;
     let w = if args.workload == WorkloadKind::Cornell {
         let settings = photon_fpga::host::render::RenderSettings {
             width: args.cornell_size.0,
@@ -113,7 +113,12 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
                     cfg.layout.bits[0],
                     &settings,
                 );
-                cfg = spec.build_for(w.tree.image())?;
+                let map = w.tree.image();
+                cfg = args
+                    .core
+                    .opts
+                    .for_device(spec, map.len(), map.layout.word_bits())?
+                    .build_for(map)?;
                 w
             }
         };

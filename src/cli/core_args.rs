@@ -6,8 +6,9 @@
 //! FILE` ([`CoreFileArg`], taken by all four the same way) gives the whole core
 //! instead, from a core description file (`hw::core_file`).
 
-use super::values::{ControllerArg, MetricArg, TraversalArg};
+use super::values::{ControllerArg, DeviceArg, MetricArg, TraversalArg};
 use clap::Args;
+use photon_fpga::host::banking::device_core;
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::gather::FixedCore;
 use photon_fpga::hw::config::{Banking, CoreConfig, MAX_HW_COORD_BITS};
@@ -41,6 +42,7 @@ pub struct CoreFileArg {
             "unpipelined",
             "banks",
             "replicated_levels",
+            "device",
         ]
     )]
     pub file: Option<PathBuf>,
@@ -95,12 +97,34 @@ pub struct CoreOpts {
     /// [default: 10, at least log2 B, below H].
     #[arg(long, value_name = "L", requires = "banks")]
     pub replicated_levels: Option<u32>,
+    /// Plan the banked barrel core this FPGA holds for the map (banks, replicated
+    /// levels, datapaths: `banking::plan`, docs/BANKING.md); refused, naming the
+    /// largest map that fits, if the map does not.
+    #[arg(long, value_enum, conflicts_with_all = ["banks", "replicated_levels", "trees"])]
+    pub device: Option<DeviceArg>,
 }
 
 impl CoreOpts {
     /// The controller chosen, or `default`.
     pub fn controller_or(&self, default: Controller) -> Controller {
+        // A device plans the banked barrel core.
+        let default = if self.device.is_some() {
+            Controller::Barrel
+        } else {
+            default
+        };
         self.controller.map_or(default, Into::into)
+    }
+
+    /// `b` planned for `--device`, if one was given, for a map of `photons`
+    /// photons of `word_bits`-bit words (`banking::device_core`).
+    pub fn for_device(
+        &self,
+        b: CoreBuilder,
+        photons: usize,
+        word_bits: u32,
+    ) -> Result<CoreBuilder> {
+        device_core::for_device_opt(b, photons, word_bits, self.device.map(|d| d.device()))
     }
 
     /// The traversal chosen, or the default for `controller`: the cell bound with
@@ -127,6 +151,7 @@ impl CoreOpts {
             (self.unpipelined, "--unpipelined"),
             (self.banks.is_some(), "--banks"),
             (self.replicated_levels.is_some(), "--replicated-levels"),
+            (self.device.is_some(), "--device"),
         ]
         .into_iter()
         .find_map(|(given, name)| given.then_some(name))
@@ -163,6 +188,9 @@ impl CoreOpts {
         }
         if self.unpipelined {
             out += " --unpipelined";
+        }
+        if let Some(d) = &self.device {
+            out += &format!(" --device {}", name(d));
         }
         out
     }
@@ -266,8 +294,14 @@ impl CoreArgs {
         self.opts.builder(base, Controller::Modules)
     }
 
+    /// The core, planned for `--device` on a full map of 2^H − 1 photons.
     pub fn config(&self) -> Result<CoreConfig> {
-        Ok(self.builder()?.build()?)
+        let photons = (1usize << self.address_bits.min(30)) - 1;
+        let word_bits = PhotonLayout::new([self.bits; 3]).word_bits();
+        Ok(self
+            .opts
+            .for_device(self.builder()?, photons, word_bits)?
+            .build()?)
     }
 }
 

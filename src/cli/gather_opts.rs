@@ -203,6 +203,8 @@ impl GatherOpts {
                 .address_bits(1)
                 .banking(None)
                 .build()?;
+            // A device plans the barrel core: a controller that cannot wait is refused now.
+            self.core.for_device(core, 1, 1)?;
         }
         Ok(GatherParams {
             k,
@@ -213,6 +215,7 @@ impl GatherOpts {
             capacity,
             core,
             fixed: None,
+            device: self.core.device.map(|d| d.device()),
         })
     }
 
@@ -242,6 +245,7 @@ impl GatherOpts {
             capacity,
             core: c.to_builder(),
             fixed: Some(fixed),
+            device: None,
         })
     }
 }

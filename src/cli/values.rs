@@ -62,6 +62,27 @@ photon_fpga::enum_mirror! {
     }
 }
 
+/// `--device`: the FPGA a banked core is planned for (`host::banking::plan`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DeviceArg {
+    /// Lattice ECP5-85k: 208 DP16KD (the open place-and-route target).
+    #[value(name = "ecp5-85k")]
+    Ecp585k,
+    /// Xilinx XC6VSX475T: 1,064 RAMB36 (the paper's Virtex-6 family's largest).
+    #[value(name = "xc6vsx475t")]
+    Xc6vsx475t,
+}
+
+impl DeviceArg {
+    pub fn device(self) -> &'static photon_fpga::host::banking::plan::Device {
+        use photon_fpga::host::banking::plan::{ECP5_85K, XC6VSX475T};
+        match self {
+            DeviceArg::Ecp585k => &ECP5_85K,
+            DeviceArg::Xc6vsx475t => &XC6VSX475T,
+        }
+    }
+}
+
 /// Every command-line enum's value names, for the help test.
 #[cfg(test)]
 pub fn all_value_lists() -> Vec<Vec<String>> {
@@ -80,5 +101,6 @@ pub fn all_value_lists() -> Vec<Vec<String>> {
         names::<photon_fpga::host::gather::BackendKind>(),
         names::<super::bench_core::WorkloadKind>(),
         names::<super::export::InterfaceArg>(),
+        names::<DeviceArg>(),
     ]
 }

@@ -2,6 +2,8 @@
 //! goes through one of these, so the simulated hardware can replace the software
 //! search without the caller changing.
 
+use crate::host::banking::device_core;
+use crate::host::banking::plan::Device;
 use crate::host::error::{Error, Result};
 use crate::host::map::kdtree::{KdTree, PackedTree};
 use crate::host::map::knn::{self, FloatDist, Scalar};
@@ -79,6 +81,9 @@ pub struct GatherParams {
     /// quantized onto this core's layout (by the sw backend too, so that it answers
     /// as the core does) and must fit it, and the metric and traversal are its own.
     pub fixed: Option<FixedCore>,
+    /// Plan `core` as the banked barrel core this device holds for each map
+    /// (`banking::device_core`).
+    pub device: Option<&'static Device>,
 }
 
 impl Default for GatherParams {
@@ -92,6 +97,7 @@ impl Default for GatherParams {
             capacity: DEFAULT_CAPACITY,
             core: CoreBuilder::default(),
             fixed: None,
+            device: None,
         }
     }
 }
@@ -453,12 +459,16 @@ impl RtlBackend {
             // One core for every map: the map is checked against it, never the
             // core fitted to the map (so one exported Verilog, one model).
             Some(f) => f.check_map(map.tree.image())?,
-            None => params
-                .core
-                .k(params.k)
-                .metric(params.metric)
-                .traversal(params.traversal)
-                .build_for(map.tree.image())?,
+            None => device_core::for_device_opt(
+                params.core,
+                map.tree.image().len(),
+                map.tree.layout.word_bits(),
+                params.device,
+            )?
+            .k(params.k)
+            .metric(params.metric)
+            .traversal(params.traversal)
+            .build_for(map.tree.image())?,
         };
         Ok(RtlBackend {
             map,

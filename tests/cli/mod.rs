@@ -345,6 +345,7 @@ fn gather_lines(args: &[&str], out: &Path) -> Vec<String> {
 }
 
 mod backends;
+mod banked;
 mod core_file;
 mod exact;
 mod limits;

@@ -10,7 +10,7 @@
 //! * `mapping`: the replicated top levels and the node → bank mappings.
 //! * `sim`: the cycle model (slots, slot loop, per-bank round robin).
 //! * `sweep`: the measured points; `report`: docs/BANKING.md.
-//! * `plan`: B, L, D from the map size and the device.
+//! * `plan`: B, L, D from the map size and the device; `device_core`: those as a core.
 //!
 //! # The mapping chosen, by the numbers (docs/BANKING.md)
 //! * **Replicate the top levels.** Every query reads the root and the levels under
@@ -39,6 +39,7 @@
 //!   (the BlockRAMs are dual-ported) lifts D = 16 on 64 banks from 0.91 to 0.99.
 //!   [`plan`] asks for B >= 4 × D.
 
+pub mod device_core;
 pub mod mapping;
 pub mod order;
 pub mod plan;

@@ -1,0 +1,51 @@
+//! The banked barrel core a device holds for a map (`--device`): [`plan`]'s B, L
+//! and D made into core options. D datapaths are D / 2 replicas of the top levels
+//! (two datapaths share one dual-port BlockRAM replica), so an odd D loses one.
+
+use crate::host::banking::plan::{plan, Device, Limits};
+use crate::host::error::{Error, Result};
+use crate::hw::config::PORTS;
+use crate::hw::config_builder::CoreBuilder;
+use crate::hw::controller::Controller;
+
+/// `b` with the banked barrel core that `dev` holds for `photons` photons of
+/// `word_bits`-bit words: a clear error (naming the largest map that fits) if
+/// none, or if `b` asks for the QueryModule controller.
+pub fn for_device(
+    b: CoreBuilder,
+    photons: usize,
+    word_bits: u32,
+    dev: &Device,
+) -> Result<CoreBuilder> {
+    if b.chosen_controller() != Controller::Barrel {
+        return Err(Error::new(format!(
+            "--device {} builds the banked barrel core: --controller {} cannot wait for a bank",
+            dev.name,
+            b.chosen_controller()
+        )));
+    }
+    let p =
+        plan(photons, word_bits, dev, &Limits::default()).map_err(|e| Error::new(e.to_string()))?;
+    let trees = (p.datapaths as usize / PORTS).max(1);
+    let address_bits = crate::hw::config::bits_for(photons as u64);
+    Ok(
+        if photons < 1 << p.replicated_levels || p.replicated_levels >= address_bits {
+            // The whole map fits every replica: whole trees, no banks.
+            b.trees(trees).banking(None)
+        } else {
+            // (One bank is no bank: the crossbar needs two.)
+            b.trees(trees)
+                .banks(p.bank_bits.max(1), Some(p.replicated_levels))
+        },
+    )
+}
+
+/// [`for_device`] if a device is given, else `b` as it is.
+pub fn for_device_opt(
+    b: CoreBuilder,
+    photons: usize,
+    word_bits: u32,
+    dev: Option<&Device>,
+) -> Result<CoreBuilder> {
+    dev.map_or(Ok(b), |d| for_device(b, photons, word_bits, d))
+}

@@ -1,0 +1,129 @@
+//! The banked core from the command line (`--banks`, `--replicated-levels`,
+//! `--device`): render through it is the software search's very image, its core
+//! file carries the banks, and what it cannot build is refused by name with exit
+//! status 2 and nothing written.
+
+use super::*;
+use photon_fpga::hw::core_file::{from_toml, CORE_FILE_NAME};
+
+/// `render` of a small scene with `args` and the backend, the PNG's bytes.
+fn render_png(dir: &Path, name: &str, args: &[&str]) -> Vec<u8> {
+    let out = dir.join(name);
+    bin()
+        .args(["render", "--size", "8x6", "--spp", "1", "--photons", "1500"])
+        .args(args)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success();
+    std::fs::read(&out).unwrap()
+}
+
+/// rust-hdl's simulation of a banked core (two replicas, four datapaths, 8
+/// banks) renders the image of the software search.
+#[test]
+fn render_through_the_banked_core_is_the_sw_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let sw = render_png(dir.path(), "sw.png", &["--backend", "sw"]);
+    let hw = render_png(
+        dir.path(),
+        "rtl.png",
+        &[
+            "--backend",
+            "rtl",
+            "--banks",
+            "8",
+            "--trees",
+            "2",
+            "--replicated-levels",
+            "4",
+        ],
+    );
+    assert!(sw == hw, "the banked core's render differs from sw");
+}
+
+/// export-verilog --device writes a core file with banks that reads back as a
+/// banked barrel core holding the map it was planned for.
+#[test]
+fn a_device_plans_a_banked_core_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("core");
+    bin()
+        .args([
+            "export-verilog",
+            "--device",
+            "ecp5-85k",
+            "--address-bits",
+            "14",
+            "--out",
+        ])
+        .arg(&out)
+        .assert()
+        .success();
+    let path = out.join(CORE_FILE_NAME);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let cfg = from_toml(&text, &path.display().to_string()).unwrap();
+    let b = cfg.banking.expect("a banked core");
+    assert!(
+        text.contains(&format!("banks = {}", 1u64 << b.bank_bits)),
+        "{text}"
+    );
+    assert_eq!(cfg.controller.to_string(), "barrel");
+    assert_eq!(cfg.address_bits, 14);
+    assert!(b.replicated_levels < 14 && b.bank_bits <= b.replicated_levels);
+    assert!(cfg.datapaths() >= 2);
+}
+
+#[test]
+fn what_the_banked_core_cannot_build_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png").display().to_string();
+    let render = |extra: &[&str]| -> Vec<String> {
+        [
+            "render",
+            "--size",
+            "8x6",
+            "--spp",
+            "1",
+            "--photons",
+            "1500",
+            "--backend",
+            "rtl",
+        ]
+        .iter()
+        .chain(extra)
+        .map(|s| s.to_string())
+        .chain(["--out".to_string(), out.clone()])
+        .collect()
+    };
+    refused(dir.path(), &render(&["--banks", "6"]), "--banks 6");
+    refused(
+        dir.path(),
+        &render(&["--banks", "8", "--controller", "modules"]),
+        "banks with controller modules",
+    );
+    refused(
+        dir.path(),
+        &render(&["--device", "ecp5-85k", "--controller", "modules"]),
+        "cannot wait for a bank",
+    );
+    // The default render's map is larger than an ECP5-85k holds banked.
+    refused(
+        dir.path(),
+        &[
+            "render",
+            "--size",
+            "8x6",
+            "--spp",
+            "1",
+            "--backend",
+            "rtl",
+            "--device",
+            "ecp5-85k",
+            "--out",
+            &out,
+        ]
+        .map(String::from),
+        "the largest that fits is",
+    );
+}
