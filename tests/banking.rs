@@ -5,11 +5,9 @@
 
 use photon_fpga::host::banking::mapping::{level, BankMap, Mapping};
 use photon_fpga::host::banking::order::{hilbert, morton, QueryOrder};
-use photon_fpga::host::banking::plan::{
-    largest_map, plan, Limits, PlanError, ECP5_85K, XC6VSX475T,
-};
 use photon_fpga::host::banking::sim::{run, Issue, Machine};
 use photon_fpga::host::banking::stream::{read_stream, ImageQuery};
+use photon_fpga::host::device::plan::{largest_map, plan, Limits, PlanError, ECP5_85K, XC6VSX475T};
 use photon_fpga::host::map::kdtree::{KdTree, PackedTree};
 use photon_fpga::host::map::knn::search_with;
 use photon_fpga::hw::metric::Metric;

@@ -16,7 +16,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-const LAYERS: [(&str, usize); 16] = [
+const LAYERS: [(&str, usize); 17] = [
     ("hw::rtl", 1),
     ("hw", 0),
     ("host::error", 2),
@@ -24,6 +24,7 @@ const LAYERS: [(&str, usize); 16] = [
     ("host::output", 2),
     ("host::stages", 2),
     ("host::map", 3),
+    ("host::device", 3),
     ("host::gather", 4),
     ("host::csvio", 4),
     ("host::exact", 4),

@@ -8,7 +8,7 @@
 
 use super::values::{ControllerArg, DeviceArg, MetricArg, TraversalArg};
 use clap::Args;
-use photon_fpga::host::banking::device_core;
+use photon_fpga::host::device::banked_core;
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::gather::FixedCore;
 use photon_fpga::hw::config::{Banking, CoreConfig, MAX_HW_COORD_BITS};
@@ -117,14 +117,14 @@ impl CoreOpts {
     }
 
     /// `b` planned for `--device`, if one was given, for a map of `photons`
-    /// photons of `word_bits`-bit words (`banking::device_core`).
+    /// photons of `word_bits`-bit words (`device::banked_core`).
     pub fn for_device(
         &self,
         b: CoreBuilder,
         photons: usize,
         word_bits: u32,
     ) -> Result<CoreBuilder> {
-        device_core::for_device_opt(b, photons, word_bits, self.device.map(|d| d.device()))
+        banked_core::for_device_opt(b, photons, word_bits, self.device.map(|d| d.device()))
     }
 
     /// The traversal chosen, or the default for `controller`: the cell bound with

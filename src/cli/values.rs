@@ -62,7 +62,7 @@ photon_fpga::enum_mirror! {
     }
 }
 
-/// `--device`: the FPGA a banked core is planned for (`host::banking::plan`).
+/// `--device`: the FPGA a banked core is planned for (`host::device::plan`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum DeviceArg {
     /// Lattice ECP5-85k: 208 DP16KD (the open place-and-route target).
@@ -74,8 +74,8 @@ pub enum DeviceArg {
 }
 
 impl DeviceArg {
-    pub fn device(self) -> &'static photon_fpga::host::banking::plan::Device {
-        use photon_fpga::host::banking::plan::{ECP5_85K, XC6VSX475T};
+    pub fn device(self) -> &'static photon_fpga::host::device::plan::Device {
+        use photon_fpga::host::device::plan::{ECP5_85K, XC6VSX475T};
         match self {
             DeviceArg::Ecp585k => &ECP5_85K,
             DeviceArg::Xc6vsx475t => &XC6VSX475T,

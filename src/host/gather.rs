@@ -2,8 +2,7 @@
 //! goes through one of these, so the simulated hardware can replace the software
 //! search without the caller changing.
 
-use crate::host::banking::device_core;
-use crate::host::banking::plan::Device;
+use crate::host::device::plan::Device;
 use crate::host::error::{Error, Result};
 use crate::host::map::kdtree::{KdTree, PackedTree};
 use crate::host::map::knn::{self, FloatDist, Scalar};
@@ -19,7 +18,9 @@ use std::fmt;
 use std::sync::Mutex;
 
 mod fixed_core;
+mod rtl_backend;
 pub use fixed_core::FixedCore;
+pub use rtl_backend::{run_core, RtlBackend};
 
 /// Which implementation answers the gathers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -82,7 +83,7 @@ pub struct GatherParams {
     /// as the core does) and must fit it, and the metric and traversal are its own.
     pub fixed: Option<FixedCore>,
     /// Plan `core` as the banked barrel core this device holds for each map
-    /// (`banking::device_core`).
+    /// (`device::banked_core`).
     pub device: Option<&'static Device>,
 }
 
@@ -435,175 +436,4 @@ impl GatherBackend for SwBackend {
             })
             .collect()
     }
-}
-
-/// The gathers run through a simulation of the photon-search core (rust-hdl's
-/// native one for `rtl`, the exported Verilog under Verilator for `verilator`),
-/// with the options of `GatherParams::core` built for this map ("model only what
-/// the scene needs": `CoreBuilder::build_for`).
-pub struct RtlBackend {
-    pub map: QuantizedMap,
-    pub config: CoreConfig,
-    /// Q was not given: it is sized from each batch of queries
-    /// (`CoreConfig::fit_queries_per_port`).
-    pub fit_q: bool,
-    pub options: SimOptions,
-    /// Cycle and read counts of the gathers so far, summed over simulations.
-    pub stats: Mutex<Vec<SimStats>>,
-}
-
-impl RtlBackend {
-    pub fn new(photons: &[Point], params: &GatherParams, options: SimOptions) -> Result<Self> {
-        let map = QuantizedMap::new(photons, params)?;
-        let config = match &params.fixed {
-            // One core for every map: the map is checked against it, never the
-            // core fitted to the map (so one exported Verilog, one model).
-            Some(f) => f.check_map(map.tree.image())?,
-            None => device_core::for_device_opt(
-                params.core,
-                map.tree.image().len(),
-                map.tree.layout.word_bits(),
-                params.device,
-            )?
-            .k(params.k)
-            .metric(params.metric)
-            .traversal(params.traversal)
-            .build_for(map.tree.image())?,
-        };
-        Ok(RtlBackend {
-            map,
-            config,
-            fit_q: params.fixed.is_none() && params.core.given_queries_per_port().is_none(),
-            options,
-            stats: Mutex::new(Vec::new()),
-        })
-    }
-}
-
-impl GatherBackend for RtlBackend {
-    fn name(&self) -> &'static str {
-        match self.options.engine {
-            Engine::Native => "rtl",
-            Engine::Verilator => "verilator",
-        }
-    }
-
-    fn describe(&self) -> Option<String> {
-        let c = &self.config;
-        let q = match c.controller {
-            crate::hw::controller::Controller::Modules => "QueryModules",
-            crate::hw::controller::Controller::Barrel => "query slots",
-        };
-        let fitted = if self.fit_q {
-            format!("Q fitted to the queries, at most {}", c.queries_per_port)
-        } else {
-            format!("Q = {}", c.queries_per_port)
-        };
-        Some(format!(
-            "{}\ncore: {} controller, T = {} tree(s), H = {}, K = {}, {} x Q {q} ({fitted}), {} metric, {}-bit distances, {} traversal",
-            self.map.describe(),
-            c.controller,
-            c.trees,
-            c.address_bits,
-            c.k,
-            crate::hw::config::PORTS,
-            c.metric,
-            c.dist_bits(),
-            c.traversal
-        ))
-    }
-
-    fn check_query(&self, q: Point) -> std::result::Result<(), String> {
-        self.map.locate(q).map(|_| ())
-    }
-
-    fn gather(&self, queries: &[Point]) -> Result<Vec<Gathered>> {
-        let m = &self.map;
-        // Queries inside the photon box go to the core; the others take the host's
-        // exact path (the core's query coordinates are as wide as the photons').
-        let mut hw: Vec<HwQuery> = Vec::with_capacity(queries.len());
-        let mut outside: Vec<(usize, [i64; 3])> = Vec::new();
-        for (i, &q) in queries.iter().enumerate() {
-            match m.locate(q).map_err(Error::new)? {
-                GridPoint::Inside(c) => hw.push(HwQuery {
-                    id: i as u32,
-                    coords: c,
-                    radius: m.radius_bound,
-                    k: m.params.k as u32,
-                }),
-                GridPoint::Outside(g) => outside.push((i, g)),
-            }
-        }
-        let mut out: Vec<Gathered> = vec![Gathered::default(); queries.len()];
-        for r in run_core(m, self.config, self.fit_q, &self.options, &hw, &self.stats)? {
-            out[r.id as usize] = Gathered {
-                neighbours: m.neighbours(&r.found),
-                visited: r.visited,
-            };
-        }
-        let far: Vec<(usize, Gathered)> = outside
-            .par_iter()
-            .map(|&(i, g)| (i, m.search_outside(g)))
-            .collect();
-        for (i, g) in far {
-            out[i] = g;
-        }
-        Ok(out)
-    }
-}
-
-/// Run `hw` through simulations of the core `config` on `map`'s tree (Q sized from
-/// the queries first if `fit_q`), their cycle counts appended to `stats`; the
-/// results in no particular order (each names its query by `id`).
-pub fn run_core(
-    map: &QuantizedMap,
-    mut config: CoreConfig,
-    fit_q: bool,
-    options: &SimOptions,
-    hw: &[HwQuery],
-    stats: &Mutex<Vec<SimStats>>,
-) -> Result<Vec<HwResult>> {
-    // Right-sized Q, unless one was given: from what the software search costs on an even
-    // sample of these queries, instead of the worst-case issue interval.
-    if fit_q {
-        let profile: ReadProfile = hw
-            .iter()
-            .step_by(hw.len().div_ceil(512).max(1))
-            .map(|q| {
-                let c = &config;
-                knn::search_with(
-                    &map.tree,
-                    q.coords,
-                    q.k as usize,
-                    q.radius,
-                    c.metric,
-                    c.traversal,
-                )
-                .read_profile()
-            })
-            .sum();
-        config.fit_queries_per_port(&profile);
-    }
-    // Each query's answer depends only on the map and the query, not on which
-    // QueryModule or simulation serves it, so independent simulations of the
-    // core on chunks of the stream give the same results for any thread count.
-    // A waveform dump wants one simulation.
-    let chunks =
-        if options.vcd.is_some() || std::env::var_os(crate::hw::rtl::native::VCD_ENV).is_some() {
-            1
-        } else {
-            rayon::current_num_threads().max(1)
-        };
-    let size = hw.len().div_ceil(chunks).max(1);
-    let runs: Vec<_> = hw
-        .par_chunks(size)
-        .map(|chunk| Ok(run_gather(&config, map.tree.image(), chunk, options)?))
-        .collect::<Result<_>>()?;
-    let mut stats = stats.lock().expect("stats lock");
-    let mut out = Vec::with_capacity(hw.len());
-    for (results, s) in runs {
-        stats.push(s);
-        out.extend(results);
-    }
-    Ok(out)
 }

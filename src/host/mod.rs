@@ -8,6 +8,7 @@
 
 pub mod banking;
 pub mod csvio;
+pub mod device;
 pub mod error;
 pub mod exact;
 pub mod gather;

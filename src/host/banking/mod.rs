@@ -10,7 +10,7 @@
 //! * `mapping`: the replicated top levels and the node → bank mappings.
 //! * `sim`: the cycle model (slots, slot loop, per-bank round robin).
 //! * `sweep`: the measured points; `report`: docs/BANKING.md.
-//! * `plan`: B, L, D from the map size and the device; `device_core`: those as a core.
+//! * `host::device::plan`: B, L, D from the map size and the device.
 //!
 //! # The mapping chosen, by the numbers (docs/BANKING.md)
 //! * **Replicate the top levels.** Every query reads the root and the levels under
@@ -37,12 +37,10 @@
 //! * **Banks per datapath.** B = 4 × D reads 0.91–0.92 photons per cycle per
 //!   datapath for D = 8 to 32 (0.8 needs B >= 2 × D); a second read port per bank
 //!   (the BlockRAMs are dual-ported) lifts D = 16 on 64 banks from 0.91 to 0.99.
-//!   [`plan`] asks for B >= 4 × D.
+//!   [`plan`](crate::host::device::plan::plan) asks for B >= 4 × D.
 
-pub mod device_core;
 pub mod mapping;
 pub mod order;
-pub mod plan;
 pub mod report;
 pub mod sim;
 pub mod stream;

@@ -3,10 +3,10 @@
 
 use super::mapping::{BankMap, Mapping};
 use super::order::QueryOrder;
-use super::plan::{plan, Device, Limits, ECP5_85K, XC6VSX475T};
 use super::sim::{imbalance, Issue, Measured};
 use super::stream::ImageStream;
 use super::sweep::{measure, Point, BARREL_LOOP, INTERCONNECT_CYCLES, SLOTS};
+use crate::host::device::plan::{plan, Device, Limits, ECP5_85K, XC6VSX475T};
 use std::fmt::Write;
 
 /// What the report sweeps.

@@ -2,7 +2,7 @@
 //! and D made into core options. D datapaths are D / 2 replicas of the top levels
 //! (two datapaths share one dual-port BlockRAM replica), so an odd D loses one.
 
-use crate::host::banking::plan::{plan, Device, Limits};
+use crate::host::device::plan::{plan, Device, Limits};
 use crate::host::error::{Error, Result};
 use crate::hw::config::PORTS;
 use crate::hw::config_builder::CoreBuilder;
