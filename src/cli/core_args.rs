@@ -98,7 +98,7 @@ pub struct CoreOpts {
     #[arg(long, value_name = "L", requires = "banks")]
     pub replicated_levels: Option<u32>,
     /// Plan the banked barrel core this FPGA holds for the map (banks, replicated
-    /// levels, datapaths: `banking::plan`, docs/BANKING.md); refused, naming the
+    /// levels, datapaths: `device::plan`, docs/BANKING.md); refused, naming the
     /// largest map that fits, if the map does not.
     #[arg(long, value_enum, conflicts_with_all = ["banks", "replicated_levels", "trees"])]
     pub device: Option<DeviceArg>,

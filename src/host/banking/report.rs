@@ -284,7 +284,7 @@ fn plans(t: &mut String, sizes: &[usize], word_bits: u32) {
     let lim = Limits::default();
     let _ = writeln!(
         t,
-        "\n## B, L, D by device (`banking::plan`, {word_bits}-bit photon words, at least \
+        "\n## B, L, D by device (`device::plan`, {word_bits}-bit photon words, at least \
          {} datapaths, B ≥ {} × D, D ≤ {}, datapaths ≤ {:.0} % of the logic)\n",
         lim.min_datapaths,
         lim.banks_per_datapath,
