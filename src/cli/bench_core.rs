@@ -90,7 +90,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     let engine: Engine = args.engine.into();
     let fixed = args.core.fixed()?;
     let spec = args.core.builder()?;
-    let mut cfg = args.core.config()?;
+    let mut cfg = args.core.config_of(spec)?;
     let w = if args.workload == WorkloadKind::Cornell {
         let settings = photon_fpga::host::render::RenderSettings {
             width: args.cornell_size.0,

@@ -296,12 +296,15 @@ impl CoreArgs {
 
     /// The core, planned for `--device` on a full map of 2^H − 1 photons.
     pub fn config(&self) -> Result<CoreConfig> {
+        self.config_of(self.builder()?)
+    }
+
+    /// `spec` (this command's [`CoreArgs::builder`]) built, planned for `--device`
+    /// on a full map of 2^H − 1 photons.
+    pub fn config_of(&self, spec: CoreBuilder) -> Result<CoreConfig> {
         let photons = (1usize << self.address_bits.min(30)) - 1;
         let word_bits = PhotonLayout::new([self.bits; 3]).word_bits();
-        Ok(self
-            .opts
-            .for_device(self.builder()?, photons, word_bits)?
-            .build()?)
+        Ok(self.opts.for_device(spec, photons, word_bits)?.build()?)
     }
 }
 
