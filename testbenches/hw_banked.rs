@@ -119,6 +119,43 @@ fn banked_reload_and_reset() {
     check_results(&cfg, &t1, &first, &q1, &sim.run_queries(&q1).unwrap());
 }
 
+/// R result streams, each the merge of D / R datapaths: every result whole and
+/// right whichever stream it left on, every stream used, under stalls on each.
+#[test]
+fn results_leave_on_several_streams() {
+    let layout = PhotonLayout::new([7, 7, 6]);
+    let metric = Metric::L2;
+    let mut r = rng(97);
+    let points = random_points(&mut r, 600, layout);
+    let tree = pack(&points, layout);
+    let queries = queries_for(&mut r, &points, layout, metric, 7);
+    let base = |trees| banked(&tree, 7, metric, Traversal::Cell, (trees, 3, 5)).to_builder();
+    for (builder, streams) in [
+        (base(2).result_streams(2), 2usize),
+        (base(2).result_streams(4), 4),
+        (base(3).result_streams(3), 3),
+        // One whole tree (no banks): its two ports on a stream each.
+        (base(1).banking(None).result_streams(2), 2),
+    ] {
+        let cfg = builder.build().expect("streams within the limits");
+        for opts in [SimOptions::default(), stalls(98)] {
+            let (results, stats) = run_gather(&cfg, tree.image(), &queries, &opts).expect("sim");
+            check_results(&cfg, &tree, &points, &queries, &results);
+            check_reads_counted(&stats, &results);
+            assert_eq!(stats.result_beats_per_stream.len(), streams);
+            // Each result is 1 + ceil(count / 2) beats: the streams carried them all.
+            let beats: u64 = results
+                .iter()
+                .map(|r| 1 + r.found.len().div_ceil(2) as u64)
+                .sum();
+            assert_eq!(stats.result_beats, beats, "{streams} streams");
+            for (s, &b) in stats.result_beats_per_stream.iter().enumerate() {
+                assert!(b > 0, "stream {s} of {streams} carried nothing: {stats:?}");
+            }
+        }
+    }
+}
+
 #[test]
 fn banked_configurations_it_cannot_build_are_refused() {
     let base = CoreConfig::builder()
@@ -141,6 +178,16 @@ fn banked_configurations_it_cannot_build_are_refused() {
         (base.banking(bank(4, 3)), "replicated levels = 3"),
         (base.banking(bank(4, 12)), "replicated levels = 12"),
         (base.address_bits(20).banking(bank(3, 6)), "2^17 rows"),
+        (
+            base.trees(2).banking(bank(2, 4)).result_streams(3),
+            "result_streams = 3",
+        ),
+        (
+            base.banking(bank(2, 4)).result_streams(0),
+            "result_streams = 0",
+        ),
+        (base.result_streams(4), "result_streams = 4"),
+        (base.trees(2).result_streams(2), "one result stream"),
     ] {
         let e = builder.build().expect_err(needle).to_string();
         assert!(e.contains(needle), "{e:?} should name {needle:?}");

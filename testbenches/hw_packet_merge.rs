@@ -48,10 +48,19 @@ fn packets(r: &mut Pcg64, s: usize, count: u64) -> Vec<Vec<ResultBeat>> {
         .collect()
 }
 
-fn merge_against_scoreboard(n: usize, per_source: u64, p_valid: f64, p_ready: f64, seed: u64) {
-    let mut uut = PacketMerge::new(n);
+fn merge_against_scoreboard(
+    n: usize,
+    r_out: usize,
+    per_source: u64,
+    p_valid: f64,
+    p_ready: f64,
+    seed: u64,
+) {
+    let mut uut = PacketMerge::grouped(n, r_out);
     uut.connect_all();
     check_all(&uut).expect("PacketMerge checks");
+    let g = n / r_out;
+    let what = format!("n = {n}, r = {r_out}");
     let mut r = crate::common::rng(seed);
     let sent: Vec<Vec<Vec<ResultBeat>>> = (0..n).map(|s| packets(&mut r, s, per_source)).collect();
     let mut queues: Vec<VecDeque<ResultBeat>> = sent
@@ -60,10 +69,11 @@ fn merge_against_scoreboard(n: usize, per_source: u64, p_valid: f64, p_ready: f6
         .collect();
     let total: usize = queues.iter().map(|q| q.len()).sum();
     let mut offering = vec![false; n];
-    let mut merged: Vec<(usize, ResultBeat)> = Vec::new();
-    // The source of the packet in progress, and of the last beat that left.
-    let mut locked: Option<usize> = None;
-    let mut last: Option<usize> = None;
+    // Per output: the beats that left (with their source), the source of the packet
+    // in progress, and of the last beat that left.
+    let mut merged: Vec<Vec<(usize, ResultBeat)>> = vec![Vec::new(); r_out];
+    let mut locked: Vec<Option<usize>> = vec![None; r_out];
+    let mut last: Vec<Option<usize>> = vec![None; r_out];
 
     uut.reset.next = true;
     clock_cycle(&mut uut, |u| &mut u.clock);
@@ -71,13 +81,9 @@ fn merge_against_scoreboard(n: usize, per_source: u64, p_valid: f64, p_ready: f6
     settle(&mut uut);
 
     let mut cycles = 0;
-    while merged.len() < total {
+    while merged.iter().map(|m| m.len()).sum::<usize>() < total {
         cycles += 1;
-        assert!(
-            cycles < 100 * total,
-            "n = {n}: stuck after {} beats",
-            merged.len()
-        );
+        assert!(cycles < 100 * total, "{what}: stuck");
         for s in 0..n {
             offering[s] = !queues[s].is_empty() && (offering[s] || r.gen_bool(p_valid));
             uut.sources[s].valid.next = offering[s];
@@ -87,56 +93,67 @@ fn merge_against_scoreboard(n: usize, per_source: u64, p_valid: f64, p_ready: f6
                 packet_beat(s, 0xBAD, 0, 1)
             };
         }
-        let sink_ready = r.gen_bool(p_ready);
-        uut.merged.ready.next = sink_ready;
+        let sink_ready: Vec<bool> = (0..r_out).map(|_| r.gen_bool(p_ready)).collect();
+        for (o, &rd) in sink_ready.iter().enumerate() {
+            uut.merged[o].ready.next = rd;
+        }
         settle(&mut uut);
 
-        // Who the model lets through: the locked source, else round robin.
-        let lowest_from = |from: usize| (from..n).find(|&i| offering[i]);
-        let pick = match locked {
-            Some(s) => Some(s),
-            None => last
-                .and_then(|l| lowest_from(l + 1))
-                .or_else(|| lowest_from(0)),
-        };
+        // Who the model lets through each output: the locked source, else round
+        // robin within the output's group.
         let readies: Vec<bool> = (0..n).map(|s| uut.sources[s].ready.val()).collect();
-        for (s, &rd) in readies.iter().enumerate() {
-            assert!(
-                !rd || (sink_ready && pick == Some(s)),
-                "n = {n} cycle {cycles}: source {s} ready (sink {sink_ready}, pick {pick:?}, \
-                 locked {locked:?}, offering {offering:?})"
-            );
-        }
-        let taken: Vec<usize> = (0..n).filter(|&s| offering[s] && readies[s]).collect();
-        let out_valid = uut.merged.valid.val();
-        let expect_valid = pick.is_some_and(|s| offering[s]);
-        assert_eq!(
-            out_valid, expect_valid,
-            "n = {n} cycle {cycles}: merged valid (pick {pick:?}, offering {offering:?})"
-        );
-        if out_valid {
-            let s = pick.unwrap();
+        let mut taken = vec![];
+        for o in 0..r_out {
+            let group = o * g..(o + 1) * g;
+            let lowest_from =
+                |from: usize| (from.max(group.start)..group.end).find(|&i| offering[i]);
+            let pick = match locked[o] {
+                Some(s) => Some(s),
+                None => last[o]
+                    .and_then(|l| lowest_from(l + 1))
+                    .or_else(|| lowest_from(0)),
+            };
+            for s in group.clone() {
+                assert!(
+                    !readies[s] || (sink_ready[o] && pick == Some(s)),
+                    "{what} cycle {cycles}: source {s} ready (output {o}: sink {}, pick \
+                     {pick:?}, locked {:?}, offering {offering:?})",
+                    sink_ready[o],
+                    locked[o]
+                );
+            }
+            let out_valid = uut.merged[o].valid.val();
             assert_eq!(
-                uut.merged.data.val(),
-                queues[s][0],
-                "n = {n} cycle {cycles}: data"
+                out_valid,
+                pick.is_some_and(|s| offering[s]),
+                "{what} cycle {cycles}: output {o} valid (pick {pick:?}, offering {offering:?})"
             );
+            let here: Vec<usize> = group.filter(|&s| offering[s] && readies[s]).collect();
+            if out_valid {
+                let s = pick.unwrap();
+                assert_eq!(
+                    uut.merged[o].data.val(),
+                    queues[s][0],
+                    "{what} cycle {cycles}: data"
+                );
+            }
+            if out_valid && sink_ready[o] {
+                assert_eq!(here, vec![pick.unwrap()], "{what} cycle {cycles}: taken");
+            } else {
+                assert!(
+                    here.is_empty(),
+                    "{what} cycle {cycles}: taken {here:?} unsent"
+                );
+            }
+            taken.extend(here.into_iter().map(|s| (o, s)));
         }
-        if out_valid && sink_ready {
-            assert_eq!(taken, vec![pick.unwrap()], "n = {n} cycle {cycles}: taken");
-        } else {
-            assert!(
-                taken.is_empty(),
-                "n = {n} cycle {cycles}: taken {taken:?} unsent"
-            );
-        }
-        for &s in &taken {
+        for &(o, s) in &taken {
             let b = queues[s].pop_front().unwrap();
-            merged.push((s, uut.merged.data.val()));
-            assert_eq!(merged.last().unwrap().1, b);
+            merged[o].push((s, uut.merged[o].data.val()));
+            assert_eq!(merged[o].last().unwrap().1, b);
             offering[s] = false;
-            locked = if b.last { None } else { Some(s) };
-            last = Some(s);
+            locked[o] = if b.last { None } else { Some(s) };
+            last[o] = Some(s);
         }
         uut.clock.next = true.into();
         settle(&mut uut);
@@ -144,27 +161,30 @@ fn merge_against_scoreboard(n: usize, per_source: u64, p_valid: f64, p_ready: f6
         settle(&mut uut);
     }
 
-    // The merged stream, cut at `last`: whole packets from one source each, and per
-    // source the packets it sent, in order.
+    // Each output's stream, cut at `last`: whole packets from one source of its
+    // group each, and per source the packets it sent, in order.
     let mut got: Vec<Vec<Vec<ResultBeat>>> = vec![Vec::new(); n];
-    let mut current: Vec<ResultBeat> = Vec::new();
-    let mut from: Option<usize> = None;
-    for &(s, b) in &merged {
-        assert!(
-            from.is_none_or(|f| f == s),
-            "n = {n}: a packet split by another source"
-        );
-        from = Some(s);
-        current.push(b);
-        if b.last {
-            got[s].push(std::mem::take(&mut current));
-            from = None;
+    for (o, out) in merged.iter().enumerate() {
+        let mut current: Vec<ResultBeat> = Vec::new();
+        let mut from: Option<usize> = None;
+        for &(s, b) in out {
+            assert!(s / g == o, "{what}: source {s} left on output {o}");
+            assert!(
+                from.is_none_or(|f| f == s),
+                "{what}: a packet split by another source"
+            );
+            from = Some(s);
+            current.push(b);
+            if b.last {
+                got[s].push(std::mem::take(&mut current));
+                from = None;
+            }
         }
+        assert!(current.is_empty());
     }
-    assert!(current.is_empty());
     assert_eq!(
         got, sent,
-        "n = {n}: packets lost, duplicated, reordered or split"
+        "{what}: packets lost, duplicated, reordered or split"
     );
 }
 
@@ -177,7 +197,22 @@ fn packet_merge_against_a_stream_scoreboard() {
         (5, 1.0, 1.0, 104),
         (8, 0.7, 0.3, 105),
     ] {
-        merge_against_scoreboard(n, 120, p_valid, p_ready, seed);
+        merge_against_scoreboard(n, 1, 120, p_valid, p_ready, seed);
+    }
+}
+
+/// Several outputs, each merging its own group: no beat crosses groups, and each
+/// output keeps the packet lock and the round robin of its group.
+#[test]
+fn grouped_merge_against_a_stream_scoreboard() {
+    for (n, r_out, p_valid, p_ready, seed) in [
+        (2usize, 2usize, 0.8, 0.6, 201u64),
+        (4, 2, 0.6, 0.5, 202),
+        (8, 4, 1.0, 1.0, 203),
+        (16, 4, 0.7, 0.4, 204),
+        (6, 3, 0.5, 0.9, 205),
+    ] {
+        merge_against_scoreboard(n, r_out, 80, p_valid, p_ready, seed);
     }
 }
 
@@ -195,31 +230,33 @@ fn a_paused_packet_keeps_the_merge() {
         uut.clock.next = false.into();
         settle(uut);
     };
-    uut.merged.ready.next = true;
+    uut.merged[0].ready.next = true;
     // Source 0's header leaves; then it pauses while source 1 offers a packet.
     uut.sources[0].valid.next = true;
     uut.sources[0].data.next = a[0];
     uut.sources[1].valid.next = false;
     settle(&mut uut);
-    assert!(uut.sources[0].ready.val() && uut.merged.data.val() == a[0]);
+    assert!(uut.sources[0].ready.val() && uut.merged[0].data.val() == a[0]);
     tick(&mut uut);
     uut.sources[0].valid.next = false;
     uut.sources[1].valid.next = true;
     uut.sources[1].data.next = b;
     for _ in 0..3 {
         settle(&mut uut);
-        assert!(!uut.merged.valid.val() && !uut.sources[1].ready.val());
+        assert!(!uut.merged[0].valid.val() && !uut.sources[1].ready.val());
         tick(&mut uut);
     }
     for beat in &a[1..] {
         uut.sources[0].valid.next = true;
         uut.sources[0].data.next = *beat;
         settle(&mut uut);
-        assert!(uut.merged.valid.val() && uut.merged.data.val() == *beat);
+        assert!(uut.merged[0].valid.val() && uut.merged[0].data.val() == *beat);
         assert!(!uut.sources[1].ready.val());
         tick(&mut uut);
     }
     uut.sources[0].valid.next = false;
     settle(&mut uut);
-    assert!(uut.merged.valid.val() && uut.merged.data.val() == b && uut.sources[1].ready.val());
+    assert!(
+        uut.merged[0].valid.val() && uut.merged[0].data.val() == b && uut.sources[1].ready.val()
+    );
 }

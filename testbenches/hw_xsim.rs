@@ -320,7 +320,7 @@ fn verilator_deep_found_lists() {
 }
 
 /// The banked core: two replicas of the top 4 levels, four datapaths, 8 banks
-/// behind the crossbar; a second map over the first.
+/// behind the crossbar, the results on two streams; a second map over the first.
 fn banked_cases() -> (CoreConfig, Vec<Case>) {
     let layout = PhotonLayout::new([7, 7, 6]);
     let mut r = rng(76);
@@ -338,6 +338,7 @@ fn banked_cases() -> (CoreConfig, Vec<Case>) {
             bank_bits: 3,
             replicated_levels: 4,
         }))
+        .result_streams(2)
         .build_for(tree.image())
         .unwrap();
     let mut qa = random_queries(&mut r, 24, layout, cfg.k, cfg.metric);

@@ -268,12 +268,24 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         st.busy_cycles,
         busy_per_port.join(", ")
     );
-    // The result stream's load (paper §4.5: results leave through one port per
-    // core): a header and the found photons, one or two a beat.
+    // The result streams' load (paper §4.5: results leave through one port per
+    // core): a header and the found photons, one or two a beat; each of the R
+    // streams carries at most a beat a cycle.
+    let per_stream: Vec<String> = st
+        .result_beats_per_stream
+        .iter()
+        .map(|&b| format!("{:.3}", b as f64 / cycles.max(1) as f64))
+        .collect();
     println!(
-        "result stream: {:.1} beats per query, {:.3} beats per cycle (of at most 1)",
+        "result stream: {:.1} beats per query, {:.3} beats per cycle (of at most {}){}",
         st.result_beats as f64 / queries.len().max(1) as f64,
-        st.result_beats as f64 / cycles.max(1) as f64
+        st.result_beats as f64 / cycles.max(1) as f64,
+        per_stream.len().max(1),
+        if per_stream.len() > 1 {
+            format!("; per stream {}", per_stream.join(", "))
+        } else {
+            String::new()
+        }
     );
     println!(
         "simulation speed ({:?}): {:.0} cycles/s",

@@ -42,6 +42,7 @@ pub struct CoreFileArg {
             "unpipelined",
             "banks",
             "replicated_levels",
+            "result_streams",
             "device",
         ]
     )]
@@ -97,10 +98,20 @@ pub struct CoreOpts {
     /// [default: 10, at least log2 B, below H].
     #[arg(long, value_name = "L", requires = "banks")]
     pub replicated_levels: Option<u32>,
+    /// Result streams R: the datapaths' result packets leave on R streams, D / R
+    /// datapaths each (a divisor of D = 2 x --trees with --banks, else of 2); one
+    /// stream carries a beat a cycle, which about 8 busy datapaths fill at k = 32
+    /// [default: 1; with --device one per 4 datapaths].
+    #[arg(long, value_name = "R")]
+    pub result_streams: Option<usize>,
     /// Plan the banked barrel core this FPGA holds for the map (banks, replicated
     /// levels, datapaths: `device::plan`, docs/BANKING.md); refused, naming the
     /// largest map that fits, if the map does not.
-    #[arg(long, value_enum, conflicts_with_all = ["banks", "replicated_levels", "trees"])]
+    #[arg(
+        long,
+        value_enum,
+        conflicts_with_all = ["banks", "replicated_levels", "trees", "result_streams"]
+    )]
     pub device: Option<DeviceArg>,
 }
 
@@ -151,6 +162,7 @@ impl CoreOpts {
             (self.unpipelined, "--unpipelined"),
             (self.banks.is_some(), "--banks"),
             (self.replicated_levels.is_some(), "--replicated-levels"),
+            (self.result_streams.is_some(), "--result-streams"),
             (self.device.is_some(), "--device"),
         ]
         .into_iter()
@@ -181,6 +193,7 @@ impl CoreOpts {
                 "--replicated-levels",
                 self.replicated_levels.map(|l| l as usize),
             ),
+            ("--result-streams", self.result_streams),
         ] {
             if let Some(v) = v {
                 out += &format!(" {flag} {v}");
@@ -223,6 +236,7 @@ impl CoreOpts {
             .controller(controller)
             .traversal(self.traversal_for(controller))
             .trees(self.trees.unwrap_or(1))
+            .result_streams(self.result_streams.unwrap_or(1))
             .pipelined(!self.unpipelined);
         if let Some(q) = self
             .modules_per_port
@@ -322,8 +336,12 @@ pub fn describe_q(cfg: &CoreConfig) -> String {
             b.replicated_levels
         )
     });
+    let streams = match cfg.result_streams {
+        1 => String::new(),
+        r => format!(", {r} result streams"),
+    };
     format!(
-        "{} x {} {what}{banks}",
+        "{} x {} {what}{banks}{streams}",
         cfg.datapaths(),
         cfg.queries_per_port
     )

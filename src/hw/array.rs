@@ -45,6 +45,9 @@ pub struct PhotonSearchArray<const S: usize, const W: usize> {
     pub query: StreamIn<QueryBeat>,
     /// Merged.
     pub result: StreamOut<ResultBeat>,
+    /// Always empty: an array of whole cores has one result stream (the same
+    /// ports as [`PhotonSearchCore`]'s, for the driver).
+    pub more_results: Vec<StreamOut<ResultBeat>>,
     // Status: some tree reads on port A / B; every QueryModule of every tree busy.
     pub port_a_reading: Signal<Out, bool>,
     pub port_b_reading: Signal<Out, bool>,
@@ -81,6 +84,7 @@ impl<const S: usize, const W: usize> PhotonSearchArray<S, W> {
             load: Default::default(),
             query: Default::default(),
             result: Default::default(),
+            more_results: vec![],
             port_a_reading: Default::default(),
             port_b_reading: Default::default(),
             all_busy: Default::default(),
@@ -153,9 +157,9 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchArray<S, W> {
         self.dispatch.inbound.data.next = self.query.data.val();
         self.query.ready.next = self.dispatch.inbound.ready.val();
         self.dispatch.hold.next = self.load.valid.val();
-        self.merge.merged.ready.next = self.result.ready.val();
-        self.result.valid.next = self.merge.merged.valid.val();
-        self.result.data.next = self.merge.merged.data.val();
+        self.merge.merged[0].ready.next = self.result.ready.val();
+        self.result.valid.next = self.merge.merged[0].valid.val();
+        self.result.data.next = self.merge.merged[0].data.val();
         for i in 0..self.trees.len() {
             self.trees[i].clock.next = self.clock.val();
             self.trees[i].reset.next = self.reset.val();

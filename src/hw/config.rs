@@ -79,6 +79,8 @@ pub const BARREL_SLOTS: usize = 16;
 /// Replicated trees limit (`PhotonSearchArray`): four already exceed the largest
 /// ECP5, and one bit per tree fits the arbiter masks.
 pub const MAX_TREES: usize = 8;
+/// Most result streams of one core (one a datapath: two a tree).
+pub const MAX_RESULT_STREAMS: usize = 2 * MAX_TREES;
 
 /// Photon word as carried on a TreeModule port; `W` is [`NARROW_WORD`] or [`WIDE_WORD`].
 pub type Word<const W: usize> = Bits<W>;
@@ -166,6 +168,12 @@ pub struct CoreConfig {
     /// `None`: each tree is a TreeModule holding the whole map. Some: one map in
     /// a banked store shared by every datapath ([`Banking`]).
     pub banking: Option<Banking>,
+    /// Result streams R: the datapaths' result packets leave on R streams, each
+    /// the merge of D / R consecutive datapaths (a replica's two together). One
+    /// stream carries one beat a cycle; a packet is 1 + k/2 beats, so D barrel
+    /// datapaths at k = 32 and nearly a read a cycle each fill one stream from D = 8
+    /// on (docs/HARDWARE.md).
+    pub result_streams: usize,
 }
 
 pub use crate::hw::bank_config::{Banking, MAX_BANK_BITS};
@@ -386,6 +394,20 @@ impl CoreConfig {
         }
         if let Some(b) = self.banking {
             b.check(self.controller, self.address_bits)?;
+        }
+        let (r, d) = (self.result_streams, self.datapaths());
+        if self.is_array() && r != 1 {
+            return Err(HwError::Config(format!(
+                "result_streams = {r} with trees = {} and no banks: an array of whole cores \
+                 has one result stream (banks give the trees' datapaths their own)",
+                self.trees
+            )));
+        }
+        if r == 0 || r > d || !d.is_multiple_of(r) {
+            return Err(HwError::Config(format!(
+                "result_streams = {r} unsupported: the {d} datapaths split evenly over 1..={d} \
+                 streams (a divisor of {d})"
+            )));
         }
         Ok(())
     }

@@ -29,6 +29,7 @@ pub struct CoreBuilder {
     slots_per_port: Option<usize>,
     /// Bank bits and the replicated levels (None: derived when built).
     banking: Option<(u32, Option<u32>)>,
+    result_streams: usize,
 }
 
 impl Default for CoreBuilder {
@@ -47,6 +48,7 @@ impl Default for CoreBuilder {
             modules_per_port: None,
             slots_per_port: None,
             banking: None,
+            result_streams: 1,
         }
     }
 }
@@ -95,6 +97,14 @@ impl CoreBuilder {
     pub fn banks(self, bank_bits: u32, replicated_levels: Option<u32>) -> Self {
         CoreBuilder {
             banking: Some((bank_bits, replicated_levels)),
+            ..self
+        }
+    }
+    /// Result streams R (a divisor of the datapaths; more than one needs banks or a
+    /// single tree).
+    pub fn result_streams(self, result_streams: usize) -> Self {
+        CoreBuilder {
+            result_streams,
             ..self
         }
     }
@@ -190,6 +200,7 @@ impl CoreBuilder {
                 replicated_levels: levels
                     .unwrap_or_else(|| Banking::default_levels(bank_bits, self.address_bits)),
             }),
+            result_streams: self.result_streams,
         };
         cfg.queries_per_port = match self.given_queries_per_port() {
             Some(q) => q,
@@ -224,6 +235,7 @@ impl From<CoreConfig> for CoreBuilder {
             modules_per_port: None,
             slots_per_port: None,
             banking: None,
+            result_streams: cfg.result_streams,
         }
         .queries_per_port(cfg.queries_per_port)
         .banking(cfg.banking)

@@ -10,7 +10,9 @@
 //!   a register, set the cycle after the core became idle.
 //! * `query`: [`QueryBeat`]s, accepted once a map is loaded and no load is pending.
 //! * `result`: [`ResultBeat`] packets, a header then the found photons, one a beat
-//!   (SearchPort) or two (BarrelPort).
+//!   (SearchPort) or two (BarrelPort); with R result streams (`more_results`)
+//!   stream s carries the packets of the s-th group of D / R datapaths, so that D
+//!   datapaths answering more than one beat a cycle between them are not held back.
 //!   Results of different queries may leave out of order; beats of one result are
 //!   contiguous.
 //!
@@ -42,6 +44,9 @@ pub struct PhotonSearchCore<const S: usize, const W: usize> {
     pub load: LoadIn<W>,
     pub query: StreamIn<QueryBeat>,
     pub result: StreamOut<ResultBeat>,
+    /// Result streams 1..R (`CoreConfig::result_streams`; empty with one stream):
+    /// stream s carries the packets of datapaths s·D/R .. (s+1)·D/R − 1.
+    pub more_results: Vec<StreamOut<ResultBeat>>,
     // Status for measurement: a read on port A / B this cycle; every QueryModule busy.
     pub port_a_reading: Signal<Out, bool>,
     pub port_b_reading: Signal<Out, bool>,
@@ -88,6 +93,9 @@ impl<const S: usize, const W: usize> PhotonSearchCore<S, W> {
             load: Default::default(),
             query: Default::default(),
             result: Default::default(),
+            more_results: (1..cfg.result_streams)
+                .map(|_| Default::default())
+                .collect(),
             port_a_reading: Default::default(),
             port_b_reading: Default::default(),
             all_busy: Default::default(),
@@ -106,7 +114,7 @@ impl<const S: usize, const W: usize> PhotonSearchCore<S, W> {
             in_replica: Default::default(),
             all_idle: Default::default(),
             dispatch: Dispatcher::new(cfg.datapaths()),
-            merge: PacketMerge::new(cfg.datapaths()),
+            merge: PacketMerge::grouped(cfg.datapaths(), cfg.result_streams),
             photon_count: Default::default(),
             loaded: Default::default(),
             load_ready: Default::default(),
@@ -170,14 +178,19 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
             if self.reset.val() {
                 self.stage_valid[i].d.next = false;
             }
-            // Result packets of both ports, merged.
+            // Result packets of the ports, merged into the result streams.
             self.merge.sources[i].valid.next = self.ports[i].io.result.valid.val();
             self.merge.sources[i].data.next = self.ports[i].io.result.data.val();
             self.ports[i].io.result.ready.next = self.merge.sources[i].ready.val();
         }
-        self.result.valid.next = self.merge.merged.valid.val();
-        self.result.data.next = self.merge.merged.data.val();
-        self.merge.merged.ready.next = self.result.ready.val();
+        self.result.valid.next = self.merge.merged[0].valid.val();
+        self.result.data.next = self.merge.merged[0].data.val();
+        self.merge.merged[0].ready.next = self.result.ready.val();
+        for s in 0..self.more_results.len() {
+            self.more_results[s].valid.next = self.merge.merged[s + 1].valid.val();
+            self.more_results[s].data.next = self.merge.merged[s + 1].data.val();
+            self.merge.merged[s + 1].ready.next = self.more_results[s].ready.val();
+        }
 
         // Load: only while every QueryModule is free (no search reads port A) and no
         // query waits in a stage — decided a cycle ahead (`load_ready`).

@@ -76,6 +76,9 @@ pub struct CoreFile {
     pub banks: Option<u64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub replicated_levels: Option<u32>,
+    /// Result streams R (absent: one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub result_streams: Option<usize>,
 }
 
 impl From<&CoreConfig> for CoreFile {
@@ -98,6 +101,7 @@ impl From<&CoreConfig> for CoreFile {
             pipelined: c.pipelined,
             banks: c.banking.map(|b| 1u64 << b.bank_bits),
             replicated_levels: c.banking.map(|b| b.replicated_levels),
+            result_streams: (c.result_streams != 1).then_some(c.result_streams),
         }
     }
 }
@@ -126,7 +130,8 @@ impl CoreFile {
             .pipelined(self.pipelined)
             .trees(self.trees)
             .traversal(self.traversal.into())
-            .controller(controller);
+            .controller(controller)
+            .result_streams(self.result_streams.unwrap_or(1));
         if let Some(q) = self.modules_per_port {
             b = b.modules_per_port(q);
         }

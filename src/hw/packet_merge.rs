@@ -1,7 +1,12 @@
-//! PacketMerge: N result streams into one, round-robin between packets; the beats of
-//! one packet stay together (the merge locks onto a source from its first beat to
-//! its `last`), like verilog-axis' `axis_arb_mux` with its last-beat lock. The core
-//! merges its two SearchPorts with it, the array its trees.
+//! PacketMerge: N result streams into R, round-robin between packets; the beats of
+//! one packet stay together (each output locks onto a source from its first beat
+//! to its `last`), like verilog-axis' `axis_arb_mux` with its last-beat lock. The
+//! core merges its datapaths' streams with it (R streams when the datapaths fill
+//! more than one, `CoreConfig::result_streams`), the array its trees (into one).
+//!
+//! Output g merges sources `g·N/R .. (g+1)·N/R − 1`. Its arbiter sees every source
+//! but only its group's requests (a constant mask), so a grant bit is a source
+//! index whatever the group and no index arithmetic is needed.
 
 use crate::hw::config::ModuleMask;
 use crate::hw::port_arbiter::PortArbiter;
@@ -13,28 +18,47 @@ pub struct PacketMerge {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, bool>,
     pub sources: Vec<StreamIn<ResultBeat>>,
-    pub merged: StreamOut<ResultBeat>,
-    /// Grants round-robin between packets; while `locked` it holds the packet's
-    /// source (its last grant), so no separate owner register is needed.
-    arbiter: PortArbiter,
-    /// A packet is in progress (its first beat moved, its last has not).
-    locked: DFF<bool>,
+    pub merged: Vec<StreamOut<ResultBeat>>,
+    /// One per output: grants round-robin between packets; while `locked` it
+    /// holds the packet's source (its last grant), so no owner register is needed.
+    arbiters: Vec<PortArbiter>,
+    /// A packet is in progress on the output (its first beat moved, its last has not).
+    locked: Vec<DFF<bool>>,
+    /// The sources of each output's group, one bit each.
+    group: Vec<Constant<ModuleMask>>,
     valid_mask: Signal<Local, ModuleMask>,
-    fire: Signal<Local, bool>,
+    /// The beat of the output being wired (a temporary reused for each output).
+    picked: Signal<Local, ResultBeat>,
+    fire: Vec<Signal<Local, bool>>,
 }
 
 impl PacketMerge {
-    /// A merge of `n` streams (at most 32).
+    /// A merge of `n` streams (at most 32) into one.
     pub fn new(n: usize) -> Self {
+        PacketMerge::grouped(n, 1)
+    }
+
+    /// A merge of `n` streams into `r` (a divisor of `n`), output g taking the
+    /// g-th `n / r` sources.
+    pub fn grouped(n: usize, r: usize) -> Self {
+        assert!(
+            r >= 1 && n.is_multiple_of(r) && n <= 32,
+            "{n} sources into {r} outputs"
+        );
+        let g = n / r;
         PacketMerge {
             clock: Default::default(),
             reset: Default::default(),
             sources: (0..n).map(|_| Default::default()).collect(),
-            merged: Default::default(),
-            arbiter: PortArbiter::new(n),
-            locked: Default::default(),
+            merged: (0..r).map(|_| Default::default()).collect(),
+            arbiters: (0..r).map(|_| PortArbiter::new(n)).collect(),
+            locked: (0..r).map(|_| Default::default()).collect(),
+            group: (0..r)
+                .map(|o| Constant::new(ModuleMask::from(((1u64 << g) - 1) << (o * g))))
+                .collect(),
             valid_mask: Default::default(),
-            fire: Default::default(),
+            picked: Default::default(),
+            fire: (0..r).map(|_| Default::default()).collect(),
         }
     }
 }
@@ -42,8 +66,6 @@ impl PacketMerge {
 impl Logic for PacketMerge {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, locked);
-        self.arbiter.clock.next = self.clock.val();
         self.valid_mask.next = 0.into();
         for i in 0..self.sources.len() {
             self.valid_mask.next = self
@@ -51,26 +73,39 @@ impl Logic for PacketMerge {
                 .val()
                 .replace_bit(i, self.sources[i].valid.val());
         }
-        self.arbiter.requests.next = self.valid_mask.val();
-        self.arbiter.hold.next = self.locked.q.val();
-        // The picked source's beat (source 0's while nothing is picked: valid is low).
-        self.merged.valid.next = false;
-        self.merged.data.next = self.sources[0].data.val();
-        for i in 0..self.sources.len() {
-            if self.arbiter.grant.val().get_bit(i) {
-                self.merged.valid.next = self.sources[i].valid.val();
-                self.merged.data.next = self.sources[i].data.val();
+        for o in 0..self.merged.len() {
+            self.arbiters[o].clock.next = self.clock.val();
+            self.locked[o].clock.next = self.clock.val();
+            self.locked[o].d.next = self.locked[o].q.val();
+            self.arbiters[o].requests.next = self.valid_mask.val() & self.group[o].val();
+            self.arbiters[o].hold.next = self.locked[o].q.val();
+            // The picked source's beat (source 0's while nothing is picked: valid is low).
+            self.merged[o].valid.next = false;
+            self.picked.next = self.sources[0].data.val();
+            for i in 0..self.sources.len() {
+                if self.arbiters[o].grant.val().get_bit(i) {
+                    self.merged[o].valid.next = self.sources[i].valid.val();
+                    self.picked.next = self.sources[i].data.val();
+                }
             }
-            self.sources[i].ready.next =
-                self.merged.ready.val() && self.arbiter.grant.val().get_bit(i);
+            self.merged[o].data.next = self.picked.val();
+            self.fire[o].next = self.merged[o].valid.val() && self.merged[o].ready.val();
+            self.arbiters[o].advance.next = self.fire[o].val();
+            if self.fire[o].val() {
+                self.locked[o].d.next = !self.picked.val().last;
+            }
+            if self.reset.val() {
+                self.locked[o].d.next = false;
+            }
         }
-        self.fire.next = self.merged.valid.val() && self.merged.ready.val();
-        self.arbiter.advance.next = self.fire.val();
-        if self.fire.val() {
-            self.locked.d.next = !self.merged.data.val().last;
-        }
-        if self.reset.val() {
-            self.locked.d.next = false;
+        // A source moves when the output that granted it takes the beat.
+        for i in 0..self.sources.len() {
+            self.sources[i].ready.next = false;
+            for o in 0..self.merged.len() {
+                if self.arbiters[o].grant.val().get_bit(i) {
+                    self.sources[i].ready.next = self.merged[o].ready.val();
+                }
+            }
         }
     }
 }

@@ -36,8 +36,23 @@ pub fn for_device(
             // (One bank is no bank: the crossbar needs two.)
             b.trees(trees)
                 .banks(p.bank_bits.max(1), Some(p.replicated_levels))
+                .result_streams(result_streams(PORTS * trees))
         },
     )
+}
+
+/// Datapaths one result stream serves in a planned core: a stream carries a beat
+/// a cycle, and a busy barrel datapath at k = 32 sends about 0.12 (a 17-beat
+/// packet per ~140 reads), so four keep a stream half full with room for smaller
+/// maps (fewer reads per packet).
+pub const DATAPATHS_PER_STREAM: usize = 4;
+
+/// The fewest result streams that split `d` datapaths evenly with at most
+/// [`DATAPATHS_PER_STREAM`] on each.
+pub fn result_streams(d: usize) -> usize {
+    (1..=d)
+        .find(|&r| d.is_multiple_of(r) && d / r <= DATAPATHS_PER_STREAM)
+        .unwrap_or(1)
 }
 
 /// [`for_device`] if a device is given, else `b` as it is.

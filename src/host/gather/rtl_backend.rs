@@ -67,14 +67,28 @@ impl GatherBackend for RtlBackend {
         } else {
             format!("Q = {}", c.queries_per_port)
         };
+        // A banked core's trees are replicas of its top levels, two datapaths each.
+        let store = match c.banking {
+            Some(b) => format!(
+                "{} banks below {} replicated levels, {} result stream(s)",
+                1u64 << b.bank_bits,
+                b.replicated_levels,
+                c.result_streams
+            ),
+            None => format!("{} result stream(s)", c.result_streams),
+        };
         Some(format!(
-            "{}\ncore: {} controller, T = {} tree(s), H = {}, K = {}, {} x Q {q} ({fitted}), {} metric, {}-bit distances, {} traversal",
+            "{}\ncore: {} controller, T = {} tree(s), H = {}, K = {}, {} x Q {q} ({fitted}), {store}, {} metric, {}-bit distances, {} traversal",
             self.map.describe(),
             c.controller,
             c.trees,
             c.address_bits,
             c.k,
-            crate::hw::config::PORTS,
+            if c.is_array() {
+                crate::hw::config::PORTS
+            } else {
+                c.datapaths()
+            },
             c.metric,
             c.dist_bits(),
             c.traversal

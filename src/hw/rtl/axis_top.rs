@@ -260,6 +260,13 @@ fn json_of(streams: &[StreamLayout], cfg: &CoreConfig) -> String {
 /// `module photon_search_axis` around `core` (exported for `cfg`), its layouts and
 /// their JSON. The core's module comes with the export and is instantiated as `top`.
 pub fn axis_top(core: &Exported, cfg: &CoreConfig) -> Result<AxisTop, HwError> {
+    if cfg.result_streams != 1 {
+        return Err(axis_error(format!(
+            "result_streams = {}: the AXI4-Stream top has one result stream \
+             (m_axis_result); export the core without --axis, or with one result stream",
+            cfg.result_streams
+        )));
+    }
     let streams = stream_layouts(core, cfg)?;
     let (photon, query, result) = (&streams[0], &streams[1], &streams[2]);
     let addr_w = core

@@ -11,7 +11,7 @@
 //! stall seed every valid and every ready of the host is randomly withheld (35 % of
 //! the cycles), so every handshake is exercised.
 
-use crate::hw::config::CoreConfig;
+use crate::hw::config::{CoreConfig, MAX_RESULT_STREAMS};
 use crate::hw::error::HwError;
 use crate::hw::photon_word::TreeImage;
 use crate::hw::stream::{QueryBeat, ResultBeat};
@@ -48,8 +48,10 @@ pub struct SimStats {
     /// Cycles with every QueryModule (of every tree) occupied.
     pub busy_cycles: u64,
     pub busy_reads_per_port: Vec<u64>,
-    /// Result beats taken (valid and ready): what the result stream carries.
+    /// Result beats taken (valid and ready): what the result streams carry.
     pub result_beats: u64,
+    /// The same, per result stream.
+    pub result_beats_per_stream: Vec<u64>,
 }
 
 /// The load beat the host presents.
@@ -69,7 +71,8 @@ pub struct Inputs {
     pub load: LoadBeat,
     pub query_valid: bool,
     pub query: QueryBeat,
-    pub result_ready: bool,
+    /// Per result stream (`CoreConfig::result_streams`; the rest unused).
+    pub result_ready: [bool; MAX_RESULT_STREAMS],
 }
 
 /// The core's stream outputs in one cycle.
@@ -77,8 +80,9 @@ pub struct Inputs {
 pub struct Outputs {
     pub load_ready: bool,
     pub query_ready: bool,
-    pub result_valid: bool,
-    pub result: ResultBeat,
+    /// Per result stream, as `Inputs::result_ready`.
+    pub result_valid: [bool; MAX_RESULT_STREAMS],
+    pub result: [ResultBeat; MAX_RESULT_STREAMS],
 }
 
 /// A simulated core, cycle by cycle.
@@ -155,7 +159,15 @@ impl Observer for StatsObserver {
             }
         }
         s.cycles += 1;
-        s.result_beats += (c.outputs.result_valid && c.inputs.result_ready) as u64;
+        let streams = c.dut.config().result_streams;
+        if s.result_beats_per_stream.is_empty() {
+            s.result_beats_per_stream = vec![0; streams];
+        }
+        for (i, beats) in s.result_beats_per_stream.iter_mut().enumerate() {
+            let beat = (c.outputs.result_valid[i] && c.inputs.result_ready[i]) as u64;
+            *beats += beat;
+            s.result_beats += beat;
+        }
         self.searching |= c.inputs.query_valid;
         s.search_cycles += self.searching as u64;
         Ok(())
@@ -205,8 +217,8 @@ struct Host {
     /// id, so tags come from a pool of that size, reused in FIFO order.
     tags: Vec<Option<(usize, usize)>>,
     free_tags: std::collections::VecDeque<usize>,
-    /// Result in progress: (tag, count).
-    current: Option<(usize, usize)>,
+    /// Per result stream, the result in progress: (tag, count).
+    current: Vec<Option<(usize, usize)>>,
     received: usize,
 }
 
@@ -268,7 +280,7 @@ impl<D: Dut> Driver<D> {
         };
         self.inputs.load_valid = false;
         self.inputs.query_valid = false;
-        self.inputs.result_ready = false;
+        self.inputs.result_ready = [false; MAX_RESULT_STREAMS];
         Ok(())
     }
 
@@ -352,7 +364,7 @@ impl<D: Dut> Driver<D> {
             query_tag: None,
             tags: vec![None; 1 << cfg.id_bits()],
             free_tags: (0..1 << cfg.id_bits()).collect(),
-            current: None,
+            current: vec![None; cfg.result_streams],
             received: 0,
         };
         let total: usize = jobs.iter().map(|j| j.queries.len()).sum();
@@ -384,8 +396,9 @@ impl<D: Dut> Driver<D> {
             // This cycle's inputs.
             self.inputs.load_valid = false;
             self.inputs.query_valid = false;
+            let streams = cfg.result_streams;
             if done {
-                self.inputs.result_ready = true;
+                self.inputs.result_ready[..streams].fill(true);
             } else {
                 let job = jobs[host.job];
                 if host.loading {
@@ -415,14 +428,19 @@ impl<D: Dut> Driver<D> {
                         k: (q.k as u64).into(),
                     };
                 }
-                self.inputs.result_ready = !self.stall();
+                for s in 0..streams {
+                    self.inputs.result_ready[s] = !self.stall();
+                }
             }
             let out = self.step()?;
             let load_fire = self.inputs.load_valid && out.load_ready;
             let query_fire = self.inputs.query_valid && out.query_ready;
-            let result_fire = self.inputs.result_ready && out.result_valid;
-            if result_fire {
-                receive(&mut host, jobs, &mut results, &out.result)?;
+            let mut result_fire = false;
+            for s in 0..streams {
+                if self.inputs.result_ready[s] && out.result_valid[s] {
+                    result_fire = true;
+                    receive(&mut host, jobs, &mut results, s, &out.result[s])?;
+                }
             }
             if load_fire {
                 host.load_presenting = false;
@@ -464,11 +482,13 @@ impl<D: Dut> Driver<D> {
     }
 }
 
-/// Take one result beat, checking the packet protocol.
+/// Take one result beat from result stream `stream`, checking the packet protocol
+/// (each stream's packets are whole; the streams are independent).
 fn receive(
     host: &mut Host,
     jobs: &[Job<'_>],
     results: &mut [Vec<Option<HwResult>>],
+    stream: usize,
     beat: &ResultBeat,
 ) -> Result<(), HwError> {
     let tag = beat.id.to_u64() as usize;
@@ -479,7 +499,7 @@ fn receive(
         .flatten()
         .ok_or_else(|| protocol(format!("result for unknown query tag {tag}")))?;
     if beat.header {
-        if host.current.is_some() {
+        if host.current[stream].is_some() {
             return Err(protocol("result header inside a result"));
         }
         if results[ji][qi].is_some() {
@@ -497,11 +517,10 @@ fn receive(
         if (count == 0) != beat.last {
             return Err(protocol("result header: last flag and count disagree"));
         }
-        host.current = Some((tag, count));
+        host.current[stream] = Some((tag, count));
     } else {
-        let (ctag, count) = host
-            .current
-            .ok_or_else(|| protocol("result entry without a header"))?;
+        let (ctag, count) =
+            host.current[stream].ok_or_else(|| protocol("result entry without a header"))?;
         if ctag != tag {
             return Err(protocol("result entries of two queries interleaved"));
         }
@@ -520,7 +539,7 @@ fn receive(
         }
     }
     if beat.last {
-        host.current = None;
+        host.current[stream] = None;
         host.received += 1;
         host.tags[tag] = None;
         host.free_tags.push_back(tag);

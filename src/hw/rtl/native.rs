@@ -105,18 +105,27 @@ impl<const W: usize, U: SearchTop<W>> Dut for NativeDut<W, U> {
         io.load.last.next = v.load.last;
         io.query.valid.next = v.query_valid;
         io.query.data.next = v.query;
-        io.result.ready.next = v.result_ready;
+        io.result.ready.next = v.result_ready[0];
+        for (s, r) in io.more_results.iter_mut().enumerate() {
+            r.ready.next = v.result_ready[s + 1];
+        }
         self.settle()
     }
 
     fn outputs(&mut self) -> Outputs {
         let io = self.uut.io();
-        Outputs {
+        let mut o = Outputs {
             load_ready: io.load.ready.val(),
             query_ready: io.query.ready.val(),
-            result_valid: io.result.valid.val(),
-            result: io.result.data.val(),
+            ..Outputs::default()
+        };
+        o.result_valid[0] = io.result.valid.val();
+        o.result[0] = io.result.data.val();
+        for (s, r) in io.more_results.iter().enumerate() {
+            o.result_valid[s + 1] = r.valid.val();
+            o.result[s + 1] = r.data.val();
         }
+        o
     }
 
     fn tree_status(&self, t: usize) -> [bool; 3] {

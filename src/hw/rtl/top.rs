@@ -16,6 +16,8 @@ pub struct TopIo<'a, const W: usize> {
     pub load: &'a mut LoadIn<W>,
     pub query: &'a mut StreamIn<QueryBeat>,
     pub result: &'a mut StreamOut<ResultBeat>,
+    /// Result streams 1..R (empty with one).
+    pub more_results: &'a mut Vec<StreamOut<ResultBeat>>,
 }
 
 /// A top-level block with `W`-bit photon words.
@@ -37,6 +39,7 @@ macro_rules! top_io {
             load: &mut $s.load,
             query: &mut $s.query,
             result: &mut $s.result,
+            more_results: &mut $s.more_results,
         }
     };
 }

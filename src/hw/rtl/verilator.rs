@@ -20,7 +20,7 @@
 //! status: the core's status outputs for T = 1, the array's per-tree status
 //! vectors for T > 1.
 
-use crate::hw::config::{Addr, CoreConfig};
+use crate::hw::config::{Addr, CoreConfig, MAX_RESULT_STREAMS};
 use crate::hw::error::HwError;
 use crate::hw::rtl::driver::{Dut, Inputs, Outputs};
 use crate::hw::rtl::export::{export_verilog, Exported};
@@ -331,6 +331,35 @@ fn put(bits: &mut [u32], at: &mut usize, value: u64, width: usize) {
 }
 
 /// `width` (≤ 64) bits at bit `at` of `bits`.
+/// A result beat from its packed bits: each field at the offset and width the
+/// `LogicStruct` derive gives it (the struct definition's order).
+fn result_beat(w: &[u32]) -> ResultBeat {
+    let d = ResultBeat::default();
+    let f = |mut at: usize, width: usize| take(w, &mut at, width);
+    ResultBeat {
+        header: f(d.get_my_offset_header(), d.get_my_width_header()) == 1,
+        last: f(d.get_my_offset_last(), d.get_my_width_last()) == 1,
+        id: f(d.get_my_offset_id(), d.get_my_width_id()).into(),
+        count: f(d.get_my_offset_count(), d.get_my_width_count()).into(),
+        visited: f(d.get_my_offset_visited(), d.get_my_width_visited()).into(),
+        address: f(d.get_my_offset_address(), d.get_my_width_address()).into(),
+        distance: f(d.get_my_offset_distance(), d.get_my_width_distance()).into(),
+        pair: f(d.get_my_offset_pair(), d.get_my_width_pair()) == 1,
+        address2: f(d.get_my_offset_address2(), d.get_my_width_address2()).into(),
+        distance2: f(d.get_my_offset_distance2(), d.get_my_width_distance2()).into(),
+    }
+}
+
+/// Result stream of a `more_results$s$member` port: s + 1.
+fn more_stream(name: &str) -> Result<usize, HwError> {
+    name.split('$')
+        .nth(1)
+        .and_then(|s| s.parse::<usize>().ok())
+        .filter(|&s| s + 1 < MAX_RESULT_STREAMS)
+        .map(|s| s + 1)
+        .ok_or_else(|| verr(format!("port `{name}`: no result stream index")))
+}
+
 fn take(bits: &[u32], at: &mut usize, width: usize) -> u64 {
     let (mut v, mut got, mut pos) = (0u64, 0, *at);
     while got < width {
@@ -409,7 +438,11 @@ impl VerilatorDut {
                     k += n;
                 }
             }
-            "result$ready" => put(out, at, v.result_ready as u64, 1),
+            "result$ready" => put(out, at, v.result_ready[0] as u64, 1),
+            name if name.starts_with("more_results$") && name.ends_with("$ready") => {
+                let s = more_stream(name)?;
+                put(out, at, v.result_ready[s] as u64, 1)
+            }
             other => return Err(verr(format!("unknown input port `{other}`"))),
         }
         Ok(())
@@ -455,25 +488,13 @@ impl Dut for VerilatorDut {
             match p.name.as_str() {
                 "load$ready" => o.load_ready = bit(0),
                 "query$ready" => o.query_ready = bit(0),
-                "result$valid" => o.result_valid = bit(0),
-                "result$data" => {
-                    // Each field at the offset and width the `LogicStruct` derive
-                    // gives it (the struct definition's order).
-                    let d = ResultBeat::default();
-                    let f = |mut at: usize, width: usize| take(w, &mut at, width);
-                    o.result = ResultBeat {
-                        header: f(d.get_my_offset_header(), d.get_my_width_header()) == 1,
-                        last: f(d.get_my_offset_last(), d.get_my_width_last()) == 1,
-                        id: f(d.get_my_offset_id(), d.get_my_width_id()).into(),
-                        count: f(d.get_my_offset_count(), d.get_my_width_count()).into(),
-                        visited: f(d.get_my_offset_visited(), d.get_my_width_visited()).into(),
-                        address: f(d.get_my_offset_address(), d.get_my_width_address()).into(),
-                        distance: f(d.get_my_offset_distance(), d.get_my_width_distance()).into(),
-                        pair: f(d.get_my_offset_pair(), d.get_my_width_pair()) == 1,
-                        address2: f(d.get_my_offset_address2(), d.get_my_width_address2()).into(),
-                        distance2: f(d.get_my_offset_distance2(), d.get_my_width_distance2())
-                            .into(),
-                    }
+                "result$valid" => o.result_valid[0] = bit(0),
+                "result$data" => o.result[0] = result_beat(w),
+                name if name.starts_with("more_results$") && name.ends_with("$valid") => {
+                    o.result_valid[more_stream(name)?] = bit(0)
+                }
+                name if name.starts_with("more_results$") && name.ends_with("$data") => {
+                    o.result[more_stream(name)?] = result_beat(w)
                 }
                 // T = 1: the core's own status; T > 1: per tree from the vectors
                 // (the array's any/every outputs are implied by them).
