@@ -46,6 +46,8 @@ ROUTER2_TREES = 3
 # arrays' global clock net, which router1 routes.
 ROUTER1_CONTROLLERS = ("barrel",)
 SIM_QUERIES = 3000
+# The Cornell workload's image (one query per eye ray that hits a diffuse surface).
+CORNELL_SIZE = "256x256"
 # PHOTON_FPGA_STEPS=sim: only the simulations (minutes), then the report.
 SIM_ONLY = os.environ.get("PHOTON_FPGA_STEPS") == "sim"
 # PHOTON_FPGA_STEPS=ecp5: the simulations and ECP5 place and route only, without the
@@ -80,6 +82,14 @@ class CoreOptions:
     controller: str = "modules"
     trees: int = 1
     pipelined: bool = True
+    # A banked store (`--banks`, `--replicated-levels`) and the result streams.
+    banks: Optional[int] = None
+    replicated_levels: Optional[int] = None
+    result_streams: int = 1
+    # The simulation's workload: None, random queries on a full random map; else a
+    # Cornell-box map from this many emitted photons (on the exported core's grid,
+    # `bench-core --core`), queried at the eye-ray hits of a CORNELL_SIZE image.
+    cornell_photons: Optional[int] = None
 
     def cli(self):
         a = ["--k", str(self.k), "--bits", str(self.bits), "--address-bits", str(self.address_bits),
@@ -94,7 +104,21 @@ class CoreOptions:
             a += ["--unpipelined"]
         if self.trees != 1:
             a += ["--trees", str(self.trees)]
+        if self.banks is not None:
+            a += ["--banks", str(self.banks)]
+        if self.replicated_levels is not None:
+            a += ["--replicated-levels", str(self.replicated_levels)]
+        if self.result_streams != 1:
+            a += ["--result-streams", str(self.result_streams)]
         return a
+
+    def sim_cli(self, d):
+        """bench-core's options for the row exported into `d`."""
+        if self.cornell_photons is None:
+            return self.cli()
+        return ["--core", os.path.join(d, "photon_search_core.toml"), "--workload", "cornell",
+                "--cornell-photons", str(self.cornell_photons), "--cornell-size", CORNELL_SIZE,
+                "--cornell-spp", "1"]
 
 
 @dataclass(frozen=True)
@@ -149,6 +173,12 @@ CONFIGS = [
     # barrel core's heaps in BlockRAM, squared L2 as the default render gathers.
     Config("barrel K=100 (L2, 2x16 slots)", replace(BARREL_CELL, k=100, metric="l2")),
     Config("barrel K=512 (L2, 2x16 slots)", replace(BARREL_CELL, k=512, metric="l2")),
+    # One map banked over the BlockRAM (docs/HARDWARE.md): D = 8 barrel datapaths on four
+    # replicas of the top 10 levels, 32 banks below, two result streams; a Cornell map of
+    # at least 64 K photons (36,000 emitted store about 70 K: H = 17), k = 32, squared L2.
+    Config("banked D=8 (K=32, L2, 4x2x16 slots, B=32, R=2, Cornell 70 K photons)",
+           replace(BARREL_CELL, k=32, metric="l2", address_bits=17, trees=4, banks=32,
+                   replicated_levels=10, result_streams=2, cornell_photons=36000)),
 ]
 
 
@@ -619,7 +649,7 @@ def row(c, steps, old, export_error=None, versions=None):
         e = ecp5(d, [core, shell], SEEDS if first or c.options.trees > 1 else SEEDS[:1],
                  "router2" if big else "router1", "ecp5" not in steps, first_routed=not first)
     if os.path.exists(core):
-        s, k, err = sim(d, c.options.cli(), [core], "sim" not in steps)
+        s, k, err = sim(d, c.options.sim_cli(d), [core], "sim" not in steps)
     if steps:
         print(f"{c.name} {sorted(steps)}: {time.time() - t0:.0f} s: {x and x.luts} LUTs, "
               f"{e and (e.error or e.fmax_mhz)}, {s}", flush=True)
@@ -796,7 +826,8 @@ def render_report(res):
             cells += ([f"{d.cores}", f"{d.queries_per_s / 1e6:,.1f} M", f"{d.vs_kiddo:,.1f}x",
                        fmt_all(d.vs_kiddo_all_threads, r.kiddo)] if d else ["?"] * 4)
         L.append(f"| {r.name} | " + " | ".join(cells) + " |")
-    arrays = [r for r in res.rows if r.options.trees > 1 and r.ecp5 and not r.ecp5.error and r.sim]
+    arrays = [r for r in res.rows if r.options.trees > 1 and r.options.banks is None
+              and r.ecp5 and not r.ecp5.error and r.sim]
     if arrays:
         L += ["\n### Arrays placed and routed on the ECP5-85k\n",
               "The whole `PhotonSearchArray` of T cores inside its I/O shell, placed and routed by nextpnr "
@@ -817,10 +848,43 @@ def render_report(res):
             tried += [f"- {r.name}, {t}" for t in e.failed]
         if tried:
             L.append("\n" + "\n".join(tried))
+    L += banked_section(res)
     L += host_link_section(res)
     L.append("\n## Critical paths (best seed)\n")
     L.extend(crit)
     return "\n".join(L) + "\n"
+
+
+def banked_section(res):
+    """The banked cores (one map over B banks, `--banks`): placed and routed, on a
+    Cornell map of the row's size."""
+    rows = [r for r in res.rows if r.options.banks is not None and r.sim]
+    if not rows:
+        return []
+    L = ["\n### Banked cores placed and routed on the ECP5-85k\n",
+         "One photon map over B BlockRAM banks behind the crossbar, T replicas of the top L levels with two "
+         "barrel datapaths each (D = 2T), R result streams (docs/HARDWARE.md), inside the registered I/O "
+         "shell. Map: the Cornell box from the row's emitted photons, on the exported core's grid "
+         f"(`bench-core --core`); queries: an even sample of {res.method.sim_queries:,} of the eye-ray hits of a "
+         f"{CORNELL_SIZE} image, k = K, every answer checked against the software search (*simulated*, "
+         "Verilator). Queries/s = reads/cycle x placed-and-routed fmax / reads per query; kiddo timed by the "
+         "same bench-core run on the same map and queries.\n",
+         "| configuration | D | B | L | R | emitted photons | LUT4s | DP16KD | fmax MHz | reads/cycle | "
+         "reads/query | queries/s | kiddo 1 thread | vs kiddo 1 thread | vs kiddo all threads |",
+         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        o, e, s, f = r.options, r.ecp5, r.sim, r.figures
+        u = (e.used or {}) if e else {}
+        use = lambda k: f"{u[k][0]:,} ({100 * u[k][0] / u[k][1]:.0f} %)" if k in u else "?"
+        fmax = f"{e.best():.1f}" if e and e.best() else (e.error if e and e.error else "?")
+        q = f"{f['queries_per_s'].value / 1e6:,.2f} M" if "queries_per_s" in f else "?"
+        vs = f"{f['vs_kiddo'].value:,.1f}x" if "vs_kiddo" in f else "?"
+        allt = fmt_all(f["vs_kiddo_all_threads"].value if "vs_kiddo_all_threads" in f else None, r.kiddo)
+        kq = f"{r.kiddo.queries_per_s / 1e3:,.0f} K" if r.kiddo else "?"
+        L.append(f"| {r.name} | {2 * o.trees} | {o.banks} | {o.replicated_levels} | {o.result_streams} | "
+                 f"{o.cornell_photons:,} | {use('Total LUT4s')} | {use('DP16KD')} | {fmax} | "
+                 f"{s.reads_per_cycle:.3f} | {s.reads_per_query:.1f} | {q} | {kq} | {vs} | {allt} |")
+    return L
 
 
 # PCIe payload bandwidth per direction (GB/s): 5 GT/s x 8 lanes, 8b/10b (the paper's
