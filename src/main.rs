@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 mod cli;
 use cli::banking::{banking, BankingArgs};
+use cli::bench_banks::{bench_banks, BenchBanksArgs};
 use cli::bench_core::{bench_core, BenchCoreArgs};
 use cli::export::{export, ExportArgs};
 use cli::gather::{gather, GatherArgs};
@@ -37,6 +38,10 @@ enum Cmd {
     /// read stream (bank mappings, query orders, D datapaths x B banks); writes
     /// docs/BANKING.md.
     Banking(BankingArgs),
+    /// The banked core simulated (every answer checked): reads per cycle against D
+    /// datapaths x B banks, and queries/s against map size for a device's plan;
+    /// writes docs/BANKED_CORE.md, its CSV and two plots.
+    BenchBanks(BenchBanksArgs),
 }
 
 fn main() -> ExitCode {
@@ -48,6 +53,7 @@ fn main() -> ExitCode {
         Some(Cmd::Render(a)) => render(a),
         Some(Cmd::Study(a)) => study(a),
         Some(Cmd::Banking(a)) => banking(a),
+        Some(Cmd::BenchBanks(a)) => bench_banks(a),
         None => render(&RenderArgs::default()),
     };
     match result {

@@ -198,10 +198,13 @@ impl GatherOpts {
         };
         if hw && k >= 1 {
             // The map sets the grid and H; any grid the quantizer can make is tried
-            // later, and the banks (which depend on H) with it.
+            // later, and the banks (which depend on H) with it; the result streams
+            // are checked against the datapaths (one tree of two here) with them.
             core.layout(PhotonLayout::new([bits.clamp(1, MAX_HW_COORD_BITS); 3]))
                 .address_bits(1)
                 .banking(None)
+                .trees(1)
+                .result_streams(1)
                 .build()?;
             // A device plans the barrel core: a controller that cannot wait is refused now.
             self.core.for_device(core, 1, 1)?;

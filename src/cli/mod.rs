@@ -2,6 +2,7 @@
 //! and dispatches.
 
 pub mod banking;
+pub mod bench_banks;
 pub mod bench_core;
 pub mod core_args;
 pub mod export;

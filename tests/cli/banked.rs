@@ -20,7 +20,7 @@ fn render_png(dir: &Path, name: &str, args: &[&str]) -> Vec<u8> {
 }
 
 /// rust-hdl's simulation of a banked core (two replicas, four datapaths, 8
-/// banks) renders the image of the software search.
+/// banks, two result streams) renders the image of the software search.
 #[test]
 fn render_through_the_banked_core_is_the_sw_image() {
     let dir = tempfile::tempdir().unwrap();
@@ -37,6 +37,8 @@ fn render_through_the_banked_core_is_the_sw_image() {
             "2",
             "--replicated-levels",
             "4",
+            "--result-streams",
+            "2",
         ],
     );
     assert!(sw == hw, "the banked core's render differs from sw");

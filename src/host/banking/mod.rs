@@ -10,6 +10,8 @@
 //! * `mapping`: the replicated top levels and the node → bank mappings.
 //! * `sim`: the cycle model (slots, slot loop, per-bank round robin).
 //! * `sweep`: the measured points; `report`: docs/BANKING.md.
+//! * `rtl_sweep`: the banked core itself, simulated (every answer checked), and
+//!   `rtl_report` its tables and plots (`photon-fpga bench-banks`).
 //! * `host::device::plan`: B, L, D from the map size and the device.
 //!
 //! # The mapping chosen, by the numbers (docs/BANKING.md)
@@ -42,6 +44,8 @@
 pub mod mapping;
 pub mod order;
 pub mod report;
+pub mod rtl_report;
+pub mod rtl_sweep;
 pub mod sim;
 pub mod stream;
 pub mod sweep;

@@ -13,8 +13,8 @@ use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;
 
-pub(super) type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
-pub(super) type Drawn = std::result::Result<(), Box<dyn std::error::Error>>;
+pub type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+pub type Drawn = std::result::Result<(), Box<dyn std::error::Error>>;
 
 /// The legend box every chart here draws.
 pub(super) fn legend<'a, CT: CoordTranslate>(
@@ -53,7 +53,7 @@ fn register_font() {
 }
 
 /// Draw a `w` x `h` PNG at `path`.
-pub(super) fn png(path: &Path, w: u32, h: u32, draw: impl FnOnce(&Area) -> Drawn) -> Result<()> {
+pub fn png(path: &Path, w: u32, h: u32, draw: impl FnOnce(&Area) -> Drawn) -> Result<()> {
     register_font();
     let fail = |e: &dyn std::fmt::Display| Error::new(format!("{}: {e}", path.display()));
     let mut buf = vec![255u8; (w * h * 3) as usize];
@@ -64,7 +64,8 @@ pub(super) fn png(path: &Path, w: u32, h: u32, draw: impl FnOnce(&Area) -> Drawn
         root.present().map_err(|e| fail(&e))?;
     }
     let img = image::RgbImage::from_raw(w, h, buf).expect("buffer of w x h x 3");
-    img.save(path).map_err(|e| fail(&e))
+    img.save_with_format(path, image::ImageFormat::Png)
+        .map_err(|e| fail(&e))
 }
 
 /// A number of a point of the `--exact` series.
@@ -201,7 +202,7 @@ pub fn exact(path: &Path, s: &ExactSeries) -> Result<()> {
 }
 
 /// One panel: `series` of (name, points) against x.
-fn line_panel(
+pub fn line_panel(
     area: &Area,
     title: &str,
     x_desc: &str,
