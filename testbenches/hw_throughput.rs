@@ -146,19 +146,8 @@ fn fitted_q_keeps_every_port_reading() {
     ] {
         let max = cfg.max_dist();
         let step = (w.queries.len() / 300).max(1);
-        let queries: Vec<HwQuery> = w
-            .queries
-            .iter()
-            .step_by(step)
-            .take(300)
-            .enumerate()
-            .map(|(i, &coords)| HwQuery {
-                id: i as u32,
-                coords,
-                radius: max,
-                k: cfg.k as u32,
-            })
-            .collect();
+        let points: Vec<[u32; 3]> = w.queries.iter().step_by(step).take(300).copied().collect();
+        let queries = HwQuery::k_nearest(&cfg, &points);
         let soft: Vec<_> = queries
             .iter()
             .map(|q| knn::search_with(&w.tree, q.coords, cfg.k, max, cfg.metric, cfg.traversal))

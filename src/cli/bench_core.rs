@@ -134,17 +134,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     let (points, tree) = (&w.points, &w.tree);
     let n = tree.len();
     let max = cfg.max_dist();
-    let queries: Vec<HwQuery> = w
-        .queries
-        .iter()
-        .enumerate()
-        .map(|(i, &coords)| HwQuery {
-            id: i as u32,
-            coords,
-            radius: max,
-            k: cfg.k as u32,
-        })
-        .collect();
+    let queries = HwQuery::k_nearest(&cfg, &w.queries);
     // The stream's cost per read as the software search counts it, for Q.
     let profile: ReadProfile = queries
         .iter()

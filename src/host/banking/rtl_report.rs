@@ -65,6 +65,13 @@ fn csv(s: &RtlSweeps) -> String {
     out
 }
 
+/// The replicated levels L of a banked point ("–": whole copies).
+fn levels(p: &RtlPoint) -> String {
+    p.config
+        .banking
+        .map_or("–".to_string(), |b| b.replicated_levels.to_string())
+}
+
 fn markdown(s: &RtlSweeps) -> String {
     let mut m = String::new();
     let _ = writeln!(
@@ -92,9 +99,7 @@ fn markdown(s: &RtlSweeps) -> String {
             "| {} | {} | {} | {} | {:.3} | {:.3} | {:.1} | {:.3} |",
             p.datapaths(),
             p.banks(),
-            p.config
-                .banking
-                .map_or("–".to_string(), |b| b.replicated_levels.to_string()),
+            levels(p),
             p.config.result_streams,
             p.reads_per_cycle(),
             p.per_datapath(),
@@ -123,9 +128,7 @@ fn markdown(s: &RtlSweeps) -> String {
                     p.photons,
                     p.datapaths(),
                     p.banks(),
-                    p.config
-                        .banking
-                        .map_or("–".to_string(), |b| b.replicated_levels.to_string()),
+                    levels(p),
                     p.config.result_streams,
                     p.queries,
                     p.reads_per_cycle(),

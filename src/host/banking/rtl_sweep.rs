@@ -83,16 +83,7 @@ pub fn run_checked(
     engine: Engine,
 ) -> Result<RtlPoint> {
     let max = cfg.max_dist();
-    let hw: Vec<HwQuery> = queries
-        .iter()
-        .enumerate()
-        .map(|(i, &coords)| HwQuery {
-            id: i as u32,
-            coords,
-            radius: max,
-            k: cfg.k as u32,
-        })
-        .collect();
+    let hw = HwQuery::k_nearest(cfg, queries);
     let mut sim = CoreSim::new(
         cfg,
         &SimOptions {

@@ -28,6 +28,24 @@ pub struct HwQuery {
     pub k: u32,
 }
 
+impl HwQuery {
+    /// Each of `points` as a query for `cfg`'s K nearest photons with no radius
+    /// bound (the largest distance of `cfg`'s grid), numbered in order.
+    pub fn k_nearest(cfg: &CoreConfig, points: &[[u32; 3]]) -> Vec<HwQuery> {
+        let max = cfg.max_dist();
+        points
+            .iter()
+            .enumerate()
+            .map(|(i, &coords)| HwQuery {
+                id: i as u32,
+                coords,
+                radius: max,
+                k: cfg.k as u32,
+            })
+            .collect()
+    }
+}
+
 /// One query's answer: (heap address, distance) in found-list slot order.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct HwResult {
