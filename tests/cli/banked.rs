@@ -128,4 +128,36 @@ fn what_the_banked_core_cannot_build_is_refused() {
         .map(String::from),
         "the largest that fits is",
     );
+    // Result streams split the datapaths evenly (four here: 1, 2 or 4 streams).
+    refused(
+        dir.path(),
+        &render(&["--banks", "8", "--trees", "2", "--result-streams", "3"]),
+        "result_streams = 3",
+    );
+    // The AXI4-Stream top has one result stream.
+    let axis = dir.path().join("axis").display().to_string();
+    refused(
+        dir.path(),
+        &[
+            "export-verilog",
+            "--controller",
+            "barrel",
+            "--traversal",
+            "cell",
+            "--address-bits",
+            "12",
+            "--banks",
+            "8",
+            "--trees",
+            "2",
+            "--result-streams",
+            "2",
+            "--interface",
+            "axis",
+            "--out",
+            &axis,
+        ]
+        .map(String::from),
+        "one result stream",
+    );
 }
