@@ -213,13 +213,12 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         .map(|r| format!("{:.3}", *r as f64 / st.busy_cycles.max(1) as f64))
         .collect();
     println!(
-        "core: {} controller, T = {} tree(s), H = {}, K = {}, {}{}, {} metric, {}-bit distances, {} traversal, issue interval {}",
+        "core: {} controller, T = {} tree(s), H = {}, K = {}, {}, {} metric, {}-bit distances, {} traversal, issue interval {}",
         cfg.controller,
         cfg.trees,
         cfg.address_bits,
         cfg.k,
         describe_q(&cfg),
-        if cfg.is_array() { " per tree" } else { "" },
         cfg.metric,
         cfg.dist_bits(),
         cfg.traversal,

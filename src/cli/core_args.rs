@@ -323,7 +323,7 @@ impl CoreArgs {
 }
 
 /// "2 x 21 QueryModules" or "2 x 16 query slots": a port's Q under its name
-/// (and the banks, with a banked store).
+/// (per tree of an array; and the banks and result streams of a banked store).
 pub fn describe_q(cfg: &CoreConfig) -> String {
     let what = match cfg.controller {
         Controller::Modules => "QueryModules",
@@ -340,8 +340,10 @@ pub fn describe_q(cfg: &CoreConfig) -> String {
         1 => String::new(),
         r => format!(", {r} result streams"),
     };
+    // An array's trees are whole cores, each with these ports.
+    let per_tree = if cfg.is_array() { " per tree" } else { "" };
     format!(
-        "{} x {} {what}{banks}{streams}",
+        "{} x {} {what}{per_tree}{banks}{streams}",
         cfg.datapaths(),
         cfg.queries_per_port
     )

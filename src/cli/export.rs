@@ -95,7 +95,7 @@ pub fn export(args: &ExportArgs) -> Result<()> {
         );
     }
     println!(
-        "wrote {}: {} controller, {} traversal, T = {} tree(s), H = {}, K = {}, {} per tree, {}-bit coordinates, {} metric, {}-bit distances",
+        "wrote {}: {} controller, {} traversal, T = {} tree(s), H = {}, K = {}, {}, {}-bit coordinates, {} metric, {}-bit distances",
         path.display(),
         cfg.controller,
         cfg.traversal,
