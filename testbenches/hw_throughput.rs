@@ -215,19 +215,8 @@ fn barrel_port_reads_nearly_every_cycle() {
     ] {
         let max = cfg.max_dist();
         let step = (w.queries.len() / 600).max(1);
-        let queries: Vec<HwQuery> = w
-            .queries
-            .iter()
-            .step_by(step)
-            .take(600)
-            .enumerate()
-            .map(|(i, &coords)| HwQuery {
-                id: i as u32,
-                coords,
-                radius: max,
-                k: cfg.k as u32,
-            })
-            .collect();
+        let points: Vec<[u32; 3]> = w.queries.iter().step_by(step).take(600).copied().collect();
+        let queries = HwQuery::k_nearest(&cfg, &points);
         // Counted from the end of the map load.
         let mut sim = CoreSim::new(&cfg, &SimOptions::default()).expect("sim");
         sim.load_map(w.tree.image()).expect("load");
