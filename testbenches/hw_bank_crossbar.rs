@@ -1,16 +1,17 @@
-//! BankCrossbar against an independent cycle model, with one and two ports per
-//! bank: random requests (random banks, a hot bank, withdrawn and changed requests
+//! BankCrossbar against an independent cycle model, with one port per bank, two
+//! shared ports and two split ports (even requesters on the first, odd on the
+//! second): random requests (random banks, a hot bank, withdrawn and changed requests
 //! while waiting), memories that answer junk in every cycle after a row was not
 //! read, and random resets. Every cycle each requester's `ready`, each bank port's
 //! enable and row, and each answer must be the model's (per bank port: the lowest
 //! asking requester above the last one it granted, else the lowest; the second
-//! port among those the first left waiting); every granted read's answer must arrive two cycles
+//! port among those the first left waiting, or among the odd ones); every granted read's answer must arrive two cycles
 //! later, exactly once, with its tag and the word at its bank's row; nothing
 //! arrives that was not asked for. The exported Verilog passes yosys, Verilator
 //! lint and Icarus, and replays a recorded run cycle for cycle in both simulators.
 
 use crate::common::{clock_cycle, lint_top, rng, settle};
-use photon_fpga::hw::bank_crossbar::{BankCrossbar, BankPort};
+use photon_fpga::hw::bank_crossbar::{BankCrossbar, BankPort, BankPorts};
 use photon_fpga::hw::rtl::export::export_block;
 use photon_fpga::hw::rtl::xsim::{compare, Recorder, XsimRun};
 use photon_fpga::hw::rtl::xsim_tb::{self, Simulator};
@@ -23,7 +24,7 @@ use std::collections::VecDeque;
 struct Shape {
     requesters: usize,
     banks: usize,
-    ports: usize,
+    ports: BankPorts,
     rows: usize,
     word_bits: u32,
     tag_bits: u32,
@@ -34,11 +35,11 @@ struct Shape {
     seed: u64,
 }
 
-const SHAPES: [Shape; 5] = [
+const SHAPES: [Shape; 8] = [
     Shape {
         requesters: 1,
         banks: 1,
-        ports: 1,
+        ports: BankPorts::One,
         rows: 16,
         word_bits: 64,
         tag_bits: 4,
@@ -50,7 +51,7 @@ const SHAPES: [Shape; 5] = [
     Shape {
         requesters: 4,
         banks: 2,
-        ports: 1,
+        ports: BankPorts::One,
         rows: 32,
         word_bits: 32,
         tag_bits: 4,
@@ -62,7 +63,7 @@ const SHAPES: [Shape; 5] = [
     Shape {
         requesters: 3,
         banks: 16,
-        ports: 2,
+        ports: BankPorts::Shared,
         rows: 64,
         word_bits: 36,
         tag_bits: 8,
@@ -74,7 +75,7 @@ const SHAPES: [Shape; 5] = [
     Shape {
         requesters: 8,
         banks: 8,
-        ports: 1,
+        ports: BankPorts::One,
         rows: 64,
         word_bits: 32,
         tag_bits: 4,
@@ -86,7 +87,7 @@ const SHAPES: [Shape; 5] = [
     Shape {
         requesters: 16,
         banks: 4,
-        ports: 2,
+        ports: BankPorts::Shared,
         rows: 16,
         word_bits: 20,
         tag_bits: 5,
@@ -94,6 +95,42 @@ const SHAPES: [Shape; 5] = [
         p_hot: 0.5,
         cycles: 1000,
         seed: 5,
+    },
+    Shape {
+        requesters: 2,
+        banks: 1,
+        ports: BankPorts::Split,
+        rows: 16,
+        word_bits: 32,
+        tag_bits: 4,
+        p_valid: 0.9,
+        p_hot: 0.0,
+        cycles: 800,
+        seed: 6,
+    },
+    Shape {
+        requesters: 8,
+        banks: 16,
+        ports: BankPorts::Split,
+        rows: 32,
+        word_bits: 32,
+        tag_bits: 5,
+        p_valid: 0.9,
+        p_hot: 0.2,
+        cycles: 1500,
+        seed: 7,
+    },
+    Shape {
+        requesters: 6,
+        banks: 4,
+        ports: BankPorts::Split,
+        rows: 16,
+        word_bits: 24,
+        tag_bits: 6,
+        p_valid: 0.7,
+        p_hot: 0.5,
+        cycles: 1000,
+        seed: 8,
     },
 ];
 
@@ -117,7 +154,8 @@ fn port(uut: &mut BankCrossbar, k: usize, ports: usize) -> &mut BankPort {
 /// Run `s` against the model; the recording of the run if `record`.
 fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
     let (d, b) = (s.requesters, s.banks);
-    let np = b * s.ports;
+    let ports = s.ports.ports();
+    let np = b * ports;
     let mut uut = BankCrossbar::new(d, b, s.ports, s.word_bits, s.tag_bits);
     uut.connect_all();
     check_all(&uut).expect("BankCrossbar checks");
@@ -165,10 +203,10 @@ fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
         // A memory answers its last row, junk after a cycle without a read.
         for (k, row) in bram_row.iter().enumerate() {
             let w = match row {
-                Some(row) => mem[k / s.ports][*row],
+                Some(row) => mem[k / ports][*row],
                 None => r.gen::<u64>(),
             };
-            port(&mut uut, k, s.ports).word.next = w.into();
+            port(&mut uut, k, ports).word.next = w.into();
         }
         uut.reset.next = reset;
         settle(&mut uut);
@@ -176,13 +214,16 @@ fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
             rec.sample(&uut, c as u64);
         }
         // The model's grants.
-        // The second port serves those the first left waiting.
+        // The second port serves those the first left waiting; split ports,
+        // the even requesters on the first and the odd ones on the second.
         let mut winner: Vec<Option<usize>> = vec![None; np];
         for k in 0..np {
-            let (j, first) = (k / s.ports, k.is_multiple_of(s.ports));
+            let (j, first) = (k / ports, k.is_multiple_of(ports));
+            let split = s.ports == BankPorts::Split;
             let asking: Vec<usize> = (0..d)
                 .filter(|&i| !reset && offer[i].is_some_and(|o| o.0 == j))
                 .filter(|&i| first || winner[k - 1] != Some(i))
+                .filter(|&i| !split || i % 2 == k % 2)
                 .collect();
             winner[k] = asking
                 .iter()
@@ -191,7 +232,7 @@ fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
                 .or(asking.first().copied());
         }
         for (i, o) in offer.iter().enumerate() {
-            let won = o.is_some_and(|o| (0..s.ports).any(|p| winner[o.0 * s.ports + p] == Some(i)));
+            let won = o.is_some_and(|o| (0..ports).any(|p| winner[o.0 * ports + p] == Some(i)));
             assert_eq!(
                 uut.clients[i].ready.val(),
                 won,
@@ -199,10 +240,14 @@ fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
             );
         }
         for (k, w) in winner.iter().enumerate() {
-            let bp = port(&mut uut, k, s.ports);
+            let bp = port(&mut uut, k, ports);
             assert_eq!(bp.enable.val(), w.is_some(), "cycle {c}, port {k}");
-            let row = w.map_or(0, |i| offer[i].unwrap().1);
-            assert_eq!(bp.row.val().to_u64(), row as u64, "cycle {c}, port {k}");
+            // The row only counts while the port is enabled (a stream's data
+            // while it is not valid).
+            if let Some(i) = w {
+                let row = offer[*i].unwrap().1;
+                assert_eq!(bp.row.val().to_u64(), row as u64, "cycle {c}, port {k}");
+            }
         }
         // The answers due now.
         for (i, due) in due.iter_mut().enumerate() {
@@ -265,7 +310,7 @@ fn every_read_returns_to_its_requester_once_round_robin_per_bank() {
     ignore = "needs yosys, verilator and iverilog"
 )]
 fn exported_verilog_lints_and_replays_cycle_for_cycle() {
-    for s in [&SHAPES[1], &SHAPES[3], &SHAPES[4]] {
+    for s in [&SHAPES[1], &SHAPES[3], &SHAPES[4], &SHAPES[6]] {
         let e = export_block(BankCrossbar::new(
             s.requesters,
             s.banks,

@@ -7,6 +7,7 @@
 
 use crate::common::*;
 use crate::hw_core::hard_queries;
+use photon_fpga::hw::bank_crossbar::BankPorts;
 use photon_fpga::hw::config::{Banking, CoreConfig};
 use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
@@ -22,7 +23,7 @@ fn banked(
     k: usize,
     metric: Metric,
     traversal: Traversal,
-    (trees, bank_bits, levels): (usize, u32, u32),
+    (trees, bank_bits, levels, ports): (usize, u32, u32, BankPorts),
 ) -> CoreConfig {
     CoreConfig::builder()
         .k(k)
@@ -33,6 +34,7 @@ fn banked(
         .banking(Some(Banking {
             bank_bits,
             replicated_levels: levels,
+            ports,
         }))
         .build_for(tree.image())
         .expect("a banked configuration within the limits")
@@ -68,12 +70,44 @@ fn queries_for(
 fn banked_core_matches_software_search() {
     let layout = PhotonLayout::new([7, 7, 6]);
     let cases = [
-        // (metric, traversal, k, (trees, bank bits, replicated levels), seed)
-        (Metric::L2, Traversal::Cell, 6, (1usize, 2u32, 3u32), 91u64),
-        (Metric::L1, Traversal::Remember, 5, (2, 3, 4), 92),
-        (Metric::L2, Traversal::Cell, 8, (3, 4, 4), 93),
+        // (metric, traversal, k, (trees, bank bits, replicated levels, bank
+        // ports), seed)
+        (
+            Metric::L2,
+            Traversal::Cell,
+            6,
+            (1usize, 2u32, 3u32, BankPorts::One),
+            91u64,
+        ),
+        (
+            Metric::L1,
+            Traversal::Remember,
+            5,
+            (2, 3, 4, BankPorts::Shared),
+            92,
+        ),
+        (
+            Metric::L2,
+            Traversal::Cell,
+            8,
+            (3, 4, 4, BankPorts::Split),
+            93,
+        ),
+        (
+            Metric::L2,
+            Traversal::Cell,
+            8,
+            (2, 4, 4, BankPorts::Shared),
+            99,
+        ),
         // Found lists as heaps (K > 64) behind the banks.
-        (Metric::L2, Traversal::Cell, 70, (2, 3, 5), 94),
+        (
+            Metric::L2,
+            Traversal::Cell,
+            70,
+            (2, 3, 5, BankPorts::Split),
+            94,
+        ),
     ];
     for (metric, traversal, k, shape, seed) in cases {
         let mut r = rng(seed);
@@ -104,7 +138,7 @@ fn banked_reload_and_reset() {
     let first = random_points(&mut r, 500, layout);
     let second = random_points(&mut r, 90, layout);
     let (t1, t2) = (pack(&first, layout), pack(&second, layout));
-    let cfg = banked(&t1, 5, metric, Traversal::Cell, (2, 3, 4));
+    let cfg = banked(&t1, 5, metric, Traversal::Cell, (2, 3, 4, BankPorts::Split));
     let q1 = queries_for(&mut r, &first, layout, metric, 5);
     let q2 = queries_for(&mut r, &second, layout, metric, 5);
     let mut sim = CoreSim::new(&cfg, &stalls(96)).unwrap();
@@ -129,7 +163,16 @@ fn results_leave_on_several_streams() {
     let points = random_points(&mut r, 600, layout);
     let tree = pack(&points, layout);
     let queries = queries_for(&mut r, &points, layout, metric, 7);
-    let base = |trees| banked(&tree, 7, metric, Traversal::Cell, (trees, 3, 5)).to_builder();
+    let base = |trees| {
+        banked(
+            &tree,
+            7,
+            metric,
+            Traversal::Cell,
+            (trees, 3, 5, BankPorts::Shared),
+        )
+        .to_builder()
+    };
     for (builder, streams) in [
         (base(2).result_streams(2), 2usize),
         (base(2).result_streams(4), 4),
@@ -166,6 +209,7 @@ fn banked_configurations_it_cannot_build_are_refused() {
         Some(Banking {
             bank_bits,
             replicated_levels,
+            ports: BankPorts::Shared,
         })
     };
     for (builder, needle) in [

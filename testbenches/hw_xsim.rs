@@ -24,6 +24,7 @@ use photon_fpga::host::map::kdtree::PackedTree;
 use photon_fpga::host::render::photons::trace_photons;
 use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::render::{self, eye_queries, RenderSettings};
+use photon_fpga::hw::bank_crossbar::BankPorts;
 use photon_fpga::hw::config::{Banking, CoreConfig};
 use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
@@ -337,6 +338,7 @@ fn banked_cases() -> (CoreConfig, Vec<Case>) {
         .banking(Some(Banking {
             bank_bits: 3,
             replicated_levels: 4,
+            ports: BankPorts::Split,
         }))
         .result_streams(2)
         .build_for(tree.image())

@@ -19,6 +19,7 @@ mod hw_found_rule;
 mod hw_free_pick;
 mod hw_lut_ram;
 mod hw_max_finder;
+mod hw_mux_trees;
 mod hw_packet_merge;
 mod hw_port;
 mod hw_priority_encoder;

@@ -6,8 +6,9 @@
 //! FILE` ([`CoreFileArg`], taken by all four the same way) gives the whole core
 //! instead, from a core description file (`hw::core_file`).
 
-use super::values::{ControllerArg, DeviceArg, MetricArg, TraversalArg};
+use super::values::{BankPortsArg, ControllerArg, DeviceArg, MetricArg, TraversalArg};
 use clap::Args;
+use clap::ValueEnum;
 use photon_fpga::host::device::banked_core;
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::gather::FixedCore;
@@ -42,6 +43,7 @@ pub struct CoreFileArg {
             "unpipelined",
             "banks",
             "replicated_levels",
+            "bank_ports",
             "result_streams",
             "device",
         ]
@@ -98,6 +100,11 @@ pub struct CoreOpts {
     /// [default: 10, at least log2 B, below H].
     #[arg(long, value_name = "L", requires = "banks")]
     pub replicated_levels: Option<u32>,
+    /// How each bank's BlockRAM read ports are shared among the datapaths, with
+    /// --banks or --device (docs/HARDWARE.md, "The crossbar's area") [default:
+    /// shared].
+    #[arg(long, value_enum)]
+    pub bank_ports: Option<BankPortsArg>,
     /// Result streams R: the datapaths' result packets leave on R streams, D / R
     /// datapaths each (a divisor of D = 2 x --trees with --banks, else of 2); one
     /// stream carries a beat a cycle, which about 8 busy datapaths fill at k = 32
@@ -162,6 +169,7 @@ impl CoreOpts {
             (self.unpipelined, "--unpipelined"),
             (self.banks.is_some(), "--banks"),
             (self.replicated_levels.is_some(), "--replicated-levels"),
+            (self.bank_ports.is_some(), "--bank-ports"),
             (self.result_streams.is_some(), "--result-streams"),
             (self.device.is_some(), "--device"),
         ]
@@ -201,6 +209,9 @@ impl CoreOpts {
         }
         if self.unpipelined {
             out += " --unpipelined";
+        }
+        if let Some(p) = &self.bank_ports {
+            out += &format!(" --bank-ports {}", name(p));
         }
         if let Some(d) = &self.device {
             out += &format!(" --device {}", name(d));
@@ -250,6 +261,16 @@ impl CoreOpts {
                 Error::new(format!("--banks {banks}: a power of two from 2 to 1024"))
             })?;
             b = b.banks(bits, self.replicated_levels);
+        }
+        if let Some(p) = self.bank_ports {
+            if self.banks.is_none() && self.device.is_none() {
+                return Err(Error::new(format!(
+                    "--bank-ports {}: without --banks or --device there are no banks",
+                    p.to_possible_value()
+                        .map_or(String::new(), |v| v.get_name().to_string())
+                )));
+            }
+            b = b.bank_ports(p.into());
         }
         Ok(b)
     }
@@ -331,8 +352,9 @@ pub fn describe_q(cfg: &CoreConfig) -> String {
     };
     let banks = cfg.banking.map_or(String::new(), |b| {
         format!(
-            ", {} banks below {} replicated levels",
+            ", {} banks ({}) below {} replicated levels",
             1u64 << b.bank_bits,
+            b.ports,
             b.replicated_levels
         )
     });

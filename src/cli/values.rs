@@ -5,6 +5,7 @@
 //! a name and a help text.
 
 use clap::ValueEnum;
+use photon_fpga::hw::bank_crossbar::BankPorts;
 use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::rtl::native::Engine;
@@ -46,6 +47,21 @@ photon_fpga::enum_mirror! {
         /// fifth of the LUTs for nearly the same queries/s. Needs a traversal that
         /// remembers the path (remember, cell).
         Barrel,
+    }
+}
+
+photon_fpga::enum_mirror! {
+    /// `--bank-ports`: how a bank's two BlockRAM read ports serve the datapaths.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+    BankPortsArg => BankPorts {
+        /// One read port per bank.
+        One,
+        /// Two ports, either one serving any datapath (the fewest bank conflicts).
+        Shared,
+        /// Two ports, the first serving the even datapaths and the second the odd
+        /// ones: half the crossbar of shared (a bank's two reads in a cycle must
+        /// come from a replica's two datapaths).
+        Split,
     }
 }
 
@@ -97,6 +113,7 @@ pub fn all_value_lists() -> Vec<Vec<String>> {
         names::<MetricArg>(),
         names::<TraversalArg>(),
         names::<ControllerArg>(),
+        names::<BankPortsArg>(),
         names::<EngineArg>(),
         names::<photon_fpga::host::gather::BackendKind>(),
         names::<super::bench_core::WorkloadKind>(),

@@ -1,6 +1,7 @@
 //! The banked photon store's configuration ([`Banking`], `CoreConfig::banking`)
 //! and its checks (`CoreConfig::validate` calls them).
 
+use crate::hw::bank_crossbar::BankPorts;
 use crate::hw::controller::Controller;
 use crate::hw::error::HwError;
 
@@ -9,12 +10,13 @@ use crate::hw::error::HwError;
 /// of barrel datapaths (`trees` copies, two datapaths each: the BlockRAM's two
 /// ports), the nodes below in bank and row by [`BankMap`](crate::hw::bank_map::BankMap),
 /// reached through a [`BankCrossbar`](crate::hw::bank_crossbar::BankCrossbar)
-/// with two read ports per bank. Why and how measured: `host::banking` and
-/// docs/BANKING.md.
+/// whose bank read ports are shared as `ports` says. Why and how measured:
+/// `host::banking`, docs/BANKING.md and docs/HARDWARE.md.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Banking {
     pub bank_bits: u32,
     pub replicated_levels: u32,
+    pub ports: BankPorts,
 }
 
 impl Banking {

@@ -24,11 +24,14 @@
 use crate::hw::block_ram::BramWord;
 use crate::hw::config::Addr;
 use crate::hw::config::ModuleMask;
+use crate::hw::mux_trees::MuxTrees;
 use crate::hw::port_arbiter::PortArbiter;
+use crate::hw::priority_encoder::{EncodedIndex, PriorityEncoder};
 use rust_hdl::prelude::*;
 
-/// A bank's index (up to 1,024 banks).
-pub type BankIndex = Bits<10>;
+/// A bank's index (up to 1,024 banks), two bits to spare: a bank port's index
+/// (bank × ports + port, what a requester's word is selected by) has the same type.
+pub type BankIndex = Bits<12>;
 /// A row in a bank (a heap address's high bits: as wide as an address, so that
 /// a bank is a [`TreeModule`](crate::hw::tree_module::TreeModule) without casts).
 pub type BankRow = Addr;
@@ -97,6 +100,43 @@ pub struct BankMemoryPort {
     pub word: Signal<Out, BramWord>,
 }
 
+/// How a bank's read ports are shared among the requesters (`--bank-ports`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BankPorts {
+    /// One read port per bank.
+    One,
+    /// Two read ports, either serving any requester: the second grants one of
+    /// those the first left waiting.
+    #[default]
+    Shared,
+    /// Two read ports, the first serving the even requesters and the second the
+    /// odd ones (a replica's two datapaths, one on each): each port's arbiter
+    /// and row selection see half the requesters and each requester's word comes
+    /// from one port of each bank, half the crossbar of `Shared`.
+    Split,
+}
+
+impl BankPorts {
+    /// Read ports per bank.
+    pub fn ports(self) -> usize {
+        if self == BankPorts::One {
+            1
+        } else {
+            2
+        }
+    }
+}
+
+impl std::fmt::Display for BankPorts {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            BankPorts::One => "one port per bank",
+            BankPorts::Shared => "two shared ports per bank",
+            BankPorts::Split => "two split ports per bank",
+        })
+    }
+}
+
 #[derive(LogicBlock)]
 pub struct BankCrossbar {
     pub clock: Signal<In, Clock>,
@@ -108,48 +148,82 @@ pub struct BankCrossbar {
     /// are single-ported).
     pub banks: Vec<BankPort>,
     pub second: Vec<BankPort>,
-    /// Per bank: who asks for it, and the round robin among them; for the second
-    /// port, those the first did not grant.
+    /// Per bank: who asks for it; who of them may use each port (`first_mask`,
+    /// `second_mask`), and the round robin among them (for a shared second port,
+    /// among those the first did not grant).
     asking: Vec<Signal<Local, ModuleMask>>,
+    asking_first: Vec<Signal<Local, ModuleMask>>,
     arbiters: Vec<PortArbiter>,
     asking_second: Vec<Signal<Local, ModuleMask>>,
     arbiters_second: Vec<PortArbiter>,
+    first_mask: Constant<ModuleMask>,
+    second_mask: Constant<ModuleMask>,
     bank_id: Vec<Constant<BankIndex>>,
-    /// The widths in use (registers are loaded through them).
+    /// Each bank port's row from the requester it granted (the grant's index,
+    /// halved for split ports), bank ports first, then second ports: a
+    /// [`MuxTrees`] per port over the requesters that may use it.
+    grant_index: Vec<PriorityEncoder<32>>,
+    row_shift: Constant<EncodedIndex>,
+    row_select: MuxTrees<BankRow, 8>,
+    /// The widths in use (registers are loaded through them); whether a
+    /// requester's word comes from either port of a bank (`Shared`).
     bank_mask: Constant<BankIndex>,
     tag_mask: Constant<BankTag>,
     word_mask: Constant<BramWord>,
-    /// Per requester: its read granted last cycle (its bank answers now)...
+    either_port: Constant<bool>,
+    port_bit: Constant<BankIndex>,
+    /// Per requester: the bank port granting its read this cycle (the bank, or
+    /// bank × 2 + port when either port may answer), then the read in flight (its
+    /// bank answers now)...
+    source: Vec<Signal<Local, BankIndex>>,
     flight_valid: Vec<DFF<bool>>,
-    flight_bank: Vec<DFF<BankIndex>>,
+    flight_source: Vec<DFF<BankIndex>>,
     flight_tag: Vec<DFF<BankTag>>,
-    flight_second: Vec<DFF<bool>>,
-    /// ... and the answer, registered.
-    word_sel: Vec<Signal<Local, BramWord>>,
+    /// ... the answering port's word (a [`MuxTrees`] per requester over the
+    /// ports that may answer it) and the answer, registered.
+    word_select: MuxTrees<BramWord, 12>,
     answer_valid: Vec<DFF<bool>>,
     answer_tag: Vec<DFF<BankTag>>,
     answer_word: Vec<DFF<BramWord>>,
+    /// The port sharing, as loop counts (1 or 0) selecting its wiring at
+    /// elaboration: shared second ports, split ports.
+    _shared: usize,
+    _split: usize,
+    /// Requesters per port (all, or half for split ports) and the stride
+    /// between them.
+    _per_port: usize,
+    _stride: usize,
 }
 
 impl BankCrossbar {
-    /// `requesters` (1..=32) requesters, `banks` (1..=1024) banks with
-    /// `ports_per_bank` (1 or 2) read ports of `word_bits` (1..=64) bits, tags of
-    /// `tag_bits` (1..=8) bits.
+    /// `requesters` (1..=32; even for split ports) requesters, `banks`
+    /// (1..=1024) banks whose read ports are shared as `ports` says, of
+    /// `word_bits` (1..=64) bits, tags of `tag_bits` (1..=8) bits.
     pub fn new(
         requesters: usize,
         banks: usize,
-        ports_per_bank: usize,
+        ports: BankPorts,
         word_bits: u32,
         tag_bits: u32,
     ) -> Self {
         assert!((1..=32).contains(&requesters) && (1..=1024).contains(&banks));
-        assert!((1..=2).contains(&ports_per_bank));
-        let seconds = if ports_per_bank == 2 { banks } else { 0 };
+        assert!(ports != BankPorts::Split || requesters.is_multiple_of(2));
+        let seconds = if ports == BankPorts::One { 0 } else { banks };
         assert!((1..=64).contains(&word_bits) && (1..=8).contains(&tag_bits));
         let bank_bits = usize::BITS - (banks - 1).leading_zeros();
         fn many<T: Default>(n: usize) -> Vec<T> {
             (0..n).map(|_| T::default()).collect()
         }
+        let all = (1u64 << requesters) - 1;
+        let even = all & 0x5555_5555;
+        let split = ports == BankPorts::Split;
+        let (first, second) = if split {
+            (even, all & !even)
+        } else {
+            (all, all)
+        };
+        let stride = if split { 2 } else { 1 };
+        let either = ports == BankPorts::Shared;
         BankCrossbar {
             clock: Default::default(),
             reset: Default::default(),
@@ -158,23 +232,37 @@ impl BankCrossbar {
             banks: many(banks),
             second: many(seconds),
             asking: many(banks),
+            asking_first: many(banks),
             arbiters: (0..banks).map(|_| PortArbiter::new(requesters)).collect(),
             asking_second: many(seconds),
             arbiters_second: (0..seconds).map(|_| PortArbiter::new(requesters)).collect(),
+            first_mask: Constant::new(first.into()),
+            second_mask: Constant::new(second.into()),
             bank_id: (0..banks)
                 .map(|j| Constant::new(BankIndex::from(j as u64)))
                 .collect(),
+            grant_index: (0..banks + seconds)
+                .map(|_| PriorityEncoder::one_hot(requesters))
+                .collect(),
+            row_shift: Constant::new(EncodedIndex::from(stride as u64 - 1)),
+            row_select: MuxTrees::new(banks + seconds, requesters / stride),
             bank_mask: Constant::new(BankIndex::from((1u64 << bank_bits) - 1)),
             tag_mask: Constant::new(BankTag::from((1u64 << tag_bits) - 1)),
             word_mask: Constant::new(BramWord::from(u64::MAX >> (64 - word_bits))),
+            either_port: Constant::new(either),
+            port_bit: Constant::new(BankIndex::from(1u64)),
+            source: many(requesters),
             flight_valid: many(requesters),
-            flight_bank: many(requesters),
+            flight_source: many(requesters),
             flight_tag: many(requesters),
-            flight_second: many(requesters),
-            word_sel: many(requesters),
+            word_select: MuxTrees::new(requesters, banks * if either { 2 } else { 1 }),
             answer_valid: many(requesters),
             answer_tag: many(requesters),
             answer_word: many(requesters),
+            _shared: usize::from(either),
+            _split: usize::from(split),
+            _per_port: requesters / stride,
+            _stride: stride,
         }
     }
 }
@@ -182,7 +270,7 @@ impl BankCrossbar {
 impl Logic for BankCrossbar {
     #[hdl_gen]
     fn update(&mut self) {
-        // Who asks for each bank, and each bank's grant.
+        // Who asks for each bank, and each port's grant among those it serves.
         for j in 0..self.banks.len() {
             self.arbiters[j].clock.next = self.clock.val();
             self.asking[j].next = 0.into();
@@ -194,76 +282,105 @@ impl Logic for BankCrossbar {
                     self.asking[j].next = self.asking[j].val().replace_bit(i, true);
                 }
             }
-            self.arbiters[j].requests.next = self.asking[j].val();
+            self.asking_first[j].next = self.asking[j].val() & self.first_mask.val();
+            self.arbiters[j].requests.next = self.asking_first[j].val();
             self.arbiters[j].hold.next = false;
-            self.arbiters[j].advance.next = self.asking[j].val().any();
+            self.arbiters[j].advance.next = self.asking_first[j].val().any();
         }
         for j in 0..self.second.len() {
             self.arbiters_second[j].clock.next = self.clock.val();
-            self.asking_second[j].next = self.asking[j].val() & (!self.arbiters[j].grant.val());
+            self.asking_second[j].next =
+                self.asking[j].val() & self.second_mask.val() & (!self.arbiters[j].grant.val());
             self.arbiters_second[j].requests.next = self.asking_second[j].val();
             self.arbiters_second[j].hold.next = false;
             self.arbiters_second[j].advance.next = self.asking_second[j].val().any();
         }
-        // A granted request moves, and its row goes to its bank.
+        // A granted request moves, and its row goes to its bank: the row of the
+        // grant's index, through a tree per bank port (n: its inputs, sr the
+        // stride between the requesters it serves).
         for i in 0..self.clients.len() {
             self.clients[i].ready.next = false;
         }
         for j in 0..self.banks.len() {
-            self.banks[j].enable.next = self.asking[j].val().any();
-            self.banks[j].row.next = 0.into();
+            self.grant_index[j].mask.next = self.arbiters[j].grant.val();
             for i in 0..self.clients.len() {
                 if self.arbiters[j].grant.val().get_bit(i) {
                     self.clients[i].ready.next = true;
-                    self.banks[j].row.next = self.clients[i].row.val();
                 }
             }
         }
-        for j in 0..self.second.len() {
-            self.second[j].enable.next = self.asking_second[j].val().any();
-            self.second[j].row.next = 0.into();
-            for i in 0..self.clients.len() {
-                if self.arbiters_second[j].grant.val().get_bit(i) {
-                    self.clients[i].ready.next = true;
-                    self.second[j].row.next = self.clients[i].row.val();
+        for nb in (self.banks.len())..(self.banks.len() + 1) {
+            for j in 0..self.second.len() {
+                self.grant_index[nb + j].mask.next = self.arbiters_second[j].grant.val();
+                for i in 0..self.clients.len() {
+                    if self.arbiters_second[j].grant.val().get_bit(i) {
+                        self.clients[i].ready.next = true;
+                    }
                 }
             }
         }
-        // The read in flight, then its bank's word back to its requester.
+        for n in (self.row_select.leaves())..(self.row_select.leaves() + 1) {
+            for sr in (self._stride)..(self._stride + 1) {
+                for p in 0..self.grant_index.len() {
+                    self.row_select.index[p].next =
+                        self.grant_index[p].index.val() >> self.row_shift.val();
+                    for k in (self._per_port)..(self.row_select.leaves()) {
+                        self.row_select.inputs[p * n + k].next = 0.into();
+                    }
+                }
+                for j in 0..self.banks.len() {
+                    for k in 0..self._per_port {
+                        self.row_select.inputs[j * n + k].next = self.clients[k * sr].row.val();
+                    }
+                }
+                for nb in (self.banks.len())..(self.banks.len() + 1) {
+                    for ob in (self._split)..(self._split + 1) {
+                        for j in 0..self.second.len() {
+                            for k in 0..self._per_port {
+                                self.row_select.inputs[(nb + j) * n + k].next =
+                                    self.clients[k * sr + ob].row.val();
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        for j in 0..self.banks.len() {
+            self.banks[j].enable.next = self.asking_first[j].val().any();
+            self.banks[j].row.next = self.row_select.output[j].val();
+        }
+        for nb in (self.banks.len())..(self.banks.len() + 1) {
+            for j in 0..self.second.len() {
+                self.second[j].enable.next = self.asking_second[j].val().any();
+                self.second[j].row.next = self.row_select.output[nb + j].val();
+            }
+        }
+        // The read in flight, then the answering port's word back to its
+        // requester.
         for i in 0..self.clients.len() {
             self.flight_valid[i].clock.next = self.clock.val();
-            self.flight_bank[i].clock.next = self.clock.val();
+            self.flight_source[i].clock.next = self.clock.val();
             self.flight_tag[i].clock.next = self.clock.val();
-            self.flight_second[i].clock.next = self.clock.val();
             self.answer_valid[i].clock.next = self.clock.val();
             self.answer_tag[i].clock.next = self.clock.val();
             self.answer_word[i].clock.next = self.clock.val();
+            self.source[i].next = self.clients[i].bank.val() & self.bank_mask.val();
+            if self.either_port.val() {
+                self.source[i].next = self.source[i].val() << 1;
+                for j in 0..self.second.len() {
+                    if self.arbiters_second[j].grant.val().get_bit(i) {
+                        self.source[i].next = self.source[i].val() | self.port_bit.val();
+                    }
+                }
+            }
             self.flight_valid[i].d.next =
                 self.clients[i].valid.val() && self.clients[i].ready.val();
-            self.flight_bank[i].d.next = self.clients[i].bank.val() & self.bank_mask.val();
+            self.flight_source[i].d.next = self.source[i].val();
             self.flight_tag[i].d.next = self.clients[i].tag.val() & self.tag_mask.val();
-            self.flight_second[i].d.next = false;
-            for j in 0..self.second.len() {
-                if self.arbiters_second[j].grant.val().get_bit(i) {
-                    self.flight_second[i].d.next = true;
-                }
-            }
-            self.word_sel[i].next = 0.into();
-            for j in 0..self.banks.len() {
-                if self.flight_bank[i].q.val() == self.bank_id[j].val() {
-                    self.word_sel[i].next = self.banks[j].word.val();
-                }
-            }
-            for j in 0..self.second.len() {
-                if self.flight_second[i].q.val()
-                    && (self.flight_bank[i].q.val() == self.bank_id[j].val())
-                {
-                    self.word_sel[i].next = self.second[j].word.val();
-                }
-            }
+            self.word_select.index[i].next = self.flight_source[i].q.val();
             self.answer_valid[i].d.next = self.flight_valid[i].q.val();
             self.answer_tag[i].d.next = self.flight_tag[i].q.val();
-            self.answer_word[i].d.next = self.word_sel[i].val() & self.word_mask.val();
+            self.answer_word[i].d.next = self.word_select.output[i].val() & self.word_mask.val();
             if self.reset.val() {
                 self.flight_valid[i].d.next = false;
                 self.answer_valid[i].d.next = false;
@@ -271,6 +388,33 @@ impl Logic for BankCrossbar {
             self.answers[i].valid.next = self.answer_valid[i].q.val();
             self.answers[i].tag.next = self.answer_tag[i].q.val();
             self.answers[i].word.next = self.answer_word[i].q.val();
+        }
+        // The words each requester's tree chooses from (w: its inputs): every
+        // bank's first port; with shared ports, each bank's two ports side by
+        // side (bank × 2 + port); with split ports, the odd requesters' from the
+        // second ports instead.
+        for w in (self.word_select.leaves())..(self.word_select.leaves() + 1) {
+            for s in (1 + self._shared)..(2 + self._shared) {
+                for i in 0..self.clients.len() {
+                    for j in 0..self.banks.len() {
+                        self.word_select.inputs[i * w + j * s].next = self.banks[j].word.val();
+                    }
+                    for _on in 0..self._shared {
+                        for j in 0..self.second.len() {
+                            self.word_select.inputs[i * w + j * s + 1].next =
+                                self.second[j].word.val();
+                        }
+                    }
+                }
+            }
+            for _on in 0..self._split {
+                for k in 0..self._per_port {
+                    for j in 0..self.second.len() {
+                        self.word_select.inputs[(k * 2 + 1) * w + j].next =
+                            self.second[j].word.val();
+                    }
+                }
+            }
         }
     }
 }

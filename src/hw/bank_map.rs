@@ -68,7 +68,7 @@ impl Logic for BankMap {
             self.fold.next = self.fold.val()
                 ^ ((self.address.val() >> self.group_shift[g].val()) & self.low_mask.val());
         }
-        self.bank.next = bit_cast::<10, 24>(self.fold.val());
+        self.bank.next = bit_cast::<12, 24>(self.fold.val());
         self.row.next = self.address.val() >> self.bank_bits.val();
     }
 }

@@ -1,6 +1,6 @@
 //! BankStore: the banked part of one photon map (`CoreConfig::banking`): B =
 //! 2^b BlockRAM banks, each a dual-port [`TreeModule`] of 2^(H−b) rows, behind a
-//! [`BankCrossbar`] with two read ports per bank (the bank model, docs/BANKING.md,
+//! [`BankCrossbar`] with one or two read ports per bank (the bank model, docs/BANKING.md,
 //! measures 0.99 reads per cycle per datapath with two ports against 0.91 with
 //! one, at B = 4 × D). A node's bank and row are the [`BankMap`]'s (XOR-fold);
 //! the levels above it live in the datapaths' replicas, not here.
@@ -8,7 +8,7 @@
 //! Loading: a written word goes to its bank and row through port A (the core
 //! loads a map only while no query is in flight, so no read competes with it).
 
-use crate::hw::bank_crossbar::{BankAnswer, BankClient, BankCrossbar, BankIndex};
+use crate::hw::bank_crossbar::{BankAnswer, BankClient, BankCrossbar, BankIndex, BankPorts};
 use crate::hw::bank_map::BankMap;
 use crate::hw::block_ram::BramWord;
 use crate::hw::config::{Addr, CoreConfig, Word};
@@ -41,9 +41,15 @@ pub struct BankStore<const W: usize> {
 impl<const W: usize> BankStore<W> {
     /// The banks of `cfg` (none if it has no banking).
     pub fn new(cfg: &CoreConfig) -> Self {
-        let (banks, bank_bits, levels) = cfg.banking.map_or((0, 0, 0), |b| {
-            (1usize << b.bank_bits, b.bank_bits, b.replicated_levels)
-        });
+        let (banks, bank_bits, levels, ports) =
+            cfg.banking.map_or((0, 0, 0, BankPorts::One), |b| {
+                (
+                    1usize << b.bank_bits,
+                    b.bank_bits,
+                    b.replicated_levels,
+                    b.ports,
+                )
+            });
         let clients = if banks > 0 { cfg.datapaths() } else { 0 };
         let tag_bits = ReadIssue::<W>::tag_bits(cfg);
         let row_bits = cfg.address_bits - bank_bits;
@@ -59,7 +65,7 @@ impl<const W: usize> BankStore<W> {
             crossbar: BankCrossbar::new(
                 clients.max(1),
                 banks.max(1),
-                if banks > 0 { 2 } else { 1 },
+                ports,
                 cfg.layout.word_bits(),
                 tag_bits.max(1),
             ),
@@ -110,8 +116,11 @@ impl<const W: usize> Logic for BankStore<W> {
             } else {
                 self.banks[j].a_address.next = self.crossbar.banks[j].row.val();
             }
-            self.banks[j].b_address.next = self.crossbar.second[j].row.val();
+            self.banks[j].b_address.next = 0.into();
             self.crossbar.banks[j].word.next = self.banks[j].a_read_data.val();
+        }
+        for j in 0..self.crossbar.second.len() {
+            self.banks[j].b_address.next = self.crossbar.second[j].row.val();
             self.crossbar.second[j].word.next = self.banks[j].b_read_data.val();
         }
     }

@@ -4,6 +4,7 @@
 //! ascent, Q under the other controller's name, K, Q, T or H out of range) is
 //! refused when the configuration is made, with the option and its value named.
 
+use crate::hw::bank_crossbar::BankPorts;
 use crate::hw::config::{Banking, CoreConfig, BARREL_SLOTS, MAX_QUERIES_PER_PORT};
 use crate::hw::controller::Controller;
 use crate::hw::error::HwError;
@@ -27,8 +28,10 @@ pub struct CoreBuilder {
     controller: Controller,
     modules_per_port: Option<usize>,
     slots_per_port: Option<usize>,
-    /// Bank bits and the replicated levels (None: derived when built).
+    /// Bank bits and the replicated levels (None: derived when built), and how
+    /// the banks' ports are shared.
     banking: Option<(u32, Option<u32>)>,
+    bank_ports: BankPorts,
     result_streams: usize,
 }
 
@@ -48,6 +51,7 @@ impl Default for CoreBuilder {
             modules_per_port: None,
             slots_per_port: None,
             banking: None,
+            bank_ports: BankPorts::default(),
             result_streams: 1,
         }
     }
@@ -89,8 +93,14 @@ impl CoreBuilder {
     pub fn banking(self, banking: Option<Banking>) -> Self {
         CoreBuilder {
             banking: banking.map(|b| (b.bank_bits, Some(b.replicated_levels))),
+            bank_ports: banking.map_or(self.bank_ports, |b| b.ports),
             ..self
         }
+    }
+    /// How the banks' read ports are shared (with banks; default
+    /// [`BankPorts::default`]).
+    pub fn bank_ports(self, bank_ports: BankPorts) -> Self {
+        CoreBuilder { bank_ports, ..self }
     }
     /// 2^`bank_bits` banks with `replicated_levels` levels replicated, or
     /// [`Banking::default_levels`] for the H the core is built with.
@@ -199,6 +209,7 @@ impl CoreBuilder {
                 bank_bits,
                 replicated_levels: levels
                     .unwrap_or_else(|| Banking::default_levels(bank_bits, self.address_bits)),
+                ports: self.bank_ports,
             }),
             result_streams: self.result_streams,
         };
@@ -235,6 +246,7 @@ impl From<CoreConfig> for CoreBuilder {
             modules_per_port: None,
             slots_per_port: None,
             banking: None,
+            bank_ports: BankPorts::default(),
             result_streams: cfg.result_streams,
         }
         .queries_per_port(cfg.queries_per_port)

@@ -11,6 +11,7 @@
 //! file means one core and nothing is filled in silently. The values are checked by
 //! the one validated constructor, [`CoreBuilder::build`].
 
+use crate::hw::bank_crossbar::BankPorts;
 use crate::hw::config::{Banking, CoreConfig};
 use crate::hw::config_builder::CoreBuilder;
 use crate::hw::controller::Controller;
@@ -35,6 +36,12 @@ crate::enum_mirror! {
     #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
     #[serde(rename_all = "lowercase")]
     TraversalName => Traversal { Remember, Reread, Cell }
+}
+crate::enum_mirror! {
+    /// `bank_ports`: how the banks' read ports are shared.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+    #[serde(rename_all = "lowercase")]
+    BankPortsName => BankPorts { One, Shared, Split }
 }
 crate::enum_mirror! {
     /// `metric`: the distance of the search.
@@ -76,6 +83,10 @@ pub struct CoreFile {
     pub banks: Option<u64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub replicated_levels: Option<u32>,
+    /// With banks: `one`, `shared` or `split` read ports per bank (absent: the
+    /// default, `BankPorts::default`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bank_ports: Option<BankPortsName>,
     /// Result streams R (absent: one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub result_streams: Option<usize>,
@@ -101,6 +112,7 @@ impl From<&CoreConfig> for CoreFile {
             pipelined: c.pipelined,
             banks: c.banking.map(|b| 1u64 << b.bank_bits),
             replicated_levels: c.banking.map(|b| b.replicated_levels),
+            bank_ports: c.banking.map(|b| b.ports.into()),
             result_streams: (c.result_streams != 1).then_some(c.result_streams),
         }
     }
@@ -146,6 +158,16 @@ impl CoreFile {
                 )))
             }
             (None, None) => {}
+        }
+        match (self.banks, self.bank_ports) {
+            (Some(_), Some(p)) => b = b.bank_ports(p.into()),
+            (None, Some(p)) => {
+                return Err(HwError::Config(format!(
+                    "bank_ports = {:?} without banks: only a banked store has bank ports",
+                    BankPorts::from(p)
+                )))
+            }
+            _ => {}
         }
         b.build()
     }

@@ -47,6 +47,8 @@
 //! FoundHeap (found_heap.rs)             per-slot max-heaps in per-level BlockRAMs
 //! └── HeapStage × levels + 1 (heap_stage.rs)  one level of insert / replace
 //! BankCrossbar (bank_crossbar.rs)       D requesters × B banks, round robin per bank
+//! ├── PortArbiter, PriorityEncoder       per bank port: its grant and the grant's index
+//! └── MuxTrees × 2 (mux_trees.rs)        rows to the banks, words back to the requesters
 //! BankMap (bank_map.rs)                 heap address → replica, bank and row
 //! ```
 //!
@@ -96,6 +98,7 @@ pub mod heap_stage;
 pub mod lut_ram;
 pub mod max_finder;
 pub mod metric;
+pub mod mux_trees;
 pub mod next_index;
 pub mod packet_merge;
 pub mod photon_word;

@@ -42,6 +42,25 @@ fn render_through_the_banked_core_is_the_sw_image() {
         ],
     );
     assert!(sw == hw, "the banked core's render differs from sw");
+    // The same core with split bank ports (even datapaths on a bank's first port,
+    // odd on its second).
+    let split = render_png(
+        dir.path(),
+        "split.png",
+        &[
+            "--backend",
+            "rtl",
+            "--banks",
+            "8",
+            "--trees",
+            "2",
+            "--replicated-levels",
+            "4",
+            "--bank-ports",
+            "split",
+        ],
+    );
+    assert!(sw == split, "the split-port core's render differs from sw");
 }
 
 /// export-verilog --device writes a core file with banks that reads back as a
@@ -55,6 +74,8 @@ fn a_device_plans_a_banked_core_file() {
             "export-verilog",
             "--device",
             "ecp5-85k",
+            "--bank-ports",
+            "split",
             "--address-bits",
             "14",
             "--out",
@@ -70,6 +91,8 @@ fn a_device_plans_a_banked_core_file() {
         text.contains(&format!("banks = {}", 1u64 << b.bank_bits)),
         "{text}"
     );
+    assert!(text.contains("bank_ports = \"split\""), "{text}");
+    assert_eq!(b.ports.to_string(), "two split ports per bank");
     assert_eq!(cfg.controller.to_string(), "barrel");
     assert_eq!(cfg.address_bits, 14);
     assert!(b.replicated_levels < 14 && b.bank_bits <= b.replicated_levels);
@@ -99,6 +122,11 @@ fn what_the_banked_core_cannot_build_is_refused() {
         .collect()
     };
     refused(dir.path(), &render(&["--banks", "6"]), "--banks 6");
+    refused(
+        dir.path(),
+        &render(&["--bank-ports", "split"]),
+        "--bank-ports split: without --banks or --device",
+    );
     refused(
         dir.path(),
         &render(&["--banks", "8", "--controller", "modules"]),
