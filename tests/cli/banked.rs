@@ -25,41 +25,21 @@ fn render_png(dir: &Path, name: &str, args: &[&str]) -> Vec<u8> {
 fn render_through_the_banked_core_is_the_sw_image() {
     let dir = tempfile::tempdir().unwrap();
     let sw = render_png(dir.path(), "sw.png", &["--backend", "sw"]);
-    let hw = render_png(
-        dir.path(),
-        "rtl.png",
-        &[
-            "--backend",
-            "rtl",
-            "--banks",
-            "8",
-            "--trees",
-            "2",
-            "--replicated-levels",
-            "4",
-            "--result-streams",
-            "2",
-        ],
-    );
+    // Two replicas over 8 banks, with two result streams, then with split bank
+    // ports (even datapaths on a bank's first port, odd on its second).
+    let banked = |name: &str, extra: &[&str]| {
+        let base = ["--backend", "rtl", "--banks", "8", "--trees", "2"];
+        let args: Vec<&str> = base
+            .iter()
+            .copied()
+            .chain(["--replicated-levels", "4"])
+            .chain(extra.iter().copied())
+            .collect();
+        render_png(dir.path(), name, &args)
+    };
+    let hw = banked("rtl.png", &["--result-streams", "2"]);
     assert!(sw == hw, "the banked core's render differs from sw");
-    // The same core with split bank ports (even datapaths on a bank's first port,
-    // odd on its second).
-    let split = render_png(
-        dir.path(),
-        "split.png",
-        &[
-            "--backend",
-            "rtl",
-            "--banks",
-            "8",
-            "--trees",
-            "2",
-            "--replicated-levels",
-            "4",
-            "--bank-ports",
-            "split",
-        ],
-    );
+    let split = banked("split.png", &["--bank-ports", "split"]);
     assert!(sw == split, "the split-port core's render differs from sw");
 }
 
