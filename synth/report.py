@@ -86,6 +86,8 @@ class CoreOptions:
     banks: Optional[int] = None
     replicated_levels: Optional[int] = None
     result_streams: int = 1
+    # The banks' ports: "shared" (the default), "split" or "one" (`--bank-ports`).
+    bank_ports: Optional[str] = None
     # The simulation's workload: None, random queries on a full random map; else a
     # Cornell-box map from this many emitted photons (on the exported core's grid,
     # `bench-core --core`), queried at the eye-ray hits of a CORNELL_SIZE image.
@@ -110,6 +112,8 @@ class CoreOptions:
             a += ["--replicated-levels", str(self.replicated_levels)]
         if self.result_streams != 1:
             a += ["--result-streams", str(self.result_streams)]
+        if self.bank_ports is not None:
+            a += ["--bank-ports", self.bank_ports]
         return a
 
     def sim_cli(self, d):
@@ -174,11 +178,13 @@ CONFIGS = [
     Config("barrel K=100 (L2, 2x16 slots)", replace(BARREL_CELL, k=100, metric="l2")),
     Config("barrel K=512 (L2, 2x16 slots)", replace(BARREL_CELL, k=512, metric="l2")),
     # One map banked over the BlockRAM (docs/HARDWARE.md): D = 8 barrel datapaths on four
-    # replicas of the top 10 levels, 32 banks below, two result streams; a Cornell map of
-    # at least 64 K photons (36,000 emitted store about 70 K: H = 17), k = 32, squared L2.
-    Config("banked D=8 (K=32, L2, 4x2x16 slots, B=32, R=2, Cornell 70 K photons)",
-           replace(BARREL_CELL, k=32, metric="l2", address_bits=17, trees=4, banks=32,
-                   replicated_levels=10, result_streams=2, cornell_photons=36000)),
+    # replicas of the top 10 levels, 16 banks below with split ports (each port serves
+    # half the datapaths: the crossbar's area), two result streams; the largest Cornell
+    # map a 16-bit address holds (33,500 emitted store about 65 K), k = 32, squared L2.
+    Config("banked D=8 (K=32, L2, 4x2x16 slots, B=16 split, R=2, Cornell 65 K photons)",
+           replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=4, banks=16,
+                   replicated_levels=10, result_streams=2, bank_ports="split",
+                   cornell_photons=33500)),
 ]
 
 

@@ -199,6 +199,45 @@ fn results_leave_on_several_streams() {
     }
 }
 
+/// The widest banked core: 16 replicas, D = 32 datapaths (every bit of the
+/// crossbar's request masks), on 8 result streams, both port modes; every
+/// datapath and every stream carries work, every answer is right.
+#[test]
+fn thirty_two_datapaths_share_the_banks() {
+    let layout = PhotonLayout::new([7, 7, 6]);
+    let metric = Metric::L2;
+    let mut r = rng(101);
+    let points = random_points(&mut r, 700, layout);
+    let tree = pack(&points, layout);
+    let mut queries = random_queries(&mut r, 1200, layout, 6, metric);
+    for (i, q) in queries.iter_mut().enumerate() {
+        q.id = i as u32;
+    }
+    for ports in [BankPorts::Split, BankPorts::Shared] {
+        let cfg = banked(&tree, 6, metric, Traversal::Cell, (16, 4, 5, ports))
+            .to_builder()
+            .result_streams(8)
+            .build()
+            .expect("D = 32 within the limits");
+        let opts = if ports == BankPorts::Split {
+            stalls(102)
+        } else {
+            SimOptions::default()
+        };
+        let (results, stats) = run_gather(&cfg, tree.image(), &queries, &opts).expect("sim");
+        check_results(&cfg, &tree, &points, &queries, &results);
+        check_reads_counted(&stats, &results);
+        assert_eq!(stats.reads_per_port.len(), 32);
+        for (p, &reads) in stats.reads_per_port.iter().enumerate() {
+            assert!(reads > 0, "{ports}: datapath {p} never read: {stats:?}");
+        }
+        assert_eq!(stats.result_beats_per_stream.len(), 8);
+        for (s, &b) in stats.result_beats_per_stream.iter().enumerate() {
+            assert!(b > 0, "{ports}: stream {s} carried nothing: {stats:?}");
+        }
+    }
+}
+
 #[test]
 fn banked_configurations_it_cannot_build_are_refused() {
     let base = CoreConfig::builder()
@@ -232,6 +271,13 @@ fn banked_configurations_it_cannot_build_are_refused() {
         ),
         (base.result_streams(4), "result_streams = 4"),
         (base.trees(2).result_streams(2), "one result stream"),
+        // D <= 32 (the crossbar's 32-bit request masks), R <= 16, arrays T <= 8.
+        (base.trees(17).banking(bank(3, 5)), "trees = 17"),
+        (
+            base.trees(16).banking(bank(3, 5)).result_streams(32),
+            "result_streams = 32",
+        ),
+        (base.trees(9), "trees = 9"),
     ] {
         let e = builder.build().expect_err(needle).to_string();
         assert!(e.contains(needle), "{e:?} should name {needle:?}");

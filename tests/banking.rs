@@ -10,6 +10,7 @@ use photon_fpga::host::banking::stream::{read_stream, ImageQuery};
 use photon_fpga::host::device::plan::{largest_map, plan, Limits, PlanError, ECP5_85K, XC6VSX475T};
 use photon_fpga::host::map::kdtree::{KdTree, PackedTree};
 use photon_fpga::host::map::knn::search_with;
+use photon_fpga::hw::bank_crossbar::BankPorts;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::traversal::Traversal;
@@ -189,21 +190,26 @@ fn the_cycle_model_meets_its_closed_forms_and_bounds() {
 fn the_plans_fit_their_devices_and_name_the_largest_map() {
     let lim = Limits::default();
     // XC6VSX475T, the default render's 388,826 photons of 32 bits: 1K × 36 RAMB36,
-    // L = 10 (1,023 nodes in one RAMB36). D = 16 (the cap) needs B >= 64; B = 64
-    // gives rows of 388,826 >> 6 = 6,075 + 1 words = 6 RAMB36 a bank, 384 in all;
-    // B = 128: 3,038 rows = 3 RAMB36, 384 again (more banks: chosen); B = 256:
-    // 1,519 rows = 2, 512 in all. Datapaths: 16 × (1 replica + 2) = 48.
+    // L = 10 (1,023 nodes in one RAMB36). D = 32 (the cap) needs B >= 128: rows of
+    // 388,826 >> 7 = 3,037 + 1 words = 3 RAMB36 a bank, 384 in all (B = 64: 6 a
+    // bank, 384 too, but D <= 16). Logic budget 60 % of 297,600 = 178,560 LUTs:
+    // shared ports cost 1,400 + 16,125 / 256 × 128 = 9,463 a datapath, so at most
+    // 18; split ports 1,400 + 6,639 / 256 × 128 = 4,720, so all 32 (151,040).
+    // B = 256 (1,519 rows = 2 RAMB36, 512): split 8,039 a datapath, only 22.
+    // Datapaths' BlockRAM: 32 × (1 replica + 2) = 96.
     let p = plan(388_826, 32, &XC6VSX475T, &lim).unwrap();
     assert_eq!(
         (
             p.replicated_levels,
             p.banks(),
             p.brams_per_bank,
-            p.datapaths
+            p.datapaths,
+            p.ports
         ),
-        (10, 128, 3, 16)
+        (10, 128, 3, 32, BankPorts::Split)
     );
-    assert_eq!((p.bank_brams, p.datapath_brams), (384, 48));
+    assert_eq!((p.bank_brams, p.datapath_brams), (384, 96));
+    assert_eq!((p.datapath_luts, p.crossbar_luts), (44_800, 106_224));
     for dev in [&ECP5_85K, &XC6VSX475T] {
         let big = largest_map(dev, &lim);
         assert!(big > 1_000, "{}", dev.name);
@@ -211,6 +217,10 @@ fn the_plans_fit_their_devices_and_name_the_largest_map() {
             let p = plan(n, 32, dev, &lim).unwrap();
             assert!(p.total_brams() <= dev.brams);
             assert!(p.datapaths >= lim.min_datapaths && p.datapaths <= lim.max_datapaths);
+            assert_eq!(p.datapaths % 2, 0, "two datapaths a replica");
+            let logic = (p.datapath_luts + p.crossbar_luts) as f64;
+            assert!(logic <= dev.luts as f64 * lim.logic_share, "{p:?}");
+
             assert!((1u32 << p.replicated_levels) - 1 <= dev.shape.0);
             if n >= 1 << p.replicated_levels {
                 // Every address's row is in its bank; the banks' BlockRAMs hold them.
@@ -218,6 +228,10 @@ fn the_plans_fit_their_devices_and_name_the_largest_map() {
                 assert!(p.brams_per_bank * dev.shape.0 >= p.bank_rows);
                 assert!(p.banks() >= lim.banks_per_datapath * p.datapaths);
                 assert!(p.banks() <= 1 << p.replicated_levels);
+                assert_eq!(
+                    p.crossbar_luts,
+                    dev.crossbar_luts(p.datapaths, p.banks(), p.ports)
+                );
             }
         }
         match plan(big + 1, 32, dev, &lim) {

@@ -4,7 +4,7 @@
 //! search; writes the report, the CSV and the plots (`rtl_report`).
 
 use crate::cli::render::{check_photons_and_spp, parse_size};
-use crate::cli::values::{DeviceArg, EngineArg};
+use crate::cli::values::{BankPortsArg, DeviceArg, EngineArg};
 use clap::Args;
 use photon_fpga::host::banking::rtl_report::{self, RtlSweeps};
 use photon_fpga::host::banking::rtl_sweep::{self, MapPoint, RtlPoint, GRID_BITS};
@@ -12,7 +12,8 @@ use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::limits;
 use photon_fpga::host::render::RenderSettings;
 use photon_fpga::host::workload;
-use photon_fpga::hw::config::{Banking, MAX_K};
+use photon_fpga::hw::bank_crossbar::BankPorts;
+use photon_fpga::hw::config::{Banking, MAX_BANKED_TREES, MAX_K};
 use photon_fpga::hw::rtl::native::Engine;
 use std::path::PathBuf;
 
@@ -39,6 +40,9 @@ pub struct BenchBanksArgs {
     /// The conflict curve's banks B (powers of two; 1: one whole copy, with D = 2).
     #[arg(long, value_delimiter = ',', default_value = "1,8,16,32,64")]
     pub banks: Vec<u64>,
+    /// The conflict curve's bank-port modes (one, shared, split).
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "shared")]
+    pub bank_ports: Vec<BankPortsArg>,
     /// Queries of the conflict curve: an even sample of the image's [default: all].
     #[arg(long)]
     pub queries: Option<usize>,
@@ -91,10 +95,11 @@ pub fn bench_banks(args: &BenchBanksArgs) -> Result<()> {
     if let Some(d) = args
         .datapaths
         .iter()
-        .find(|&&d| d == 0 || d % 2 != 0 || d > 16)
+        .find(|&&d| d == 0 || d % 2 != 0 || d > 2 * MAX_BANKED_TREES)
     {
         return Err(Error::new(format!(
-            "--datapaths {d}: D is two a replica of the top levels (an even number, 2..=16)"
+            "--datapaths {d}: D is two a replica of the top levels (an even number, 2..={})",
+            2 * MAX_BANKED_TREES
         )));
     }
     if let Some(b) = args
@@ -122,11 +127,12 @@ pub fn bench_banks(args: &BenchBanksArgs) -> Result<()> {
     let w = workload::Workload { queries, ..w };
     let show = |p: &RtlPoint| {
         println!(
-            "{} photons, D = {}, B = {}, R = {}: {:.3} reads/cycle ({:.3} per datapath), {:.1} \
-             reads/query, {} queries checked",
+            "{} photons, D = {}, B = {} ({} ports), R = {}: {:.3} reads/cycle ({:.3} per \
+             datapath), {:.1} reads/query, {} queries checked",
             p.photons,
             p.datapaths(),
             p.banks(),
+            p.ports(),
             p.config.result_streams,
             p.reads_per_cycle(),
             p.per_datapath(),
@@ -134,7 +140,16 @@ pub fn bench_banks(args: &BenchBanksArgs) -> Result<()> {
             p.queries
         )
     };
-    let curve = rtl_sweep::conflict_curve(&w, args.k, &args.datapaths, &args.banks, engine, show)?;
+    let ports: Vec<BankPorts> = args.bank_ports.iter().map(|&p| p.into()).collect();
+    let curve = rtl_sweep::conflict_curve(
+        &w,
+        args.k,
+        &args.datapaths,
+        &args.banks,
+        &ports,
+        engine,
+        show,
+    )?;
     let device = args.device.device();
     let maps = rtl_sweep::map_sizes(
         &args.map_photons,
@@ -152,7 +167,7 @@ pub fn bench_banks(args: &BenchBanksArgs) -> Result<()> {
     let how =
         format!(
         "Regenerate: `photon-fpga bench-banks --photons {} --size {}x{} --spp {} --k {} --seed {} \
-         --datapaths {} --banks {}{} --map-photons {} --map-queries {} --device {} --fmax-mhz {} \
+         --datapaths {} --banks {} --bank-ports {}{} --map-photons {} --map-queries {} --device {} --fmax-mhz {} \
          --engine {} --out {}`",
         args.photons,
         args.size.0,
@@ -162,6 +177,7 @@ pub fn bench_banks(args: &BenchBanksArgs) -> Result<()> {
         args.seed,
         list(&args.datapaths.iter().map(|d| d.to_string()).collect::<Vec<_>>()),
         list(&args.banks.iter().map(|b| b.to_string()).collect::<Vec<_>>()),
+        list(&ports.iter().map(|p| p.name().to_string()).collect::<Vec<_>>()),
         args.queries.map_or(String::new(), |q| format!(" --queries {q}")),
         list(&args.map_photons.iter().map(|e| e.to_string()).collect::<Vec<_>>()),
         args.map_queries,

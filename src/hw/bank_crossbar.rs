@@ -125,6 +125,14 @@ impl BankPorts {
             2
         }
     }
+    /// The mode's one-word name, as `--bank-ports` and the core file spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            BankPorts::One => "one",
+            BankPorts::Shared => "shared",
+            BankPorts::Split => "split",
+        }
+    }
 }
 
 impl std::fmt::Display for BankPorts {

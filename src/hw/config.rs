@@ -79,8 +79,11 @@ pub const BARREL_SLOTS: usize = 16;
 /// Replicated trees limit (`PhotonSearchArray`): four already exceed the largest
 /// ECP5, and one bit per tree fits the arbiter masks.
 pub const MAX_TREES: usize = 8;
-/// Most result streams of one core (one a datapath: two a tree).
-pub const MAX_RESULT_STREAMS: usize = 2 * MAX_TREES;
+/// Replicas of the top levels in a banked core: two datapaths each, and one bit per
+/// datapath in the crossbar's 32-bit request and grant masks.
+pub const MAX_BANKED_TREES: usize = 16;
+/// Most result streams of one core (at most one per datapath).
+pub const MAX_RESULT_STREAMS: usize = 16;
 
 /// Photon word as carried on a TreeModule port; `W` is [`NARROW_WORD`] or [`WIDE_WORD`].
 pub type Word<const W: usize> = Bits<W>;
@@ -369,9 +372,19 @@ impl CoreConfig {
                 self.heap_key_bits()
             )));
         }
-        if self.trees == 0 || self.trees > MAX_TREES {
+        let max_trees = if self.banking.is_some() {
+            MAX_BANKED_TREES
+        } else {
+            MAX_TREES
+        };
+        if self.trees == 0 || self.trees > max_trees {
+            let what = if self.banking.is_some() {
+                "replicas of the top levels with banks"
+            } else {
+                "replicated trees"
+            };
             return Err(HwError::Config(format!(
-                "trees = {}: replicated trees unsupported (1..={MAX_TREES})",
+                "trees = {}: {what} unsupported (1..={max_trees})",
                 self.trees
             )));
         }
@@ -403,10 +416,11 @@ impl CoreConfig {
                 self.trees
             )));
         }
-        if r == 0 || r > d || !d.is_multiple_of(r) {
+        if r == 0 || r > d || r > MAX_RESULT_STREAMS || !d.is_multiple_of(r) {
             return Err(HwError::Config(format!(
-                "result_streams = {r} unsupported: the {d} datapaths split evenly over 1..={d} \
-                 streams (a divisor of {d})"
+                "result_streams = {r} unsupported: the {d} datapaths split evenly over 1..={} \
+                 streams (a divisor of {d})",
+                d.min(MAX_RESULT_STREAMS)
             )));
         }
         Ok(())

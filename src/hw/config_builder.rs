@@ -31,7 +31,7 @@ pub struct CoreBuilder {
     /// Bank bits and the replicated levels (None: derived when built), and how
     /// the banks' ports are shared.
     banking: Option<(u32, Option<u32>)>,
-    bank_ports: BankPorts,
+    bank_ports: Option<BankPorts>,
     result_streams: usize,
 }
 
@@ -51,7 +51,7 @@ impl Default for CoreBuilder {
             modules_per_port: None,
             slots_per_port: None,
             banking: None,
-            bank_ports: BankPorts::default(),
+            bank_ports: None,
             result_streams: 1,
         }
     }
@@ -79,7 +79,8 @@ impl CoreBuilder {
     pub fn pipelined(self, pipelined: bool) -> Self {
         CoreBuilder { pipelined, ..self }
     }
-    /// Replicated trees T (1..=[`MAX_TREES`](crate::hw::config::MAX_TREES)).
+    /// Replicated trees T (1..=[`MAX_TREES`](crate::hw::config::MAX_TREES)), or with
+    /// banks replicas of the top levels (1..=[`MAX_BANKED_TREES`](crate::hw::config::MAX_BANKED_TREES)).
     pub fn trees(self, trees: usize) -> Self {
         CoreBuilder { trees, ..self }
     }
@@ -93,14 +94,17 @@ impl CoreBuilder {
     pub fn banking(self, banking: Option<Banking>) -> Self {
         CoreBuilder {
             banking: banking.map(|b| (b.bank_bits, Some(b.replicated_levels))),
-            bank_ports: banking.map_or(self.bank_ports, |b| b.ports),
+            bank_ports: banking.map_or(self.bank_ports, |b| Some(b.ports)),
             ..self
         }
     }
     /// How the banks' read ports are shared (with banks; default
     /// [`BankPorts::default`]).
     pub fn bank_ports(self, bank_ports: BankPorts) -> Self {
-        CoreBuilder { bank_ports, ..self }
+        CoreBuilder {
+            bank_ports: Some(bank_ports),
+            ..self
+        }
     }
     /// 2^`bank_bits` banks with `replicated_levels` levels replicated, or
     /// [`Banking::default_levels`] for the H the core is built with.
@@ -160,6 +164,12 @@ impl CoreBuilder {
         self.controller
     }
 
+    /// The bank-port mode given, if one was (else [`BankPorts::default`], and a
+    /// device's plan may choose it).
+    pub fn given_bank_ports(&self) -> Option<BankPorts> {
+        self.bank_ports
+    }
+
     /// The Q given for the chosen controller, if one was (else its default is used,
     /// and a host may size Q from the queries: [`CoreConfig::fit_queries_per_port`]).
     pub fn given_queries_per_port(&self) -> Option<usize> {
@@ -209,7 +219,7 @@ impl CoreBuilder {
                 bank_bits,
                 replicated_levels: levels
                     .unwrap_or_else(|| Banking::default_levels(bank_bits, self.address_bits)),
-                ports: self.bank_ports,
+                ports: self.bank_ports.unwrap_or_default(),
             }),
             result_streams: self.result_streams,
         };
@@ -246,7 +256,7 @@ impl From<CoreConfig> for CoreBuilder {
             modules_per_port: None,
             slots_per_port: None,
             banking: None,
-            bank_ports: BankPorts::default(),
+            bank_ports: None,
             result_streams: cfg.result_streams,
         }
         .queries_per_port(cfg.queries_per_port)

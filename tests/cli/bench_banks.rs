@@ -10,7 +10,7 @@ use photon_fpga::host::workload;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::traversal::Traversal;
 
-const TINY: [&str; 18] = [
+const TINY: [&str; 20] = [
     "bench-banks",
     "--photons",
     "400",
@@ -24,6 +24,8 @@ const TINY: [&str; 18] = [
     "2,4",
     "--banks",
     "1,4",
+    "--bank-ports",
+    "shared,split",
     "--map-photons",
     "300",
     "--map-queries",
@@ -70,18 +72,28 @@ fn bench_banks_reports_the_software_searchs_reads() {
         .collect();
     let curve: Vec<&Vec<&str>> = rows.iter().filter(|r| r[0] == "conflicts").collect();
     // D = 2 with and without banks, D = 4 with banks (four datapaths of whole
-    // copies would be an array, not one banked core).
-    let shapes: Vec<(&str, &str)> = curve.iter().map(|r| (r[2], r[3])).collect();
-    assert_eq!(shapes, [("2", "1"), ("2", "4"), ("4", "4")]);
+    // copies would be an array, not one banked core), each banked shape with both
+    // port modes (one whole copy has no bank ports).
+    let shapes: Vec<(&str, &str, &str)> = curve.iter().map(|r| (r[2], r[3], r[4])).collect();
+    assert_eq!(
+        shapes,
+        [
+            ("2", "1", "–"),
+            ("2", "4", "shared"),
+            ("2", "4", "split"),
+            ("4", "4", "shared"),
+            ("4", "4", "split")
+        ]
+    );
     for r in &curve {
         assert_eq!(r[1], w.tree.len().to_string(), "photons");
-        assert_eq!(r[6], w.queries.len().to_string(), "queries");
+        assert_eq!(r[7], w.queries.len().to_string(), "queries");
         assert_eq!(
-            r[8],
+            r[9],
             reads.to_string(),
             "the core's reads are the software search's"
         );
-        let (d, rpc): (f64, f64) = (r[2].parse().unwrap(), r[10].parse().unwrap());
+        let (d, rpc): (f64, f64) = (r[2].parse().unwrap(), r[11].parse().unwrap());
         assert!(rpc > 0.0 && rpc <= d, "reads/cycle {rpc} with D = {d}");
     }
     assert_eq!(rows.iter().filter(|r| r[0] == "map_size").count(), 1);
@@ -99,6 +111,7 @@ fn bench_banks_refuses_bad_input_by_name() {
         a
     };
     refused(dir.path(), &with(&["--datapaths", "3"]), "--datapaths 3");
+    refused(dir.path(), &with(&["--datapaths", "34"]), "--datapaths 34");
     refused(dir.path(), &with(&["--banks", "6"]), "--banks 6");
     refused(dir.path(), &with(&["--map-queries", "0"]), "--map-queries");
     refused(dir.path(), &with(&["--fmax-mhz", "0"]), "--fmax-mhz");

@@ -34,7 +34,7 @@ pub const FILES: [&str; 4] = [
 /// One CSV line per measured point of either sweep.
 fn csv(s: &RtlSweeps) -> String {
     let mut out = String::from(
-        "sweep,photons,datapaths,banks,replicated_levels,result_streams,queries,cycles,reads,\
+        "sweep,photons,datapaths,banks,bank_ports,replicated_levels,result_streams,queries,cycles,reads,\
          result_beats,reads_per_cycle,reads_per_datapath_cycle,reads_per_query,queries_per_s\n",
     );
     let maps = s.maps.iter().filter_map(|m| match m {
@@ -44,10 +44,11 @@ fn csv(s: &RtlSweeps) -> String {
     for (sweep, p) in s.curve.iter().map(|p| ("conflicts", p)).chain(maps) {
         let _ = writeln!(
             out,
-            "{sweep},{},{},{},{},{},{},{},{},{},{:.4},{:.4},{:.2},{:.0}",
+            "{sweep},{},{},{},{},{},{},{},{},{},{},{:.4},{:.4},{:.2},{:.0}",
             p.photons,
             p.datapaths(),
             p.banks(),
+            p.ports(),
             p.config
                 .banking
                 .map_or(p.config.address_bits, |b| b.replicated_levels),
@@ -87,18 +88,21 @@ fn markdown(s: &RtlSweeps) -> String {
         m,
         "## Reads per cycle against D and B (the bank-conflict curve)\n\n{}. D datapaths are \
          D / 2 replicas of the top levels, two barrel datapaths each; B = 1 is one whole copy \
-         of the map (no banks). One result stream per four datapaths.\n\n\
+         of the map (no banks). Ports: a bank's two read ports serve any datapath (shared), \
+         the even and the odd datapaths (split), or the bank has one port (one). One result \
+         stream per four datapaths.\n\n\
          ![bank-conflict curve](banked_conflicts.png)\n\n\
-         | D | B | L | R | reads/cycle | per datapath | reads/query | result beats/cycle/stream |\n\
-         |---:|---:|---:|---:|---:|---:|---:|---:|",
+         | D | B | ports | L | R | reads/cycle | per datapath | reads/query | result beats/cycle/stream |\n\
+         |---:|---:|---|---:|---:|---:|---:|---:|---:|",
         s.curve_stream
     );
     for p in s.curve {
         let _ = writeln!(
             m,
-            "| {} | {} | {} | {} | {:.3} | {:.3} | {:.1} | {:.3} |",
+            "| {} | {} | {} | {} | {} | {:.3} | {:.3} | {:.1} | {:.3} |",
             p.datapaths(),
             p.banks(),
+            p.ports(),
             levels(p),
             p.config.result_streams,
             p.reads_per_cycle(),
@@ -115,8 +119,8 @@ fn markdown(s: &RtlSweeps) -> String {
          sample of the eye-ray queries. Queries/s = reads/cycle (*simulated*) × {:.0} MHz \
          (*assumed*) / reads per query (*simulated*).\n\n\
          ![queries/s against map size](banked_map_sizes.png)\n\n\
-         | photons | D | B | L | R | queries | reads/cycle | reads/query | queries/s |\n\
-         |---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+         | photons | D | B | ports | L | R | queries | reads/cycle | reads/query | queries/s |\n\
+         |---:|---:|---:|---|---:|---:|---:|---:|---:|---:|",
         s.device, s.device, s.mhz
     );
     for mp in s.maps {
@@ -124,10 +128,11 @@ fn markdown(s: &RtlSweeps) -> String {
             MapPoint::Measured(p) => {
                 let _ = writeln!(
                     m,
-                    "| {} | {} | {} | {} | {} | {} | {:.3} | {:.1} | {:.2} M |",
+                    "| {} | {} | {} | {} | {} | {} | {} | {:.3} | {:.1} | {:.2} M |",
                     p.photons,
                     p.datapaths(),
                     p.banks(),
+                    p.ports(),
                     levels(p),
                     p.config.result_streams,
                     p.queries,
@@ -137,7 +142,7 @@ fn markdown(s: &RtlSweeps) -> String {
                 );
             }
             MapPoint::Refused { photons, why } => {
-                let _ = writeln!(m, "| {photons} | refused: {why} | | | | | | | |");
+                let _ = writeln!(m, "| {photons} | refused: {why} | | | | | | | | |");
             }
         }
     }
@@ -146,18 +151,30 @@ fn markdown(s: &RtlSweeps) -> String {
 
 /// The conflict curve: reads per cycle per datapath against log2 B, a line per D.
 fn conflict_plot(path: &Path, s: &RtlSweeps) -> Result<()> {
-    let mut ds: Vec<usize> = s.curve.iter().map(|p| p.datapaths()).collect();
-    ds.dedup();
-    let series: Vec<(String, Vec<(f64, f64)>)> = ds
+    // A line per D and port mode; the whole copy (B = 1, no ports) starts each
+    // of D = 2's lines.
+    let mut lines: Vec<(usize, &str)> = vec![];
+    for p in s.curve.iter().filter(|p| p.banks() > 1) {
+        if !lines.contains(&(p.datapaths(), p.ports())) {
+            lines.push((p.datapaths(), p.ports()));
+        }
+    }
+    let several = lines.iter().any(|l| l.1 != lines[0].1);
+    let series: Vec<(String, Vec<(f64, f64)>)> = lines
         .iter()
-        .map(|&d| {
+        .map(|&(d, ports)| {
             let pts = s
                 .curve
                 .iter()
-                .filter(|p| p.datapaths() == d)
+                .filter(|p| p.datapaths() == d && (p.ports() == ports || p.banks() == 1))
                 .map(|p| ((p.banks() as f64).log2(), p.per_datapath()))
                 .collect();
-            (format!("D = {d}"), pts)
+            let name = if several {
+                format!("D = {d}, {ports} ports")
+            } else {
+                format!("D = {d}")
+            };
+            (name, pts)
         })
         .collect();
     let named: Vec<(&str, Vec<(f64, f64)>)> = series

@@ -12,6 +12,7 @@ use crate::host::map::kdtree::PackedTree;
 use crate::host::map::knn::search_with;
 use crate::host::render::RenderSettings;
 use crate::host::workload;
+use crate::hw::bank_crossbar::BankPorts;
 use crate::hw::config::{Banking, CoreConfig, PORTS};
 use crate::hw::config_builder::CoreBuilder;
 use crate::hw::controller::Controller;
@@ -44,6 +45,10 @@ impl RtlPoint {
     /// Banks (1: none, each replica holds the whole map).
     pub fn banks(&self) -> u64 {
         self.config.banking.map_or(1, |b| 1 << b.bank_bits)
+    }
+    /// The banks' port mode ("–": no banks).
+    pub fn ports(&self) -> &'static str {
+        self.config.banking.map_or("–", |b| b.ports.name())
     }
     pub fn reads_per_cycle(&self) -> f64 {
         self.reads as f64 / self.cycles.max(1) as f64
@@ -122,15 +127,16 @@ pub fn run_checked(
     })
 }
 
-/// The bank-conflict curve: for each D (an even number, D / 2 replicas) and B (a
-/// power of two; 1 = no banks: one whole copy per core), the core with the
-/// replicated levels' default and one result stream per
+/// The bank-conflict curve: for each D (an even number, D / 2 replicas), bank-port
+/// mode and B (a power of two; 1 = no banks: one whole copy per core), the core
+/// with the replicated levels' default and one result stream per
 /// [`banked_core::DATAPATHS_PER_STREAM`] datapaths, on `w`'s queries.
 pub fn conflict_curve(
     w: &workload::Workload,
     k: usize,
     datapaths: &[usize],
     banks: &[u64],
+    ports: &[BankPorts],
     engine: Engine,
     mut progress: impl FnMut(&RtlPoint),
 ) -> Result<Vec<RtlPoint>> {
@@ -141,23 +147,26 @@ pub fn conflict_curve(
                 "--datapaths {d}: D is two a replica (an even number from 2)"
             )));
         }
-        for &b in banks {
-            let mut spec = base(k).trees(d / PORTS).result_streams(result_streams(d));
-            if b > 1 {
-                let bits = Banking::bank_bits_for(b).map_err(|_| {
-                    Error::new(format!("--banks {b}: a power of two from 2 to 1024"))
-                })?;
-                spec = spec.banks(bits, None);
-            } else if d > PORTS {
-                // Whole copies: D > 2 would be an array of cores, not one banked core.
-                continue;
-            } else {
-                spec = spec.banking(None);
+        for (i, &mode) in ports.iter().enumerate() {
+            for &b in banks {
+                let mut spec = base(k).trees(d / PORTS).result_streams(result_streams(d));
+                if b > 1 {
+                    let bits = Banking::bank_bits_for(b).map_err(|_| {
+                        Error::new(format!("--banks {b}: a power of two from 2 to 1024"))
+                    })?;
+                    spec = spec.banks(bits, None).bank_ports(mode);
+                } else if d > PORTS || i > 0 {
+                    // Whole copies: D > 2 would be an array of cores, not one banked
+                    // core; and without banks there are no bank ports to vary.
+                    continue;
+                } else {
+                    spec = spec.banking(None);
+                }
+                let cfg = spec.build_for(w.tree.image())?;
+                let p = run_checked(&cfg, &w.tree, &w.queries, engine)?;
+                progress(&p);
+                out.push(p);
             }
-            let cfg = spec.build_for(w.tree.image())?;
-            let p = run_checked(&cfg, &w.tree, &w.queries, engine)?;
-            progress(&p);
-            out.push(p);
         }
     }
     Ok(out)

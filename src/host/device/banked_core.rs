@@ -33,9 +33,12 @@ pub fn for_device(
             // The whole map fits every replica: whole trees, no banks.
             b.trees(trees).banking(None)
         } else {
-            // (One bank is no bank: the crossbar needs two.)
+            // (One bank is no bank: the crossbar needs two.) The plan's port
+            // mode unless one was given.
+            let ports = b.given_bank_ports().unwrap_or(p.ports);
             b.trees(trees)
                 .banks(p.bank_bits.max(1), Some(p.replicated_levels))
+                .bank_ports(ports)
                 .result_streams(result_streams(PORTS * trees))
         },
     )

@@ -10,14 +10,23 @@
 //!   no deeper than one BlockRAM's words); a map that small needs no banks.
 //! * `D`: each datapath costs its replica plus its own memories (the barrel port's
 //!   offsets and found lists); D is what the BlockRAM left after the banks holds,
-//!   capped by the logic budget and by `B / banks_per_datapath` (the bank model's
-//!   measured curve: fewer banks per datapath than that and the conflicts cost
-//!   more than a datapath gains).
+//!   capped by `B / banks_per_datapath` (the bank model's measured curve: fewer
+//!   banks per datapath than that and the conflicts cost more than a datapath
+//!   gains) and by the logic budget, which the datapaths share with the crossbar.
+//! * The crossbar grows as D × B (each bank port picks a row among its
+//!   requesters, each requester a word among the bank ports, both multiplexer
+//!   trees), at the device's measured cost per requester and bank for shared
+//!   and for split ports (`BankPorts`): split ports halve the trees for a few
+//!   per cent more conflicts, so the plan takes shared ports where they fit the
+//!   budget and split ports where only those do.
 //! * `B` is a power of two, at most `2^L` (so the mappings are bijections,
 //!   `mapping`) and at most `max_banks`: of those, the one giving the most
 //!   datapaths, then the fewest BlockRAMs (rounding each bank up to whole
-//!   BlockRAMs wastes some), then the most banks (fewer conflicts).
+//!   BlockRAMs wastes some), then the most banks (fewer conflicts), then shared
+//!   ports.
 
+use crate::hw::bank_crossbar::BankPorts;
+use crate::hw::config::{MAX_BANKED_TREES, MAX_TREES};
 use std::fmt;
 
 /// A device's BlockRAM and logic.
@@ -33,12 +42,29 @@ pub struct Device {
     /// the synthesised barrel core (synth/REPORT.md: 2 datapaths per core).
     pub datapath_brams: u32,
     pub datapath_luts: u32,
+    /// The crossbar's logic cells per requester and bank, with shared and with
+    /// split bank ports (yosys counts of the crossbar alone, see each device).
+    pub crossbar_luts_shared: f64,
+    pub crossbar_luts_split: f64,
+}
+
+impl Device {
+    /// The crossbar's logic for `d` requesters on `banks` banks with `ports`
+    /// (one port a bank costs what split ports do: one port's arbiter and row
+    /// tree over all D, one word input a bank for each requester).
+    pub fn crossbar_luts(&self, d: u32, banks: u32, ports: BankPorts) -> u64 {
+        let per = match ports {
+            BankPorts::Shared => self.crossbar_luts_shared,
+            BankPorts::Split | BankPorts::One => self.crossbar_luts_split,
+        };
+        (per * f64::from(d) * f64::from(banks)).ceil() as u64
+    }
 }
 
 /// Lattice ECP5-85k: 208 DP16KD of 18 Kbit (widest true-dual-port shape 1K × 18;
 /// the 512 × 36 shape is pseudo-dual-port, one read port, which is all a
 /// single-ported bank needs; two read ports take two 1K × 18 halves of a word). Barrel datapath: 4 DP16KD and about 2,700 LUT4s each (42,781 LUT4s for
-/// 16 datapaths of the placed-and-routed T = 8 array).
+/// 16 datapaths of the placed-and-routed T = 8 array). Crossbar: ECP5_XBAR.
 pub const ECP5_85K: Device = Device {
     name: "ECP5-85k",
     brams: 208,
@@ -46,10 +72,21 @@ pub const ECP5_85K: Device = Device {
     luts: 83_640,
     datapath_brams: 4,
     datapath_luts: 2_700,
+    crossbar_luts_shared: ECP5_XBAR_SHARED,
+    crossbar_luts_split: ECP5_XBAR_SPLIT,
 };
+
+/// The ECP5 crossbar per requester and bank: Debian yosys `synth_ecp5` (coarse
+/// step without share, as synth/report.py does for banked rows) of the crossbar
+/// alone of the D = 8, B = 16 banked core, LUT4s plus two a CCU2C: split ports
+/// 9,529 + 2 × 256 = 10,041, shared ports 19,089 + 2 × 256 = 19,601.
+const ECP5_XBAR_SPLIT: f64 = 10_041.0 / 128.0;
+const ECP5_XBAR_SHARED: f64 = 19_601.0 / 128.0;
 
 /// Xilinx XC6VSX475T: 1,064 RAMB36 (1K × 36). Barrel datapath: 4 RAMB18 = 2 RAMB36
 /// and about 1,400 LUTs each (yosys counts of the 2 × 16-slot barrel core).
+/// Crossbar (yosys `synth_xilinx -family xc6v` of the crossbar alone, D = 8,
+/// B = 32, docs/HARDWARE.md): 16,125 LUTs shared, 6,639 split, per D × B.
 pub const XC6VSX475T: Device = Device {
     name: "XC6VSX475T",
     brams: 1_064,
@@ -57,6 +94,8 @@ pub const XC6VSX475T: Device = Device {
     luts: 297_600,
     datapath_brams: 2,
     datapath_luts: 1_400,
+    crossbar_luts_shared: 16_125.0 / 256.0,
+    crossbar_luts_split: 6_639.0 / 256.0,
 };
 
 /// What the plan is asked to respect.
@@ -69,8 +108,8 @@ pub struct Limits {
     /// Largest bank count and datapath count the interconnect is built for.
     pub max_banks: u32,
     pub max_datapaths: u32,
-    /// Share of the device's logic the datapaths may take (the rest: the
-    /// interconnect, the result path and the I/O).
+    /// Share of the device's logic the datapaths and the crossbar may take (the
+    /// rest: the result path, the load path and the I/O).
     pub logic_share: f64,
 }
 
@@ -80,8 +119,8 @@ impl Default for Limits {
             min_datapaths: 8,
             banks_per_datapath: 4,
             max_banks: 1024,
-            max_datapaths: 16,
-            logic_share: 0.5,
+            max_datapaths: 2 * MAX_BANKED_TREES as u32,
+            logic_share: 0.6,
         }
     }
 }
@@ -99,9 +138,14 @@ pub struct BankPlan {
     pub brams_per_bank: u32,
     /// `D`.
     pub datapaths: u32,
+    /// How the banks' ports are shared (with banks).
+    pub ports: BankPorts,
     /// BlockRAMs of the banks, of the datapaths (replicas and own memories).
     pub bank_brams: u32,
     pub datapath_brams: u32,
+    /// Logic of the datapaths and of the crossbar (the device's estimates).
+    pub datapath_luts: u64,
+    pub crossbar_luts: u64,
 }
 
 impl BankPlan {
@@ -175,10 +219,16 @@ fn plan_fit(photons: usize, dev: &Device, lim: &Limits) -> Option<BankPlan> {
     // 2^L − 1 <= depth.
     let l = 31 - (depth + 1).leading_zeros();
     let per_dp = 1 + dev.datapath_brams;
-    let logic = ((dev.luts as f64 * lim.logic_share) / dev.datapath_luts as f64) as u32;
+    let budget = dev.luts as f64 * lim.logic_share;
+    let dp_luts = |d: u32| u64::from(d) * u64::from(dev.datapath_luts);
     if photons < (1usize << l) {
-        // Every node is in every datapath's replica: no banks.
-        let d = (dev.brams / per_dp).min(logic).min(lim.max_datapaths);
+        // Every node is in every datapath's replica: no banks, no crossbar (an
+        // array of whole cores, at most MAX_TREES).
+        let by_logic = (budget / f64::from(dev.datapath_luts)) as u32;
+        let d = (dev.brams / per_dp)
+            .min(by_logic)
+            .min(lim.max_datapaths)
+            .min(2 * MAX_TREES as u32);
         return (d >= lim.min_datapaths.max(1)).then_some(BankPlan {
             photons,
             replicated_levels: l,
@@ -186,8 +236,11 @@ fn plan_fit(photons: usize, dev: &Device, lim: &Limits) -> Option<BankPlan> {
             bank_rows: 0,
             brams_per_bank: 0,
             datapaths: d,
+            ports: BankPorts::default(),
             bank_brams: 0,
             datapath_brams: d * per_dp,
+            datapath_luts: dp_luts(d),
+            crossbar_luts: 0,
         });
     }
     let max_b = (1u32 << l).min(lim.max_banks);
@@ -202,23 +255,41 @@ fn plan_fit(photons: usize, dev: &Device, lim: &Limits) -> Option<BankPlan> {
         }
         let by_bram = (dev.brams - bank_brams as u32) / per_dp;
         let by_banks = banks / lim.banks_per_datapath.max(1);
-        let d = by_bram.min(logic).min(by_banks).min(lim.max_datapaths);
-        if d < lim.min_datapaths.max(1) {
-            continue;
-        }
-        let p = BankPlan {
-            photons,
-            replicated_levels: l,
-            bank_bits: b,
-            bank_rows: rows as u32,
-            brams_per_bank: per_bank as u32,
-            datapaths: d,
-            bank_brams: bank_brams as u32,
-            datapath_brams: d * per_dp,
-        };
-        let key = |p: &BankPlan| (p.datapaths, std::cmp::Reverse(p.bank_brams), p.bank_bits);
-        if best.as_ref().is_none_or(|q| key(&p) > key(q)) {
-            best = Some(p);
+        for ports in [BankPorts::Shared, BankPorts::Split] {
+            // The most datapaths (an even number: two a replica) whose logic and
+            // crossbar fit the budget.
+            let mut d = by_bram.min(by_banks).min(lim.max_datapaths) & !1;
+            let logic = |d: u32| dp_luts(d) + dev.crossbar_luts(d, banks, ports);
+            while d > 0 && logic(d) as f64 > budget {
+                d -= 2;
+            }
+            if d < lim.min_datapaths.max(1) {
+                continue;
+            }
+            let p = BankPlan {
+                photons,
+                replicated_levels: l,
+                bank_bits: b,
+                bank_rows: rows as u32,
+                brams_per_bank: per_bank as u32,
+                datapaths: d,
+                ports,
+                bank_brams: bank_brams as u32,
+                datapath_brams: d * per_dp,
+                datapath_luts: dp_luts(d),
+                crossbar_luts: dev.crossbar_luts(d, banks, ports),
+            };
+            let key = |p: &BankPlan| {
+                (
+                    p.datapaths,
+                    std::cmp::Reverse(p.bank_brams),
+                    p.bank_bits,
+                    p.ports == BankPorts::Shared,
+                )
+            };
+            if best.as_ref().is_none_or(|q| key(&p) > key(q)) {
+                best = Some(p);
+            }
         }
     }
     best
