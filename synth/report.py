@@ -88,6 +88,8 @@ class CoreOptions:
     result_streams: int = 1
     # The banks' ports: "shared" (the default), "split" or "one" (`--bank-ports`).
     bank_ports: Optional[str] = None
+    # Queries simulated (None: SIM_QUERIES); a wide core needs more to fill its slots.
+    sim_queries: Optional[int] = None
     # The simulation's workload: None, random queries on a full random map; else a
     # Cornell-box map from this many emitted photons (on the exported core's grid,
     # `bench-core --core`), queried at the eye-ray hits of a CORNELL_SIZE image.
@@ -131,6 +133,9 @@ class Config:
     options: CoreOptions
     # In README.md's headline table.
     headline: bool = False
+    # Synthesised by parts (PARTS) instead of whole: a core too large for one yosys
+    # run here, fitted to a device from its parts' counts; no ECP5 run.
+    parts: bool = False
 
 
 # The paper's core (K = 10, 10-bit coordinates, L1, H = 10) with Q fitted to the paper
@@ -185,6 +190,14 @@ CONFIGS = [
            replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=4, banks=16,
                    replicated_levels=10, result_streams=2, bank_ports="split",
                    cornell_photons=33500)),
+    # The default render's map (200,000 emitted photons, H = 19) on the XC6VSX475T as
+    # `--device xc6vsx475t` plans it: D = 32 datapaths on 16 replicas of the top 10
+    # levels, 128 banks with split ports, one result stream per four datapaths; enough
+    # queries to keep its 512 slots busy.
+    Config("banked D=32, XC6VSX475T fit (K=32, L2, 16x2x16 slots, B=128 split, R=8, default render's map)",
+           replace(BARREL_CELL, k=32, metric="l2", address_bits=19, trees=16, banks=128,
+                   replicated_levels=10, result_streams=8, bank_ports="split",
+                   cornell_photons=200000, sim_queries=60000), parts=True),
 ]
 
 
@@ -299,6 +312,9 @@ class Record:
     ecp5: Optional[Ecp5] = None
     sim: Optional[Sim] = None
     kiddo: Optional[Kiddo] = None
+    # A banked core's crossbar alone (the interconnect's own area), and for a row
+    # synthesised by parts each part's counts: {part: Xc6v}.
+    parts: dict = field(default_factory=dict)
     # photons_per_s, queries_per_s, vs_kiddo: computed from the above.
     figures: dict = field(default_factory=dict)
     device_fit: list = field(default_factory=list)
@@ -354,6 +370,7 @@ def load_results(path=RESULTS):
                          "xc6v": Xc6v(**r["xc6v"]) if r.get("xc6v") else None, "ecp5": e,
                          "sim": Sim(**r["sim"]) if r.get("sim") else None,
                          "kiddo": Kiddo(**r["kiddo"]) if r.get("kiddo") else None,
+                         "parts": {k: Xc6v(**v) for k, v in r.get("parts", {}).items()},
                          "figures": {k: Figure(**v) for k, v in r.get("figures", {}).items()},
                          "device_fit": [DeviceFit(**f) for f in r.get("device_fit", [])]})
     return Results(schema=d["schema"], generated=d["generated"], method=Method(**d["method"]),
@@ -453,22 +470,25 @@ NOSHARE = " (without yosys's share pass)"
 NOSHARE_ECP5 = " (Debian yosys synth_ecp5 without its share pass, yowasp nextpnr-ecp5)"
 
 
-def xilinx(d, top, files, cache_only, noshare=False):
-    """The row's Xc6v counts, or None if not run."""
-    hit, stamp = cached(d, "xc6v", files)
+def xilinx(d, top, files, cache_only, noshare=False, part=None, blackbox=()):
+    """The row's Xc6v counts (of `part`, a sub-block as its own top with the
+    `blackbox` modules left out, if given), or None if not run."""
+    key = f"xc6v_{part}" if part else "xc6v"
+    hit, stamp = cached(d, key, files)
     if not hit:
         if cache_only:
             return None
         synth = f"synth_xilinx -family xc6v -flatten -top {top}"
         if noshare:
             synth = f"{synth} -run :coarse; {XC6V_COARSE_NOSHARE}; {synth} -run map_memory:"
-        rc, _ = run(["yosys", "-p", f"read_verilog {' '.join(files)}; hierarchy -check -top {top}; proc; "
-                     f"{synth}; tee -o {d}/xc6v_stat.txt stat -tech xilinx"],
-                    f"{d}/yosys_xc6v.log")
+        boxes = f"blackbox {' '.join(blackbox)}; hierarchy -top {top}; " if blackbox else ""
+        rc, _ = run(["yosys", "-p", f"read_verilog {' '.join(files)}; hierarchy -check -top {top}; {boxes}proc; "
+                     f"{synth}; tee -o {d}/{key}_stat.txt stat -tech xilinx"],
+                    f"{d}/yosys_{key}.log")
         if rc != 0:
             return None
         stamp()
-    stat = open(f"{d}/xc6v_stat.txt").read()
+    stat = open(f"{d}/{key}_stat.txt").read()
     cells = dict((m.group(2), int(m.group(1))) for m in re.finditer(r"^\s+(\d+)\s+(\S+)\s*$", stat, re.M))
     cells.update((m.group(1), int(m.group(2))) for m in re.finditer(r"^\s+(\S+)\s+(\d+)\s*$", stat, re.M))
     # yosys leaves inverters as INV cells (mostly on CARRY4 select inputs, where a
@@ -481,6 +501,35 @@ def xilinx(d, top, files, cache_only, noshare=False):
                 dsp=g("DSP48E1"), lutram=sum(v for k, v in cells.items() if k.startswith("RAM") and "RAMB" not in k),
                 # a Virtex-6 slice holds 4 LUTs and 8 flip-flops
                 slices_est=max((luts + 3) // 4, (ffs + 7) // 8))
+
+
+# A banked core by parts (rust-hdl names each instance's module by its path): the
+# crossbar, the banks (the store without its crossbar), one barrel datapath, one
+# replica of the top levels, and the rest of the top (dispatcher, result streams,
+# load path) without those; the core is the crossbar + the banks + D datapaths + T
+# replicas + the rest.
+PARTS = {
+    "crossbar": ("top$store$crossbar", ()),
+    "banks": ("top$store", ("top$store$crossbar",)),
+    "datapath": ("top$ports$0", ()),
+    "replica": ("top$trees$0", ()),
+    "rest": ("top", ("top$store", "top$ports$*", "top$trees$*")),
+}
+
+
+def part_counts(o):
+    """How many of each part a banked core of options `o` has."""
+    return {"crossbar": 1, "banks": 1, "datapath": 2 * o.trees, "replica": o.trees, "rest": 1}
+
+
+def compose(parts, counts):
+    """The whole core's Xc6v from its parts' counts."""
+    f = lambda k: sum(counts[p] * getattr(x, k) for p, x in parts.items())
+    luts, ffs = f("luts"), f("ffs")
+    return Xc6v(provenance=SYNTHESISED + NOSHARE + ", by parts: " +
+                " + ".join(f"{counts[p]} x {p}" if counts[p] > 1 else p for p in parts),
+                luts=luts, lutram=f("lutram"), ffs=ffs, ramb36=f("ramb36"), ramb18=f("ramb18"),
+                carry4=f("carry4"), dsp=f("dsp"), slices_est=max((luts + 3) // 4, (ffs + 7) // 8))
 
 
 def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False):
@@ -561,7 +610,7 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False)
     return res
 
 
-def sim(d, opts, files, cache_only):
+def sim(d, opts, files, cache_only, queries=None):
     """(Sim, Kiddo) from bench-core, kiddo and the software search timed on the same
     queries in the same run, cached with the Verilog it was measured on; or (None,
     None, why) if it failed."""
@@ -571,7 +620,7 @@ def sim(d, opts, files, cache_only):
         if cache_only:
             return None, None, None
         # The exported Verilog under Verilator: thousands of queries in seconds.
-        rc, out = run([BIN, "bench-core", *opts, "--queries", str(SIM_QUERIES), "--cpu",
+        rc, out = run([BIN, "bench-core", *opts, "--queries", str(queries or SIM_QUERIES), "--cpu",
                        "--engine", "verilator"], log)
         if rc != 0:
             return None, None, out.strip().splitlines()[-1]
@@ -639,8 +688,8 @@ def derive(r):
             if k.all_threads_queries_per_s:
                 r.figures["vs_kiddo_all_threads"] = Figure(qps / k.all_threads_queries_per_s,
                                                            f"{sp} / measured")
-    if not (x and s and k) or r.options.trees != 1:
-        return r
+    if not (x and s and k) or (r.options.trees != 1 and r.options.banks is None):
+        return r  # an array's fit is its cores', not the array's
     allt = lambda q: q / k.all_threads_queries_per_s if k.all_threads_queries_per_s else None
     ram = x.ramb36 + (x.ramb18 + 1) // 2
     # A LUT-RAM primitive (RAM32M/RAM64M) takes 4 LUTs of a SLICEM.
@@ -670,13 +719,27 @@ def row(c, steps, old, export_error=None, versions=None):
     core, shell = f"{d}/photon_search_core.v", f"{d}/shell.v"
     run_x = "xc6v" in steps or ("ecp5" in steps and not ECP5_ONLY)
     noshare = c.options.banks is not None
-    x = xilinx(d, "top", [core], not run_x, noshare) if os.path.exists(core) else None
+    parts, x = {}, None
+    if os.path.exists(core) and noshare:
+        # A banked core's crossbar on its own (the interconnect's area); every part
+        # for a core synthesised by parts.
+        for p, (top, boxes) in (PARTS.items() if c.parts else [("crossbar", PARTS["crossbar"])]):
+            px = xilinx(d, top, [core], not run_x, True, p, boxes)
+            if px:
+                parts[p] = px
+        if c.parts and len(parts) == len(PARTS):
+            x = compose(parts, part_counts(c.options))
+    if os.path.exists(core) and not c.parts:
+        x = xilinx(d, "top", [core], not run_x, noshare)
     e = err = s = k = None
-    if x and x.ffs > ECP5_85K["Total DFFs"]:
+    if c.parts:
+        e = Ecp5(router="-", seeds=[], fmax_mhz=[],
+                 error="not run: a device fit for the XC6VSX475T, synthesised by parts")
+    elif x and x.ffs > ECP5_85K["Total DFFs"]:
         # Flip-flops map one to one on both families: no point in a 30-minute ECP5 run.
         e = Ecp5(router="-", seeds=[], fmax_mhz=[],
                  error=f"does not fit the ECP5-85k: {x.ffs:,} flip-flops, it has {ECP5_85K['Total DFFs']:,}")
-    elif os.path.exists(core):
+    elif os.path.exists(core) and not c.parts:
         # The first row: every seed. An array: the seeds in turn until one routes (a
         # congested placement may not route on one seed and route on the next). Any
         # other row: the first seed.
@@ -686,11 +749,11 @@ def row(c, steps, old, export_error=None, versions=None):
                  "router2" if big else "router1", "ecp5" not in steps, first_routed=not first,
                  noshare=noshare)
     if os.path.exists(core):
-        s, k, err = sim(d, c.options.sim_cli(d), [core], "sim" not in steps)
+        s, k, err = sim(d, c.options.sim_cli(d), [core], "sim" not in steps, c.options.sim_queries)
     if steps:
         print(f"{c.name} {sorted(steps)}: {time.time() - t0:.0f} s: {x and x.luts} LUTs, "
               f"{e and (e.error or e.fmax_mhz)}, {s}", flush=True)
-    if not (x or e or s):
+    if not (x or parts or (e and not c.parts) or s):
         if err:
             return replace(blank, status=err)
         if (old and old.options == c.options and old.status is None
@@ -698,7 +761,8 @@ def row(c, steps, old, export_error=None, versions=None):
             return old  # measured elsewhere, on this Verilog (its record says where and when)
         return replace(blank, status="not run yet (synth/run.sh runs it)")
     return derive(replace(blank, date=time.strftime("%Y-%m-%d"), tools=versions or {},
-                          verilog_sha256=digest([core]), xc6v=x, ecp5=e, sim=s, kiddo=k))
+                          verilog_sha256=digest([core]), xc6v=x, ecp5=e, sim=s, kiddo=k,
+                          parts=parts))
 
 
 def main(only):
@@ -906,9 +970,11 @@ def banked_section(res):
          f"{CORNELL_SIZE} image, k = K, every answer checked against the software search (*simulated*, "
          "Verilator). Queries/s = reads/cycle x placed-and-routed fmax / reads per query; kiddo timed by the "
          "same bench-core run on the same map and queries.\n",
-         "| configuration | D | B | L | R | emitted photons | LUT4s | DP16KD | fmax MHz | reads/cycle | "
-         "reads/query | queries/s | kiddo 1 thread | vs kiddo 1 thread | vs kiddo all threads |",
-         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+         "| configuration | D | B | ports | L | R | emitted photons | crossbar xc6v LUTs | LUT4s | DP16KD | "
+         "fmax MHz | reads/cycle | reads/query | queries/s | kiddo 1 thread | vs kiddo 1 thread | "
+         "vs kiddo all threads |",
+         "|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    rows = [r for r in rows if not any(c.parts for c in CONFIGS if c.name == r.name)]
     for r in rows:
         o, e, s, f = r.options, r.ecp5, r.sim, r.figures
         u = (e.used or {}) if e else {}
@@ -918,9 +984,54 @@ def banked_section(res):
         vs = f"{f['vs_kiddo'].value:,.1f}x" if "vs_kiddo" in f else "?"
         allt = fmt_all(f["vs_kiddo_all_threads"].value if "vs_kiddo_all_threads" in f else None, r.kiddo)
         kq = f"{r.kiddo.queries_per_s / 1e3:,.0f} K" if r.kiddo else "?"
-        L.append(f"| {r.name} | {2 * o.trees} | {o.banks} | {o.replicated_levels} | {o.result_streams} | "
-                 f"{o.cornell_photons:,} | {use('Total LUT4s')} | {use('DP16KD')} | {fmax} | "
+        xb = r.parts.get("crossbar")
+        xb = f"{xb.luts:,} ({100 * xb.luts / r.xc6v.luts:.0f} %)" if xb and r.xc6v else "?"
+        L.append(f"| {r.name} | {2 * o.trees} | {o.banks} | {o.bank_ports or 'shared'} | "
+                 f"{o.replicated_levels} | {o.result_streams} | {o.cornell_photons:,} | {xb} | "
+                 f"{use('Total LUT4s')} | {use('DP16KD')} | {fmax} | "
                  f"{s.reads_per_cycle:.3f} | {s.reads_per_query:.1f} | {q} | {kq} | {vs} | {allt} |")
+    return L + fitted_section(res)
+
+
+def fitted_section(res):
+    """Banked cores synthesised by parts and fitted to the XC6VSX475T."""
+    names = {c.name for c in CONFIGS if c.parts}
+    L = []
+    for r in res.rows:
+        if r.name not in names:
+            continue
+        o, s, k, x = r.options, r.sim, r.kiddo, r.xc6v
+        L += [f"\n### {r.name}\n",
+              f"One map, the Cornell box from {o.cornell_photons:,} emitted photons (the default render's), "
+              f"over {o.banks} banks with {o.bank_ports or 'shared'} ports, {o.trees} replicas of the top "
+              f"{o.replicated_levels} levels, D = {2 * o.trees} barrel datapaths, {o.result_streams} result "
+              "streams. Too large for one yosys run on this machine, it is *synthesised by parts* (each part "
+              "its own top in the core's exported Verilog, yosys synth_xilinx -family xc6v without share, the "
+              "other parts black boxes): the whole is the sum. No packing or routing losses are counted; the "
+              f"clock is *assumed* ({res.method.paper_mhz:.0f} MHz, the paper's on this family). Reads/cycle "
+              f"*simulated* (Verilator, an even sample of {o.sim_queries or res.method.sim_queries:,} of the "
+              f"eye-ray hits of a {CORNELL_SIZE} image, k = K, every answer checked against the software "
+              "search); kiddo timed by the same bench-core run on the same map and queries.\n",
+              "| part | count | LUTs | LUT-RAM | FFs | RAMB36 | RAMB18 | DSP48 |",
+              "|---|---:|---:|---:|---:|---:|---:|---:|"]
+        counts = part_counts(o)
+        for p, px in r.parts.items():
+            L.append(f"| {p} | {counts[p]} | {px.luts:,} | {px.lutram:,} | {px.ffs:,} | {px.ramb36:,} | "
+                     f"{px.ramb18:,} | {px.dsp:,} |")
+        if x:
+            L.append(f"| **the core** | 1 | {x.luts:,} | {x.lutram:,} | {x.ffs:,} | {x.ramb36:,} | "
+                     f"{x.ramb18:,} | {x.dsp:,} |")
+            L.append(f"| XC6VSX475T | | {XC6V['luts']:,} | | {XC6V['ffs']:,} | {XC6V['ramb36']:,} | "
+                     f"{2 * XC6V['ramb36']:,} | |")
+        fit = next((d for d in r.device_fit if d.device == "XC6VSX475T"), None)
+        if fit and s and k:
+            L.append(f"\n{fit.cores} core(s) fit (LUTs with 4 a LUT-RAM primitive, FFs, RAMB36 with two "
+                     f"RAMB18 each). {s.reads_per_cycle:.3f} reads/cycle, {s.reads_per_query:.1f} reads/query: "
+                     f"**{fit.queries_per_s / 1e6:,.1f} M queries/s** at {fit.clock_mhz:.0f} MHz (*assumed*), "
+                     f"{fit.vs_kiddo:,.1f}x kiddo on one thread ({k.queries_per_s / 1e3:,.0f} K queries/s), "
+                     f"{fmt_all(fit.vs_kiddo_all_threads, k)} on all threads (*measured*, same run).")
+        elif not x:
+            L.append("\nNot every part synthesised yet (`synth/run.sh` runs them).")
     return L
 
 

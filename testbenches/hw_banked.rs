@@ -209,7 +209,7 @@ fn thirty_two_datapaths_share_the_banks() {
     let mut r = rng(101);
     let points = random_points(&mut r, 700, layout);
     let tree = pack(&points, layout);
-    let mut queries = random_queries(&mut r, 1200, layout, 6, metric);
+    let mut queries = random_queries(&mut r, 600, layout, 6, metric);
     for (i, q) in queries.iter_mut().enumerate() {
         q.id = i as u32;
     }

@@ -11,7 +11,9 @@
 //! with the paper's re-read ascent, and as a PhotonSearchArray of two replicated
 //! trees), a K = 40 configuration with
 //! 12-bit coordinates (64-bit slot masks and photon words) and the paper configuration
-//! (random maps, a map reloaded after queries, a Cornell-box map, hard cases), and
+//! (a Cornell-box map and hard cases; under Verilator also random maps and a map
+//! reloaded after queries: Icarus replays the paper's core at tens of cycles a
+//! second, and the small configurations' reload runs in both), and
 //! barrel cores with found lists of K = 100 and 512 (heaps in BlockRAM). Icarus simulates the
 //! `export::glitch_free` rewrite of the export (the raw export loops forever in
 //! Icarus at the first result beat; see there). Without a simulator its tests are
@@ -501,6 +503,14 @@ fn small_and_paper(sim: Simulator) {
         ("wide", wide_cases()),
         ("paper", paper_cases()),
     ] {
+        // Icarus (four-state, event-driven: X propagation and races Verilator cannot
+        // see) replays the paper's core at about 40 cycles a second: it gets the
+        // Cornell map and the hard cases, Verilator the random maps and the reload
+        // too (the small configurations' reload runs in both).
+        let cases: Vec<Case> = cases
+            .into_iter()
+            .filter(|c| sim == Simulator::Verilator || c.name != "paper_random_two_maps")
+            .collect();
         let runs = record(&cfg, &cases);
         let verilog = export_verilog(&cfg).unwrap().verilog;
         cross_simulate(sim, label, &verilog, &cases, &runs).unwrap();
