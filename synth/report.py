@@ -320,6 +320,9 @@ class Record:
     device_fit: list = field(default_factory=list)
     # Why the row has no results ("not run yet (synth/run.sh runs it)").
     status: Optional[str] = None
+    # Measured on another Verilog than the current export's (the hardware changed
+    # since): kept until `synth/run.sh ROW` measures it again.
+    stale: bool = False
 
 
 @dataclass
@@ -756,9 +759,11 @@ def row(c, steps, old, export_error=None, versions=None):
     if not (x or parts or (e and not c.parts) or s):
         if err:
             return replace(blank, status=err)
-        if (old and old.options == c.options and old.status is None
-                and old.verilog_sha256 in (None, digest([core]) if os.path.exists(core) else None)):
-            return old  # measured elsewhere, on this Verilog (its record says where and when)
+        if old and old.options == c.options and old.status is None:
+            # Measured elsewhere (its record says where and when): on this Verilog, or
+            # on an earlier one (kept, and said to be stale, until the row is re-run).
+            now = digest([core]) if os.path.exists(core) else None
+            return replace(old, stale=old.verilog_sha256 not in (None, now))
         return replace(blank, status="not run yet (synth/run.sh runs it)")
     return derive(replace(blank, date=time.strftime("%Y-%m-%d"), tools=versions or {},
                           verilog_sha256=digest([core]), xc6v=x, ecp5=e, sim=s, kiddo=k,
@@ -904,6 +909,10 @@ def render_report(res):
     if not_run:
         L.append("\nRows that say *not run yet* have no result for the current Verilog in synth/results.json "
                  "(`synth/run.sh ROW` runs them; tool results are cached per machine in synth/build/).")
+    stale = [r.name for r in res.rows if r.stale]
+    if stale:
+        L.append("\n**Stale** (measured on an earlier export; the hardware has changed since, `synth/run.sh "
+                 "ROW` measures them again): " + "; ".join(stale) + ".")
     L += ["\n## Device-fitted throughput\n",
           "Cores that fit = the tightest of the device's resources divided by one core's. XC6VSX475T: from the "
           "yosys xc6v counts above (LUTs plus 4 per LUT-RAM primitive, FFs, RAMB36E1 with two RAMB18E1 per "
