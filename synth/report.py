@@ -645,7 +645,7 @@ def sim(d, opts, files, cache_only, queries=None):
     per_port = [float(x) for x in re.findall(r"[\d.]+", busy.group(2))]
     if cycles and busy_cycles < int(cycles.group(1)) // 100:
         per_port = None
-    s = Sim(engine="verilator", queries=SIM_QUERIES, cycles=int(cycles.group(1)) if cycles else None,
+    s = Sim(engine="verilator", queries=queries or SIM_QUERIES, cycles=int(cycles.group(1)) if cycles else None,
             reads_per_cycle=rpc, busy_reads_per_port=per_port, busy_cycles=busy_cycles,
             reads_per_query=rpq, tests_per_query=tests,
             result_beats_per_query=float(beats.group(1)) if beats else None)
