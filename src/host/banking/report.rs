@@ -285,7 +285,7 @@ fn plans(t: &mut String, sizes: &[usize], word_bits: u32) {
     let _ = writeln!(
         t,
         "\n## B, L, D by device (`device::plan`, {word_bits}-bit photon words, at least \
-         {} datapaths, B ≥ {} × D, D ≤ {}, datapaths ≤ {:.0} % of the logic)\n",
+         {} datapaths, B ≥ {} × D, D ≤ {}, datapaths and crossbar ≤ {:.0} % of the logic)\n",
         lim.min_datapaths,
         lim.banks_per_datapath,
         lim.max_datapaths,
@@ -293,9 +293,10 @@ fn plans(t: &mut String, sizes: &[usize], word_bits: u32) {
     );
     let _ = writeln!(
         t,
-        "| device | photons | B | BlockRAMs per bank | L | D | BlockRAMs (banks + datapaths) |"
+        "| device | photons | B | BlockRAMs per bank | L | D | bank ports | BlockRAMs (banks + \
+         datapaths) | logic (datapaths + crossbar, estimated) |"
     );
-    let _ = writeln!(t, "|---|---:|---:|---:|---:|---:|---|");
+    let _ = writeln!(t, "|---|---:|---:|---:|---:|---:|---|---|---|");
     let devs: [&Device; 2] = [&ECP5_85K, &XC6VSX475T];
     for dev in devs {
         for &n in sizes {
@@ -303,19 +304,27 @@ fn plans(t: &mut String, sizes: &[usize], word_bits: u32) {
                 Ok(p) => {
                     let _ = writeln!(
                         t,
-                        "| {} | {n} | {} | {} | {} | {} | {} + {} of {} |",
+                        "| {} | {n} | {} | {} | {} | {} | {} | {} + {} of {} | {} + {} of {} |",
                         dev.name,
                         p.banks(),
                         p.brams_per_bank,
                         p.replicated_levels,
                         p.datapaths,
+                        if p.bank_bits == 0 {
+                            "–"
+                        } else {
+                            p.ports.name()
+                        },
                         p.bank_brams,
                         p.datapath_brams,
-                        dev.brams
+                        dev.brams,
+                        p.datapath_luts,
+                        p.crossbar_luts,
+                        dev.luts
                     );
                 }
                 Err(e) => {
-                    let _ = writeln!(t, "| {} | {n} | refused: {e} | | | | |", dev.name);
+                    let _ = writeln!(t, "| {} | {n} | refused: {e} | | | | | | |", dev.name);
                 }
             }
         }
