@@ -1033,7 +1033,17 @@ def fitted_section(res):
             L.append(f"| XC6VSX475T | | {XC6V['luts']:,} | | {XC6V['ffs']:,} | {XC6V['ramb36']:,} | "
                      f"{2 * XC6V['ramb36']:,} | |")
         fit = next((d for d in r.device_fit if d.device == "XC6VSX475T"), None)
-        if fit and s and k:
+        if fit and s and k and fit.cores == 0:
+            need = x.luts + 4 * x.lutram
+            q = s.reads_per_cycle * fit.clock_mhz * 1e6 / s.reads_per_query
+            L.append(f"\n**Does not fit** by these counts: LUTs plus 4 a LUT-RAM primitive come to {need:,}, "
+                     f"{100 * need / XC6V['luts']:.1f} % of the device's {XC6V['luts']:,} (FFs "
+                     f"{100 * x.ffs / XC6V['ffs']:.0f} %, RAMB36 {100 * (x.ramb36 + (x.ramb18 + 1) // 2) / XC6V['ramb36']:.0f} %). "
+                     f"If it did: {s.reads_per_cycle:.3f} reads/cycle, {s.reads_per_query:.1f} reads/query, "
+                     f"{q / 1e6:,.1f} M queries/s at {fit.clock_mhz:.0f} MHz (*assumed*), "
+                     f"{q / k.queries_per_s:,.1f}x kiddo on one thread ({k.queries_per_s / 1e3:,.0f} K queries/s, "
+                     "*measured*, same run).")
+        elif fit and s and k:
             L.append(f"\n{fit.cores} core(s) fit (LUTs with 4 a LUT-RAM primitive, FFs, RAMB36 with two "
                      f"RAMB18 each). {s.reads_per_cycle:.3f} reads/cycle, {s.reads_per_query:.1f} reads/query: "
                      f"**{fit.queries_per_s / 1e6:,.1f} M queries/s** at {fit.clock_mhz:.0f} MHz (*assumed*), "
