@@ -190,13 +190,13 @@ fn the_cycle_model_meets_its_closed_forms_and_bounds() {
 fn the_plans_fit_their_devices_and_name_the_largest_map() {
     let lim = Limits::default();
     // XC6VSX475T, the default render's 388,826 photons of 32 bits: 1K × 36 RAMB36,
-    // L = 10 (1,023 nodes in one RAMB36). D = 32 (the cap) needs B >= 128: rows of
-    // 388,826 >> 7 = 3,037 + 1 words = 3 RAMB36 a bank, 384 in all (B = 64: 6 a
-    // bank, 384 too, but D <= 16). Logic budget 60 % of 297,600 = 178,560 LUTs:
-    // shared ports cost 1,400 + 16,125 / 256 × 128 = 9,463 a datapath, so at most
-    // 18; split ports 1,400 + 6,639 / 256 × 128 = 4,720, so all 32 (151,040).
-    // B = 256 (1,519 rows = 2 RAMB36, 512): split 8,039 a datapath, only 22.
-    // Datapaths' BlockRAM: 32 × (1 replica + 2) = 96.
+    // L = 10 (1,023 nodes in one RAMB36). B = 128: rows of 388,826 >> 7 = 3,037 + 1
+    // words = 3 RAMB36 a bank, 384 in all (D <= 32); B = 64: 6 a bank, 384 too,
+    // but D <= 16. Logic budget 60 % of 297,600 = 178,560 LUTs: at B = 128 a
+    // datapath costs 4,670 with split ports plus 6,639 / 256 × 128 = 3,319.5 of
+    // crossbar, so at most 22 (an even number); shared ports 4,670 + 8,062.5,
+    // only 14. B = 256 (1,519 rows = 2 RAMB36, 512): split 11,309 a datapath, 14.
+    // Datapaths' BlockRAM: 22 × (1 replica + 2) = 66.
     let p = plan(388_826, 32, &XC6VSX475T, &lim).unwrap();
     assert_eq!(
         (
@@ -206,10 +206,10 @@ fn the_plans_fit_their_devices_and_name_the_largest_map() {
             p.datapaths,
             p.ports
         ),
-        (10, 128, 3, 32, BankPorts::Split)
+        (10, 128, 3, 22, BankPorts::Split)
     );
-    assert_eq!((p.bank_brams, p.datapath_brams), (384, 96));
-    assert_eq!((p.datapath_luts, p.crossbar_luts), (44_800, 106_224));
+    assert_eq!((p.bank_brams, p.datapath_brams), (384, 66));
+    assert_eq!((p.datapath_luts, p.crossbar_luts), (102_740, 73_029));
     for dev in [&ECP5_85K, &XC6VSX475T] {
         let big = largest_map(dev, &lim);
         assert!(big > 1_000, "{}", dev.name);

@@ -83,8 +83,9 @@ pub const ECP5_85K: Device = Device {
 const ECP5_XBAR_SPLIT: f64 = 10_041.0 / 128.0;
 const ECP5_XBAR_SHARED: f64 = 19_601.0 / 128.0;
 
-/// Xilinx XC6VSX475T: 1,064 RAMB36 (1K × 36). Barrel datapath: 4 RAMB18 = 2 RAMB36
-/// and about 1,400 LUTs each (yosys counts of the 2 × 16-slot barrel core).
+/// Xilinx XC6VSX475T: 1,064 RAMB36 (1K × 36). Barrel datapath at K = 32: 3,654
+/// LUTs and 254 LUT-RAM primitives of 4 LUTs each (yosys counts of one datapath of
+/// the D = 32 banked core, synth/REPORT.md), its memories 2 RAMB36.
 /// Crossbar (yosys `synth_xilinx -family xc6v` of the crossbar alone, D = 8,
 /// B = 32, docs/HARDWARE.md): 16,125 LUTs shared, 6,639 split, per D × B.
 pub const XC6VSX475T: Device = Device {
@@ -93,7 +94,7 @@ pub const XC6VSX475T: Device = Device {
     shape: (1024, 36),
     luts: 297_600,
     datapath_brams: 2,
-    datapath_luts: 1_400,
+    datapath_luts: 3_654 + 4 * 254,
     crossbar_luts_shared: 16_125.0 / 256.0,
     crossbar_luts_split: 6_639.0 / 256.0,
 };
