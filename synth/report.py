@@ -1132,21 +1132,23 @@ def render_headline(res):
         clock = f"{e.best():.1f} MHz" if e and not e.error else "–"
         q = f.get("queries_per_s")
         v = f.get("vs_kiddo")
-        L.append(f"| {r.name} | {area} | {clock} | {s.reads_per_cycle:.3f} | {s.reads_per_query:.1f} | "
-                 f"{q.value / 1e6:,.2f} M | {v.value:.2f}x |" if s else f"| {r.name} | {area} | {clock} | | | | |")
+        name = f"{r.name} [stale]" if r.stale else r.name
+        L.append(f"| {name} | {area} | {clock} | {s.reads_per_cycle:.3f} | {s.reads_per_query:.1f} | "
+                 f"{q.value / 1e6:,.2f} M | {v.value:.2f}x |" if s else f"| {name} | {area} | {clock} | | | | |")
     fits = [(r, d) for r in res.rows if r.headline for d in r.device_fit if d.device == "XC6VSX475T"]
     L += ["",
           "[syn] yosys `synth_xilinx -family xc6v` of the core (Virtex-6 cells, the paper's family; LUT-RAM "
           "primitives counted apart); [P&R] nextpnr-ecp5 on an ECP5-85k, best of the seeds in "
           "`synth/REPORT.md` (no open tool times a Virtex-6); [sim] the exported Verilog under Verilator, "
           f"{m.sim_queries:,} random queries on a full random 1023-photon map, every answer checked; [meas] "
-          "kiddo timed by the same run on the same queries; [paper] Table 2 and §5. Arrays: T cores, one map "
+          "kiddo timed by the same run on the same queries; [paper] Table 2 and §5; [stale] measured on an "
+          "earlier export than today's (`synth/run.sh ROW` measures it again). Arrays: T cores, one map "
           "copy each (`--trees T`)."]
     if fits:
         best = max(fits, key=lambda rd: rd[1].queries_per_s)
         L.append("")
         L.append(f"If a Virtex-6 XC6VSX475T ran at the paper's {best[1].clock_mhz:.0f} MHz [assumed], "
-                 f"{best[1].cores} of the '{best[0].name}' cores would fit by the yosys counts: "
+                 f"{best[1].cores} of the '{best[0].name}'{' [stale]' if best[0].stale else ''} cores would fit by the yosys counts: "
                  f"{best[1].queries_per_s / 1e6:,.1f} M queries/s, {best[1].vs_kiddo:,.0f}x kiddo [syn × sim × "
                  "assumed].")
     L += ["", "Regenerate: `synth/run.sh` (hours; `synth/run.sh ROW` for one row) writes `synth/results.json` "
