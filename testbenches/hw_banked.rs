@@ -51,6 +51,22 @@ fn check_reads_counted(stats: &SimStats, results: &[HwResult]) {
     );
 }
 
+/// Every one of the `d` datapaths read something.
+fn check_every_datapath_read(stats: &SimStats, d: usize) {
+    assert_eq!(stats.reads_per_port.len(), d);
+    for (p, &reads) in stats.reads_per_port.iter().enumerate() {
+        assert!(reads > 0, "datapath {p} never read: {stats:?}");
+    }
+}
+
+/// Every one of the `r` result streams carried a beat.
+fn check_every_stream_used(stats: &SimStats, r: usize) {
+    assert_eq!(stats.result_beats_per_stream.len(), r);
+    for (s, &b) in stats.result_beats_per_stream.iter().enumerate() {
+        assert!(b > 0, "stream {s} of {r} carried nothing: {stats:?}");
+    }
+}
+
 fn queries_for(
     r: &mut Pcg64,
     points: &[[u32; 3]],
@@ -120,10 +136,7 @@ fn banked_core_matches_software_search() {
             let (results, stats) = run_gather(&cfg, tree.image(), &queries, &opts).expect("sim");
             check_results(&cfg, &tree, &points, &queries, &results);
             check_reads_counted(&stats, &results);
-            assert_eq!(stats.reads_per_port.len(), 2 * shape.0);
-            for (p, &reads) in stats.reads_per_port.iter().enumerate() {
-                assert!(reads > 0, "datapath {p} never read: {stats:?}");
-            }
+            check_every_datapath_read(&stats, 2 * shape.0);
         }
     }
 }
@@ -185,16 +198,13 @@ fn results_leave_on_several_streams() {
             let (results, stats) = run_gather(&cfg, tree.image(), &queries, &opts).expect("sim");
             check_results(&cfg, &tree, &points, &queries, &results);
             check_reads_counted(&stats, &results);
-            assert_eq!(stats.result_beats_per_stream.len(), streams);
+            check_every_stream_used(&stats, streams);
             // Each result is 1 + ceil(count / 2) beats: the streams carried them all.
             let beats: u64 = results
                 .iter()
                 .map(|r| 1 + r.found.len().div_ceil(2) as u64)
                 .sum();
             assert_eq!(stats.result_beats, beats, "{streams} streams");
-            for (s, &b) in stats.result_beats_per_stream.iter().enumerate() {
-                assert!(b > 0, "stream {s} of {streams} carried nothing: {stats:?}");
-            }
         }
     }
 }
@@ -227,14 +237,8 @@ fn thirty_two_datapaths_share_the_banks() {
         let (results, stats) = run_gather(&cfg, tree.image(), &queries, &opts).expect("sim");
         check_results(&cfg, &tree, &points, &queries, &results);
         check_reads_counted(&stats, &results);
-        assert_eq!(stats.reads_per_port.len(), 32);
-        for (p, &reads) in stats.reads_per_port.iter().enumerate() {
-            assert!(reads > 0, "{ports}: datapath {p} never read: {stats:?}");
-        }
-        assert_eq!(stats.result_beats_per_stream.len(), 8);
-        for (s, &b) in stats.result_beats_per_stream.iter().enumerate() {
-            assert!(b > 0, "{ports}: stream {s} carried nothing: {stats:?}");
-        }
+        check_every_datapath_read(&stats, 32);
+        check_every_stream_used(&stats, 8);
     }
 }
 
