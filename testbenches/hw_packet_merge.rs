@@ -211,6 +211,8 @@ fn grouped_merge_against_a_stream_scoreboard() {
         (8, 4, 1.0, 1.0, 203),
         (16, 4, 0.7, 0.4, 204),
         (6, 3, 0.5, 0.9, 205),
+        // The D = 32 banked core's eight result streams.
+        (32, 8, 0.7, 0.5, 206),
     ] {
         merge_against_scoreboard(n, r_out, 80, p_valid, p_ready, seed);
     }

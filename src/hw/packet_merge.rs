@@ -4,9 +4,12 @@
 //! core merges its datapaths' streams with it (R streams when the datapaths fill
 //! more than one, `CoreConfig::result_streams`), the array its trees (into one).
 //!
-//! Output g merges sources `g·N/R .. (g+1)·N/R − 1`. Its arbiter sees every source
-//! but only its group's requests (a constant mask), so a grant bit is a source
-//! index whatever the group and no index arithmetic is needed.
+//! Output g merges sources `g·N/R .. (g+1)·N/R − 1`. Its arbiter is N/R wide: it
+//! sees its group's requests shifted down by the group's first index (a constant),
+//! and its grant is shifted back up and masked by the group, so a grant bit is a
+//! source index. The mux of each output then has constant-zero selects outside its
+//! group, and synthesis keeps only the group's N/R inputs; without the mask each of
+//! the R outputs would be an N-input mux of a 195-bit beat.
 
 use crate::hw::config::ModuleMask;
 use crate::hw::port_arbiter::PortArbiter;
@@ -22,6 +25,10 @@ pub struct PacketMerge {
     /// One per output: grants round-robin between packets; while `locked` it
     /// holds the packet's source (its last grant), so no owner register is needed.
     arbiters: Vec<PortArbiter>,
+    /// Each output's grant as a source mask (its arbiter's grant shifted up).
+    grants: Vec<Signal<Local, ModuleMask>>,
+    /// Each group's first source index.
+    offset: Vec<Constant<ModuleMask>>,
     /// A packet is in progress on the output (its first beat moved, its last has not).
     locked: Vec<DFF<bool>>,
     /// The sources of each output's group, one bit each.
@@ -51,7 +58,11 @@ impl PacketMerge {
             reset: Default::default(),
             sources: (0..n).map(|_| Default::default()).collect(),
             merged: (0..r).map(|_| Default::default()).collect(),
-            arbiters: (0..r).map(|_| PortArbiter::new(n)).collect(),
+            arbiters: (0..r).map(|_| PortArbiter::new(g)).collect(),
+            grants: (0..r).map(|_| Default::default()).collect(),
+            offset: (0..r)
+                .map(|o| Constant::new(ModuleMask::from((o * g) as u64)))
+                .collect(),
             locked: (0..r).map(|_| Default::default()).collect(),
             group: (0..r)
                 .map(|o| Constant::new(ModuleMask::from(((1u64 << g) - 1) << (o * g))))
@@ -77,13 +88,18 @@ impl Logic for PacketMerge {
             self.arbiters[o].clock.next = self.clock.val();
             self.locked[o].clock.next = self.clock.val();
             self.locked[o].d.next = self.locked[o].q.val();
-            self.arbiters[o].requests.next = self.valid_mask.val() & self.group[o].val();
+            self.arbiters[o].requests.next =
+                (self.valid_mask.val() & self.group[o].val()) >> self.offset[o].val();
             self.arbiters[o].hold.next = self.locked[o].q.val();
+            // Masked by the group as well: the arbiter's held grant is a register,
+            // whose bits above N/R synthesis cannot prove zero.
+            self.grants[o].next =
+                (self.arbiters[o].grant.val() << self.offset[o].val()) & self.group[o].val();
             // The picked source's beat (source 0's while nothing is picked: valid is low).
             self.merged[o].valid.next = false;
             self.picked.next = self.sources[0].data.val();
             for i in 0..self.sources.len() {
-                if self.arbiters[o].grant.val().get_bit(i) {
+                if self.grants[o].val().get_bit(i) {
                     self.merged[o].valid.next = self.sources[i].valid.val();
                     self.picked.next = self.sources[i].data.val();
                 }
@@ -102,7 +118,7 @@ impl Logic for PacketMerge {
         for i in 0..self.sources.len() {
             self.sources[i].ready.next = false;
             for o in 0..self.merged.len() {
-                if self.arbiters[o].grant.val().get_bit(i) {
+                if self.grants[o].val().get_bit(i) {
                     self.sources[i].ready.next = self.merged[o].ready.val();
                 }
             }
