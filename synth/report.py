@@ -189,7 +189,12 @@ CONFIGS = [
     Config("banked D=8 (K=32, L2, 4x2x16 slots, B=16 split, R=2, Cornell 65 K photons)",
            replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=4, banks=16,
                    replicated_levels=10, result_streams=2, bank_ports="split",
-                   cornell_photons=33500)),
+                   cornell_photons=33500), headline=True),
+    # Half of it: two replicas, the same banks and map, one result stream (the fallback
+    # where the D = 8 core does not route or close timing on the ECP5-85k).
+    Config("banked D=4 (K=32, L2, 2x2x16 slots, B=16 split, R=1, Cornell 65 K photons)",
+           replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=2, banks=16,
+                   replicated_levels=10, bank_ports="split", cornell_photons=33500), headline=True),
     # The default render's map (200,000 emitted photons, H = 19) on the XC6VSX475T as
     # `--device xc6vsx475t` plans it: D = 32 datapaths on 16 replicas of the top 10
     # levels, 128 banks with split ports, one result stream per four datapaths; enough
@@ -197,7 +202,7 @@ CONFIGS = [
     Config("banked D=32, XC6VSX475T fit (K=32, L2, 16x2x16 slots, B=128 split, R=8, default render's map)",
            replace(BARREL_CELL, k=32, metric="l2", address_bits=19, trees=16, banks=128,
                    replicated_levels=10, result_streams=8, bank_ports="split",
-                   cornell_photons=200000, sim_queries=60000), parts=True),
+                   cornell_photons=200000, sim_queries=60000), headline=True, parts=True),
 ]
 
 
@@ -265,6 +270,8 @@ class Sim:
     provenance: str = SIMULATED
     # Result-stream beats per query (header and found photons), where recorded.
     result_beats_per_query: Optional[float] = None
+    # Photons in the map simulated, where recorded.
+    photons: Optional[int] = None
 
 
 @dataclass
@@ -393,11 +400,33 @@ def digest(files):
     return hashlib.sha256(b"".join(open(f, "rb").read() for f in files)).hexdigest()
 
 
-def cached(d, key, files):
-    """True if `key`'s outputs in `d` were made from these very input files."""
-    h = digest(files)
+def cached(d, key, files, h=None):
+    """True if `key`'s outputs in `d` were made from these very input files (or, with
+    `h`, from inputs of that digest: a part's modules, `part_digest`)."""
+    whole = digest(files)
+    h = h or whole
     stamp = os.path.join(d, key + ".sha256")
-    return os.path.exists(stamp) and open(stamp).read() == h, lambda: open(stamp, "w").write(h)
+    # A stamp of the whole file still holds: the same file has the same parts.
+    hit = os.path.exists(stamp) and open(stamp).read() in (h, whole)
+    return hit, lambda: open(stamp, "w").write(h)
+
+
+MODULE = re.compile(r"^module (\S+?)\(.*?^endmodule\b", re.M | re.S)
+
+
+def part_digest(core, top, boxes):
+    """The digest of what a part's synthesis reads of the core's Verilog: the modules
+    below its top (rust-hdl names a module by its instance path, so a module's name
+    says where it sits), with each black box's own module (its ports) but nothing
+    below it. A change elsewhere in the core (another part) leaves the part cached."""
+    mods = dict((m.group(1), m.group(0)) for m in MODULE.finditer(open(core).read()))
+    # A black box pattern's `*` stands for one path segment (yosys's `blackbox` glob
+    # matches deeper modules too, but those are unreachable once their parent is boxed).
+    roots = [re.compile(re.escape(b).replace(r"\*", r"[^$]*") + r"\Z") for b in boxes]
+    box = {n for n in mods if any(r.match(n) for r in roots)}
+    keep = sorted(n for n in mods if (n == top or n.startswith(top + "$"))
+                  and not any(n.startswith(b + "$") for b in box))
+    return hashlib.sha256("\n".join(mods[n] for n in keep).encode()).hexdigest()
 
 
 def run(cmd, log, minutes=None):
@@ -477,7 +506,7 @@ def xilinx(d, top, files, cache_only, noshare=False, part=None, blackbox=()):
     """The row's Xc6v counts (of `part`, a sub-block as its own top with the
     `blackbox` modules left out, if given), or None if not run."""
     key = f"xc6v_{part}" if part else "xc6v"
-    hit, stamp = cached(d, key, files)
+    hit, stamp = cached(d, key, files, part_digest(files[0], top, blackbox) if part else None)
     if not hit:
         if cache_only:
             return None
@@ -636,6 +665,7 @@ def sim(d, opts, files, cache_only, queries=None):
     cpu = re.search(r"kiddo (\d+), software search (\d+)", out)
     par = re.search(r"all (\d+) threads, same queries: kiddo (\d+)", out)
     cycles = re.search(r"(\d+) cycles after the load", out)
+    photons = re.search(r"^(\d+) photons, \d+ queries", out, re.M)
     beats = re.search(r"result stream: ([\d.]+) beats per query", out)
     busy_cycles = int(busy.group(1))
     # A barrel port's slots are rarely all occupied at once (a query enters in a
@@ -648,7 +678,8 @@ def sim(d, opts, files, cache_only, queries=None):
     s = Sim(engine="verilator", queries=queries or SIM_QUERIES, cycles=int(cycles.group(1)) if cycles else None,
             reads_per_cycle=rpc, busy_reads_per_port=per_port, busy_cycles=busy_cycles,
             reads_per_query=rpq, tests_per_query=tests,
-            result_beats_per_query=float(beats.group(1)) if beats else None)
+            result_beats_per_query=float(beats.group(1)) if beats else None,
+            photons=int(photons.group(1)) if photons else None)
     k = Kiddo(queries_per_s=float(cpu.group(1)), software_queries_per_s=float(cpu.group(2)),
               all_threads_queries_per_s=float(par.group(2)) if par else None,
               threads=int(par.group(1)) if par else None)
@@ -1033,19 +1064,22 @@ def fitted_section(res):
             L.append(f"| XC6VSX475T | | {XC6V['luts']:,} | | {XC6V['ffs']:,} | {XC6V['ramb36']:,} | "
                      f"{2 * XC6V['ramb36']:,} | |")
         fit = next((d for d in r.device_fit if d.device == "XC6VSX475T"), None)
-        if fit and s and k and fit.cores == 0:
+        if fit and x:
             need = x.luts + 4 * x.lutram
+            use = (f"LUTs plus 4 a LUT-RAM primitive come to {need:,}, {100 * need / XC6V['luts']:.1f} % of the "
+                   f"device's {XC6V['luts']:,} (FFs {100 * x.ffs / XC6V['ffs']:.0f} %, RAMB36 "
+                   f"{100 * (x.ramb36 + (x.ramb18 + 1) // 2) / XC6V['ramb36']:.0f} %)")
+        if fit and s and k and fit.cores == 0:
             q = s.reads_per_cycle * fit.clock_mhz * 1e6 / s.reads_per_query
-            L.append(f"\n**Does not fit** by these counts: LUTs plus 4 a LUT-RAM primitive come to {need:,}, "
-                     f"{100 * need / XC6V['luts']:.1f} % of the device's {XC6V['luts']:,} (FFs "
-                     f"{100 * x.ffs / XC6V['ffs']:.0f} %, RAMB36 {100 * (x.ramb36 + (x.ramb18 + 1) // 2) / XC6V['ramb36']:.0f} %). "
+            L.append(f"\n**Does not fit** by these counts: {use}. "
                      f"If it did: {s.reads_per_cycle:.3f} reads/cycle, {s.reads_per_query:.1f} reads/query, "
                      f"{q / 1e6:,.1f} M queries/s at {fit.clock_mhz:.0f} MHz (*assumed*), "
                      f"{q / k.queries_per_s:,.1f}x kiddo on one thread ({k.queries_per_s / 1e3:,.0f} K queries/s, "
                      "*measured*, same run).")
         elif fit and s and k:
-            L.append(f"\n{fit.cores} core(s) fit (LUTs with 4 a LUT-RAM primitive, FFs, RAMB36 with two "
-                     f"RAMB18 each). {s.reads_per_cycle:.3f} reads/cycle, {s.reads_per_query:.1f} reads/query: "
+            L.append(f"\n**Fits** by these counts ({fit.cores} core): {use}; no routing or packing losses are "
+                     "counted, and the clock is not timed. "
+                     f"{s.reads_per_cycle:.3f} reads/cycle, {s.reads_per_query:.1f} reads/query: "
                      f"**{fit.queries_per_s / 1e6:,.1f} M queries/s** at {fit.clock_mhz:.0f} MHz (*assumed*), "
                      f"{fit.vs_kiddo:,.1f}x kiddo on one thread ({k.queries_per_s / 1e3:,.0f} K queries/s), "
                      f"{fmt_all(fit.vs_kiddo_all_threads, k)} on all threads (*measured*, same run).")
@@ -1119,7 +1153,7 @@ def render_headline(res):
          f"| {p.name} ({p.device}) | {p.luts:,} LUTs, {p.blockram} BlockRAM [paper] | {p.fmax_mhz:.0f} MHz "
          f"Virtex-6 [paper] | {p.reads_per_cycle:.0f} [paper] | {p.photons_per_query_c} (C code) [paper] | | |"]
     for r in res.rows:
-        if not r.headline or r.status:
+        if not r.headline or r.status or r.options.banks is not None:
             continue
         x, e, s, f = r.xc6v, r.ecp5, r.sim, r.figures
         u = (e.used or {}) if e else {}
@@ -1135,7 +1169,9 @@ def render_headline(res):
         name = f"{r.name} [stale]" if r.stale else r.name
         L.append(f"| {name} | {area} | {clock} | {s.reads_per_cycle:.3f} | {s.reads_per_query:.1f} | "
                  f"{q.value / 1e6:,.2f} M | {v.value:.2f}x |" if s else f"| {name} | {area} | {clock} | | | | |")
-    fits = [(r, d) for r in res.rows if r.headline for d in r.device_fit if d.device == "XC6VSX475T"]
+    fits = [(r, d) for r in res.rows if r.headline and r.options.banks is None
+            for d in r.device_fit if d.device == "XC6VSX475T"]
+    L += headline_banked(res)
     L += ["",
           "[syn] yosys `synth_xilinx -family xc6v` of the core (Virtex-6 cells, the paper's family; LUT-RAM "
           "primitives counted apart); [P&R] nextpnr-ecp5 on an ECP5-85k, best of the seeds in "
@@ -1143,7 +1179,9 @@ def render_headline(res):
           f"{m.sim_queries:,} random queries on a full random 1023-photon map, every answer checked; [meas] "
           "kiddo timed by the same run on the same queries; [paper] Table 2 and §5; [stale] measured on an "
           "earlier export than today's (`synth/run.sh ROW` measures it again). Arrays: T cores, one map "
-          "copy each (`--trees T`)."]
+          "copy each (`--trees T`)." + (" Banked rows (one map over B BlockRAM banks, `--banks`; "
+          "docs/HARDWARE.md): an even sample of a 256x256 image's eye-ray hits as queries, k = 32, every "
+          "answer checked, kiddo on the same map and queries." if headline_banked(res) else "")]
     if fits:
         best = max(fits, key=lambda rd: rd[1].queries_per_s)
         L.append("")
@@ -1155,6 +1193,44 @@ def render_headline(res):
           "and renders `synth/REPORT.md` and this table; `python3 synth/report.py render` re-renders them from "
           "the data alone.", END]
     return "\n".join(L)
+
+
+def headline_banked(res):
+    """README.md's table of the banked headline rows: one real map over a device's
+    BlockRAM, placed and routed (ECP5) or fitted by parts (XC6VSX475T)."""
+    rows = [r for r in res.rows if r.headline and r.options.banks is not None and not r.status and r.sim]
+    if not rows:
+        return []
+    L = ["", "| one Cornell map over B banks, D datapaths (K = 32, L2) | photons | device: logic | clock | "
+         "reads/cycle [sim] | reads/query [sim] | queries/s | vs kiddo 1 thread [meas] |",
+         "|---|---:|---|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        o, x, e, s, k = r.options, r.xc6v, r.ecp5, r.sim, r.kiddo
+        name = f"D = {2 * o.trees}, B = {o.banks}{' [stale]' if r.stale else ''}"
+        photons = f"{s.photons:,}" if s.photons else f"from {o.cornell_photons:,} emitted"
+        fit = next((d for d in r.device_fit if d.device == "XC6VSX475T"), None)
+        u = (e.used or {}) if e else {}
+        if any(c.parts for c in CONFIGS if c.name == r.name):
+            luts = x.luts + 4 * x.lutram if x else None
+            area = (f"XC6VSX475T: {luts:,} LUTs ({100 * luts / XC6V['luts']:.0f} %) [syn, by parts]"
+                    if x else "XC6VSX475T: not synthesised yet")
+            if fit and fit.cores:
+                q, clock = (f"{fit.queries_per_s / 1e6:,.1f} M [sim × assumed]", f"{fit.clock_mhz:.0f} MHz "
+                            "[assumed]")
+                vs = f"{fit.vs_kiddo:,.0f}x"
+            else:
+                q, clock, vs = "does not fit", "–", "–"
+        else:
+            lut = u.get("Total LUT4s")
+            area = (f"ECP5-85k: {lut[0]:,} LUT4s ({100 * lut[0] / lut[1]:.0f} %) [P&R]" if lut
+                    else "ECP5-85k [P&R]" if e and e.error else "ECP5-85k: not placed yet")
+            clock = f"{e.best():.1f} MHz [P&R]" if e and e.best() else (e.error if e and e.error else "–")
+            qf, vf = r.figures.get("queries_per_s"), r.figures.get("vs_kiddo")
+            q = f"{qf.value / 1e6:,.2f} M [sim × P&R]" if qf else "–"
+            vs = f"{vf.value:,.1f}x" if vf else "–"
+        L.append(f"| {name} | {photons} | {area} | {clock} | {s.reads_per_cycle:.3f} | {s.reads_per_query:.1f} | "
+                 f"{q} | {vs} |")
+    return L
 
 
 def splice_readme(text, block):

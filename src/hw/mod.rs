@@ -3,14 +3,21 @@
 //! Block structure (one block per file, ports first, `#[hdl_gen] fn update`):
 //!
 //! ```text
-//! PhotonSearchArray (array.rs)          T > 1 replicated trees: T cores, same streams
-//! PhotonSearchCore (core.rs)            load / query / result valid-ready streams
-//! ├── Dispatcher (dispatcher.rs)        queries to a port with a free QueryModule
+//! PhotonSearchArray (array.rs)          T > 1 whole cores side by side, same streams
+//! PhotonSearchCore (core.rs)            load / query / R result valid-ready streams
+//! ├── Dispatcher (dispatcher.rs)        queries to a port with a free QueryModule or slot
 //! │   └── PortArbiter
-//! ├── PacketMerge (packet_merge.rs)     the two ports' result packets into one stream
-//! ├── TreeModule (tree_module.rs)       true dual-port BlockRAM, 2^H words
-//! └── ControllerPort × 2 (controller_port.rs)  TreeModule port A (also the load
-//!     │                                 port) and B, behind one bundle (stream.rs PortIo)
+//! ├── PacketMerge (packet_merge.rs)     the ports' result packets onto R streams
+//! ├── TreeModule × T (tree_module.rs)   true dual-port BlockRAM: the whole tree, or
+//! │                                     with banks a replica of its top L levels
+//! ├── BankStore (bank_store.rs)         with banks: the levels below, over B banks
+//! │   ├── BankMap (bank_map.rs)          heap address → bank and row (XOR-fold)
+//! │   ├── TreeModule × B                 one bank each
+//! │   └── BankCrossbar (bank_crossbar.rs)  D datapaths × B banks, round robin per port
+//! │       ├── PortArbiter, PriorityEncoder  per bank port: its grant and its index
+//! │       └── MuxTrees × 2 (mux_trees.rs)   rows to the banks, words back
+//! └── ControllerPort × 2T (controller_port.rs)  a tree's port A (also the load
+//!     │                                 port) or B, behind one bundle (stream.rs PortIo)
 //!     ├── SearchPort (search_port.rs)   `Controller::Modules`, §4.5
 //!     │   ├── QueryModule × Q (query_module.rs)  §4.2
 //!     │   │   ├── MaxFinder (max_finder.rs)      bit-transposed distance list, §4.4
@@ -34,22 +41,17 @@
 //!     └── BarrelPort (barrel_port.rs)   `Controller::Barrel`: Q query slots behind one
 //!         │                             pipelined datapath
 //!         ├── SearchModule                       as above
+//!         ├── ReadIssue (read_issue.rs)          its reads to the replica or a bank
+//!         │                                      (wires without banks)
 //!         ├── FreePick                           the free slot the next query takes
 //!         ├── FoundRule, QueryLimits             as in the QueryModule
 //!         ├── SlotStore (slot_store.rs)          per-slot state in LUT-RAM
-//!         ├── FoundMax (found_max.rs)            found distances, comparator tree, §4.4
+//!         ├── FoundMax (found_max.rs)            K ≤ 64: found distances, comparator tree, §4.4
+//!         ├── FoundHeap (found_heap.rs)          K > 64: per-slot max-heaps in BlockRAM
+//!         │   └── HeapStage × levels + 1 (heap_stage.rs)  one level of insert / replace
 //!         ├── LutRam × levels, BlockRam × 2 (block_ram.rs)  pruning bounds, far cells
 //!         └── SlotReadout (slot_readout.rs)      found photons, ids, headers (BlockRAM,
 //!                                            LUT-RAM) and its read-out sequencer
-//!
-//! Built and tested on their own, not yet in a core (found lists of hundreds of
-//! photons; one tree banked over many BlockRAMs for many barrel datapaths):
-//! FoundHeap (found_heap.rs)             per-slot max-heaps in per-level BlockRAMs
-//! └── HeapStage × levels + 1 (heap_stage.rs)  one level of insert / replace
-//! BankCrossbar (bank_crossbar.rs)       D requesters × B banks, round robin per bank
-//! ├── PortArbiter, PriorityEncoder       per bank port: its grant and the grant's index
-//! └── MuxTrees × 2 (mux_trees.rs)        rows to the banks, words back to the requesters
-//! BankMap (bank_map.rs)                 heap address → replica, bank and row
 //! ```
 //!
 //! A QueryModule issues a read at most every `CoreConfig::issue_interval()` =
@@ -68,8 +70,8 @@
 //! core (simulation driver, export, cross-simulation) lives in [`rtl`], which
 //! builds on these blocks; nothing here imports it, and nothing in `hw` imports the
 //! host. Host-facing API: [`config::CoreConfig`], [`rtl::native::run_gather`],
-//! [`rtl::export::export_verilog`]; both tops implement [`rtl::top::SearchTop`]. The datapath limits (words <= 47 bits, 32-bit distances,
-//! H <= 20, K <= 64, Q <= 32, T <= 8) are in [`config`].
+//! [`rtl::export::export_verilog`]; both tops implement [`rtl::top::SearchTop`]. The datapath limits (words, distances, H, K, Q, T,
+//! banks and result streams) are in [`config`] and [`bank_config`].
 
 pub mod array;
 pub mod axis_dist;

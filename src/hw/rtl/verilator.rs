@@ -174,6 +174,14 @@ void pf_free(void* p) {{
     )
 }
 
+/// `verilator --build-jobs`: the C++ of a model compiles one file per core (a large
+/// core's model is dozens of files, and make runs one at a time by default).
+pub(crate) fn build_jobs() -> String {
+    std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .to_string()
+}
+
 /// Verilator's arguments for a model (the sources are appended).
 fn verilator_args(trace: bool) -> Vec<&'static str> {
     let mut args = vec![
@@ -269,9 +277,11 @@ fn build(dir: &Path, exported: &Exported, harness: &str, args: &[&str]) -> Resul
     let io = |e: std::io::Error| verr(format!("{}: {e}", dir.display()));
     std::fs::write(dir.join("top.v"), &exported.verilog).map_err(io)?;
     std::fs::write(dir.join("harness.cpp"), harness).map_err(io)?;
+    // Not part of the model's key: it changes how fast, not what, is built.
     let out = Command::new("verilator")
         .current_dir(dir)
         .args(args)
+        .args(["--build-jobs", &build_jobs()])
         .args(["top.v", "harness.cpp"])
         .output()
         .map_err(|e| verr(format!("cannot run verilator ({e}): {NO_VERILATOR}")))?;

@@ -6,6 +6,7 @@
 use crate::hw::error::HwError;
 use crate::hw::rtl::export::glitch_free;
 use crate::hw::rtl::ports::Port;
+use crate::hw::rtl::verilator::build_jobs;
 use crate::hw::rtl::xsim::{bundles, stimulus_columns, XsimRun};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -205,7 +206,11 @@ pub fn build(
     };
     std::fs::write(dir.join("top.v"), verilog).map_err(io)?;
     std::fs::write(dir.join("xsim_tb.v"), testbench_verilog(ports, max_cycles)).map_err(io)?;
+    let jobs = build_jobs();
     let mut argv = sim.build_command();
+    if matches!(sim, Simulator::Verilator) {
+        argv.extend(["--build-jobs", jobs.as_str()]);
+    }
     argv.extend(["xsim_tb.v", "top.v"]);
     run(dir, &argv, &format!("{} build", sim.name()))?;
     Ok(())
