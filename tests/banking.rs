@@ -196,7 +196,7 @@ fn the_plans_fit_their_devices_and_name_the_largest_map() {
     // datapath costs 4,670 with split ports plus 6,639 / 256 × 128 = 3,319.5 of
     // crossbar, so at most 22 (an even number); shared ports 4,670 + 8,062.5,
     // only 14. B = 256 (1,519 rows = 2 RAMB36, 512): split 11,309 a datapath, 14.
-    // Datapaths' BlockRAM: 22 × (1 replica + 2) = 66.
+    // Datapaths' BlockRAM: 22 × (1 replica + 4) = 110.
     let p = plan(388_826, 32, &XC6VSX475T, &lim).unwrap();
     assert_eq!(
         (
@@ -208,7 +208,7 @@ fn the_plans_fit_their_devices_and_name_the_largest_map() {
         ),
         (10, 128, 3, 22, BankPorts::Split)
     );
-    assert_eq!((p.bank_brams, p.datapath_brams), (384, 66));
+    assert_eq!((p.bank_brams, p.datapath_brams), (384, 110));
     assert_eq!((p.datapath_luts, p.crossbar_luts), (102_740, 73_029));
     for dev in [&ECP5_85K, &XC6VSX475T] {
         let big = largest_map(dev, &lim);
@@ -242,6 +242,22 @@ fn the_plans_fit_their_devices_and_name_the_largest_map() {
             other => panic!("{}: {other:?}", dev.name),
         }
     }
+    // ECP5-85k, the 64,894-photon Cornell map of synth/REPORT.md's banked rows:
+    // 512 × 36 DP16KD, L = 9. Budget 60 % of 83,640 = 50,184 LUT4s; a datapath
+    // 7,930, so D = 6 (47,580) leaves too little for any crossbar of B ≥ 4 × D
+    // banks, and D = 4 (31,720) it is. The crossbar per requester and bank: split
+    // 10,041 / 128, shared 19,601 / 128. B = 16 (8 DP16KD a bank): split 5,021 or
+    // shared 9,801; B = 32 (2,028 rows, 4 a bank): split 10,041 fits, shared
+    // 19,601 does not; B = 64: split 20,082 does not. The same 128 DP16KD for
+    // B = 16 and 32: the more banks, 32, with split ports.
+    // Datapaths' DP16KD: 4 × (1 replica + 8) = 36.
+    let p = plan(64_894, 32, &ECP5_85K, &lim).unwrap();
+    assert_eq!(
+        (p.replicated_levels, p.banks(), p.brams_per_bank, p.datapaths, p.ports),
+        (9, 32, 4, 4, BankPorts::Split)
+    );
+    assert_eq!((p.bank_brams, p.datapath_brams), (128, 36));
+    assert_eq!((p.datapath_luts, p.crossbar_luts), (31_720, 10_041));
     // The ECP5-85k's 3.7 Mbit cannot hold the default render's map.
     assert!(matches!(
         plan(388_826, 32, &ECP5_85K, &lim),

@@ -63,15 +63,20 @@ impl Device {
 
 /// Lattice ECP5-85k: 208 DP16KD of 18 Kbit (widest true-dual-port shape 1K × 18;
 /// the 512 × 36 shape is pseudo-dual-port, one read port, which is all a
-/// single-ported bank needs; two read ports take two 1K × 18 halves of a word). Barrel datapath: 4 DP16KD and about 2,700 LUT4s each (42,781 LUT4s for
-/// 16 datapaths of the placed-and-routed T = 8 array). Crossbar: ECP5_XBAR.
+/// single-ported bank needs; two read ports take two 1K × 18 halves of a word).
+/// Barrel datapath at K = 32 (the default render's k), from the placed banked
+/// cores of synth/REPORT.md (B = 16 split, the same map): D = 8 takes 74,674 LUT4s
+/// and 200 DP16KD, D = 4 37,940 and 164, so four datapaths cost 36,734 LUT4s less
+/// the crossbar's growth (4 × 16 × ECP5_XBAR_SPLIT): about 7,930 each, and 36
+/// DP16KD, of which 8 each are its own (a replica's two DP16KD serve two datapaths).
+/// Crossbar: ECP5_XBAR.
 pub const ECP5_85K: Device = Device {
     name: "ECP5-85k",
     brams: 208,
     shape: (512, 36),
     luts: 83_640,
-    datapath_brams: 4,
-    datapath_luts: 2_700,
+    datapath_brams: 8,
+    datapath_luts: 7_930,
     crossbar_luts_shared: ECP5_XBAR_SHARED,
     crossbar_luts_split: ECP5_XBAR_SPLIT,
 };
@@ -84,8 +89,8 @@ const ECP5_XBAR_SPLIT: f64 = 10_041.0 / 128.0;
 const ECP5_XBAR_SHARED: f64 = 19_601.0 / 128.0;
 
 /// Xilinx XC6VSX475T: 1,064 RAMB36 (1K × 36). Barrel datapath at K = 32: 3,654
-/// LUTs and 254 LUT-RAM primitives of 4 LUTs each (yosys counts of one datapath of
-/// the D = 32 banked core, synth/REPORT.md), its memories 2 RAMB36.
+/// LUTs and 254 LUT-RAM primitives of 4 LUTs each, and 4 RAMB36 of its own (yosys
+/// counts of one datapath of the D = 32 banked core, synth/REPORT.md).
 /// Crossbar (yosys `synth_xilinx -family xc6v` of the crossbar alone, D = 8,
 /// B = 32, docs/HARDWARE.md): 16,125 LUTs shared, 6,639 split, per D × B.
 pub const XC6VSX475T: Device = Device {
@@ -93,7 +98,7 @@ pub const XC6VSX475T: Device = Device {
     brams: 1_064,
     shape: (1024, 36),
     luts: 297_600,
-    datapath_brams: 2,
+    datapath_brams: 4,
     datapath_luts: 3_654 + 4 * 254,
     crossbar_luts_shared: 16_125.0 / 256.0,
     crossbar_luts_split: 6_639.0 / 256.0,
@@ -102,7 +107,8 @@ pub const XC6VSX475T: Device = Device {
 /// What the plan is asked to respect.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Limits {
-    /// Fewest datapaths worth building.
+    /// Fewest datapaths worth building (four: what the ECP5-85k's logic holds at
+    /// K = 32 beside the crossbar).
     pub min_datapaths: u32,
     /// Banks per datapath below which conflicts cost more than a datapath adds.
     pub banks_per_datapath: u32,
@@ -117,7 +123,7 @@ pub struct Limits {
 impl Default for Limits {
     fn default() -> Self {
         Limits {
-            min_datapaths: 8,
+            min_datapaths: 4,
             banks_per_datapath: 4,
             max_banks: 1024,
             max_datapaths: 2 * MAX_BANKED_TREES as u32,
