@@ -253,7 +253,13 @@ fn the_plans_fit_their_devices_and_name_the_largest_map() {
     // Datapaths' DP16KD: 4 × (1 replica + 8) = 36.
     let p = plan(64_894, 32, &ECP5_85K, &lim).unwrap();
     assert_eq!(
-        (p.replicated_levels, p.banks(), p.brams_per_bank, p.datapaths, p.ports),
+        (
+            p.replicated_levels,
+            p.banks(),
+            p.brams_per_bank,
+            p.datapaths,
+            p.ports
+        ),
         (9, 32, 4, 4, BankPorts::Split)
     );
     assert_eq!((p.bank_brams, p.datapath_brams), (128, 36));
