@@ -610,6 +610,10 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False)
             else:
                 why = err[-1] if err else "nextpnr failed"
         if why:
+            if res.used is None:
+                # What the placed design uses, although it did not route.
+                use = {k: re.search(rf"{k}:\s+(\d+)/\s*(\d+)", out) for k in ECP5_85K}
+                res.used = {k: [int(u.group(1)), int(u.group(2))] for k, u in use.items() if u} or None
             res.failed.append(f"seed {s}: {why}")
             print(f"  {d}: nextpnr seed {s}: {why}", flush=True)
             continue
