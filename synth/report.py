@@ -564,6 +564,13 @@ def compose(parts, counts):
                 carry4=f("carry4"), dsp=f("dsp"), slices_est=max((luts + 3) // 4, (ffs + 7) // 8))
 
 
+def ecp5_used(out):
+    """What the design (in its shell) uses of the device, from a nextpnr log:
+    {"Total LUT4s": [used, total], ...}."""
+    use = {k: re.search(rf"{k}:\s+(\d+)/\s*(\d+)", out) for k in ECP5_85K}
+    return {k: [int(u.group(1)), int(u.group(2))] for k, u in use.items() if u}
+
+
 def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False):
     """The row's Ecp5 results over `seeds` (None if nothing ran). With `first_routed`,
     the seeds are tried in order until one routes."""
@@ -612,8 +619,7 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False)
         if why:
             if res.used is None:
                 # What the placed design uses, although it did not route.
-                use = {k: re.search(rf"{k}:\s+(\d+)/\s*(\d+)", out) for k in ECP5_85K}
-                res.used = {k: [int(u.group(1)), int(u.group(2))] for k, u in use.items() if u} or None
+                res.used = ecp5_used(out) or None
             res.failed.append(f"seed {s}: {why}")
             print(f"  {d}: nextpnr seed {s}: {why}", flush=True)
             continue
@@ -625,9 +631,7 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False)
             snk = re.findall(r"Sink (\S+)", path)
             res.critical_path = CriticalPath(src.group(1) if src else "?", snk[-1] if snk else "?",
                                              len(re.findall(r"Net (\S+)", path)))
-            # What the design (in its shell) uses of the device.
-            use = {k: re.search(rf"{k}:\s+(\d+)/\s*(\d+)", out) for k in ECP5_85K}
-            res.used = {k: [int(u.group(1)), int(u.group(2))] for k, u in use.items() if u}
+            res.used = ecp5_used(out)
         res.seeds.append(s)
         res.fmax_mhz.append(f)
         if first_routed:

@@ -7,7 +7,9 @@ use photon_fpga::host::banking::mapping::{level, BankMap, Mapping};
 use photon_fpga::host::banking::order::{hilbert, morton, QueryOrder};
 use photon_fpga::host::banking::sim::{run, Issue, Machine};
 use photon_fpga::host::banking::stream::{read_stream, ImageQuery};
-use photon_fpga::host::device::plan::{largest_map, plan, Limits, PlanError, ECP5_85K, XC6VSX475T};
+use photon_fpga::host::device::plan::{
+    largest_map, plan, BankPlan, Limits, PlanError, ECP5_85K, XC6VSX475T,
+};
 use photon_fpga::host::map::kdtree::{KdTree, PackedTree};
 use photon_fpga::host::map::knn::search_with;
 use photon_fpga::hw::bank_crossbar::BankPorts;
@@ -186,6 +188,17 @@ fn the_cycle_model_meets_its_closed_forms_and_bounds() {
     assert!(2 * m.cycles >= total && (2 * m.cycles) as f64 <= total as f64 * 1.1);
 }
 
+/// A plan's (L, B, BlockRAMs a bank, D, bank ports).
+fn shape(p: &BankPlan) -> (u32, u32, u32, u32, BankPorts) {
+    (
+        p.replicated_levels,
+        p.banks(),
+        p.brams_per_bank,
+        p.datapaths,
+        p.ports,
+    )
+}
+
 #[test]
 fn the_plans_fit_their_devices_and_name_the_largest_map() {
     let lim = Limits::default();
@@ -198,16 +211,7 @@ fn the_plans_fit_their_devices_and_name_the_largest_map() {
     // only 14. B = 256 (1,519 rows = 2 RAMB36, 512): split 11,309 a datapath, 14.
     // Datapaths' BlockRAM: 22 × (1 replica + 4) = 110.
     let p = plan(388_826, 32, &XC6VSX475T, &lim).unwrap();
-    assert_eq!(
-        (
-            p.replicated_levels,
-            p.banks(),
-            p.brams_per_bank,
-            p.datapaths,
-            p.ports
-        ),
-        (10, 128, 3, 22, BankPorts::Split)
-    );
+    assert_eq!(shape(&p), (10, 128, 3, 22, BankPorts::Split));
     assert_eq!((p.bank_brams, p.datapath_brams), (384, 110));
     assert_eq!((p.datapath_luts, p.crossbar_luts), (102_740, 73_029));
     for dev in [&ECP5_85K, &XC6VSX475T] {
@@ -252,16 +256,7 @@ fn the_plans_fit_their_devices_and_name_the_largest_map() {
     // B = 16 and 32: the more banks, 32, with split ports.
     // Datapaths' DP16KD: 4 × (1 replica + 8) = 36.
     let p = plan(64_894, 32, &ECP5_85K, &lim).unwrap();
-    assert_eq!(
-        (
-            p.replicated_levels,
-            p.banks(),
-            p.brams_per_bank,
-            p.datapaths,
-            p.ports
-        ),
-        (9, 32, 4, 4, BankPorts::Split)
-    );
+    assert_eq!(shape(&p), (9, 32, 4, 4, BankPorts::Split));
     assert_eq!((p.bank_brams, p.datapath_brams), (128, 36));
     assert_eq!((p.datapath_luts, p.crossbar_luts), (31_720, 10_041));
     // The ECP5-85k's 3.7 Mbit cannot hold the default render's map.
