@@ -19,8 +19,11 @@
 //!   read going to the back of the queue, and holding needs no second queue).
 //!   The next offer is the lowest pending slot, picked a cycle ahead
 //!   ([`FreePick`]); with none pending, F's read goes to the offer register at
-//!   once. Bank and row are computed as the offer is loaded ([`BankMap`]), so
-//!   the crossbar's arbitration starts from flip-flops.
+//!   once. Bank and row are registered with the offer, so the crossbar's
+//!   arbitration starts from flip-flops; they are computed ([`BankMap`]) for
+//!   both candidates — the picked waiting read and F's read — before the
+//!   choice, so that the bank's answer ("taken", the end of the round trip
+//!   through the crossbar's arbiters) only selects the offer registers' inputs.
 //! * **grant** — a taken read (at most one a cycle) is registered with its slot;
 //!   its context is read back, and the SearchModule gets the read the cycle
 //!   after it was taken and the word the cycle after that: the crossbar's answer
@@ -65,7 +68,10 @@ pub struct ReadIssue<const W: usize> {
     banked: Constant<bool>,
     addr_mask: Constant<Addr>,
     one_slot: Constant<ModuleMask>,
-    map: BankMap,
+    /// Where the picked waiting read and F's read live: the two candidates for
+    /// the next offer.
+    pick_map: BankMap,
+    push_map: BankMap,
     /// The slots with a read waiting (not counting the offer) and the next offer.
     pending: DFF<ModuleMask>,
     pick: FreePick,
@@ -79,8 +85,8 @@ pub struct ReadIssue<const W: usize> {
     offer_replica: DFF<bool>,
     offer_bank: DFF<BankIndex>,
     offer_row: DFF<BankRow>,
-    /// The address the offer register loads, and whether it takes F's read.
-    next_address: Signal<Local, Addr>,
+    /// Whether the offer moved this cycle, and whether F's read goes straight
+    /// to the offer register.
     taken: Signal<Local, bool>,
     bypass: Signal<Local, bool>,
     grant_valid: DFF<bool>,
@@ -117,7 +123,8 @@ impl<const W: usize> ReadIssue<W> {
             banked: Constant::new(cfg.banking.is_some()),
             addr_mask: Constant::new(Addr::from(cfg.addr_mask())),
             one_slot: Constant::new(ModuleMask::from(1u64)),
-            map: BankMap::new(levels, bank_bits, cfg.address_bits),
+            pick_map: BankMap::new(levels, bank_bits, cfg.address_bits),
+            push_map: BankMap::new(levels, bank_bits, cfg.address_bits),
             pending: Default::default(),
             pick: FreePick::new(q),
             ctx_address: LutRam::new(q, cfg.address_bits),
@@ -129,7 +136,6 @@ impl<const W: usize> ReadIssue<W> {
             offer_replica: Default::default(),
             offer_bank: Default::default(),
             offer_row: Default::default(),
-            next_address: Default::default(),
             taken: Default::default(),
             bypass: Default::default(),
             grant_valid: Default::default(),
@@ -195,31 +201,34 @@ impl<const W: usize> Logic for ReadIssue<W> {
         self.bank.tag.next = self.offer_slot.q.val();
         self.taken.next =
             self.offer_valid.q.val() && (self.offer_replica.q.val() || self.bank.ready.val());
-        // The next offer: the picked pending slot, else F's read at once.
+        // The next offer: the picked pending slot, else F's read at once (an
+        // offer that stays keeps its registers).
+        self.pick_map.address.next =
+            bit_cast::<24, 32>(self.ctx_address.read_data.val()) & self.addr_mask.val();
+        self.push_map.address.next = self.push_address.val();
         self.pick.free.next = self.pending.q.val();
         self.pick.take.next = false;
         self.bypass.next = false;
-        self.next_address.next = self.offer_address.q.val();
         if (!self.offer_valid.q.val()) || self.taken.val() {
             self.offer_valid.d.next = false;
             if self.pick.pick_valid.val() {
                 self.pick.take.next = true;
                 self.offer_valid.d.next = true;
                 self.offer_slot.d.next = self.pick.pick_index.val();
-                self.next_address.next =
-                    bit_cast::<24, 32>(self.ctx_address.read_data.val()) & self.addr_mask.val();
+                self.offer_address.d.next = self.pick_map.address.val();
+                self.offer_replica.d.next = self.pick_map.replicated.val();
+                self.offer_bank.d.next = self.pick_map.bank.val();
+                self.offer_row.d.next = self.pick_map.row.val();
             } else if self.push.val() {
                 self.bypass.next = true;
                 self.offer_valid.d.next = true;
                 self.offer_slot.d.next = self.push_slot.val();
-                self.next_address.next = self.push_address.val();
+                self.offer_address.d.next = self.push_address.val();
+                self.offer_replica.d.next = self.push_map.replicated.val();
+                self.offer_bank.d.next = self.push_map.bank.val();
+                self.offer_row.d.next = self.push_map.row.val();
             }
         }
-        self.map.address.next = self.next_address.val();
-        self.offer_address.d.next = self.next_address.val();
-        self.offer_replica.d.next = self.map.replicated.val();
-        self.offer_bank.d.next = self.map.bank.val();
-        self.offer_row.d.next = self.map.row.val();
         self.pending.d.next = self.pick.still_free.val();
         if self.push.val() && !self.bypass.val() {
             self.pending.d.next =
