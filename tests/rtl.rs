@@ -277,6 +277,20 @@ fn verilator_render_is_byte_identical_to_sw() {
     assert!(pngs[0] == pngs[1], "verilator and sw renders differ");
 }
 
+/// The paper's high-quality regime (§3: at least 500 search photons):
+/// `render --backend verilator --k 500` on the default scene and photon map (the
+/// barrel core sized to K = 500, its found lists max-heaps in BlockRAM) is
+/// byte-identical to the software search.
+#[test]
+#[cfg_attr(not(has_verilator), ignore = "needs verilator")]
+fn verilator_render_at_k_500_is_byte_identical_to_sw() {
+    let pngs = renders(&["sw", "verilator"], "32x24", "200000", "500");
+    assert!(
+        pngs[0] == pngs[1],
+        "k = 500: verilator and sw renders differ"
+    );
+}
+
 /// Issue 14: `gather --backend verilator` writes the very file `--backend rtl`
 /// writes, on hard cases: every photon of a cluster at one point, photons on one
 /// plane and on one line, ties on grid cell boundaries, queries on photons, at the

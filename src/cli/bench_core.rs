@@ -253,6 +253,16 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         "reads per cycle (all ports of all trees, whole run): {:.3}",
         reads as f64 / cycles.max(1) as f64
     );
+    // Per port (a barrel datapath, or a port's QueryModules) over the whole run,
+    // fill and drain included: a lower bound on its rate while its slots are busy.
+    println!(
+        "reads per port per cycle (whole run): {}",
+        st.reads_per_port
+            .iter()
+            .map(|&r| format!("{:.3}", r as f64 / cycles.max(1) as f64))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
     println!(
         "reads per port per cycle while every QueryModule is busy ({} cycles): {}",
         st.busy_cycles,
