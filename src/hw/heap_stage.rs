@@ -98,6 +98,12 @@ pub struct HeapStage {
     kept: Signal<Local, HeapKey>,
     left: Signal<Local, HeapKey>,
     right: Signal<Local, HeapKey>,
+    /// The right child is the larger (and exists); each child exceeds the
+    /// carried key; the larger child does.
+    right_wins: Signal<Local, bool>,
+    left_above: Signal<Local, bool>,
+    right_above: Signal<Local, bool>,
+    bigger_above: Signal<Local, bool>,
     bigger: Signal<Local, HeapKey>,
     bigger_pos: Signal<Local, HeapPos>,
     moves_up: Signal<Local, bool>,
@@ -143,6 +149,10 @@ impl HeapStage {
             kept: Default::default(),
             left: Default::default(),
             right: Default::default(),
+            right_wins: Default::default(),
+            left_above: Default::default(),
+            right_above: Default::default(),
+            bigger_above: Default::default(),
             bigger: Default::default(),
             bigger_pos: Default::default(),
             moves_up: Default::default(),
@@ -175,17 +185,25 @@ impl Logic for HeapStage {
             self.cur.next = self.left.val();
         }
         // The larger child (replace): the pair read is the node's two children.
+        // The three comparisons side by side, then selected: the larger child
+        // against the carried key would be a second comparison behind the first,
+        // between the level's BlockRAM read and the next level's address and this
+        // level's write.
+        self.right_wins.next = (((self.op.val().node << 1) | 1) <= self.op.val().size)
+            && (self.right.val() > self.left.val());
+        self.left_above.next = self.left.val() > self.op.val().key;
+        self.right_above.next = self.right.val() > self.op.val().key;
         self.bigger.next = self.left.val();
         self.bigger_pos.next = self.op.val().node << 1;
-        if (((self.op.val().node << 1) | 1) <= self.op.val().size)
-            && (self.right.val() > self.left.val())
-        {
+        self.bigger_above.next = self.left_above.val();
+        if self.right_wins.val() {
             self.bigger.next = self.right.val();
             self.bigger_pos.next = (self.op.val().node << 1) | 1;
+            self.bigger_above.next = self.right_above.val();
         }
         self.moves_up.next = self.has_children.val()
             && ((self.op.val().node << 1) <= self.op.val().size)
-            && (self.bigger.val() > self.op.val().key);
+            && self.bigger_above.val();
         self.kept.next = self.op.val().key;
         self.settled.next = self.op.val().key;
         self.child.next = self.op.val().node;
