@@ -195,6 +195,10 @@ CONFIGS = [
     Config("banked D=4 (K=32, L2, 2x2x16 slots, B=16 split, R=1, Cornell 65 K photons)",
            replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=2, banks=16,
                    replicated_levels=10, bank_ports="split", cornell_photons=33500), headline=True),
+    # Between the two: three replicas (D = 6), the same banks and map, one result stream.
+    Config("banked D=6 (K=32, L2, 3x2x16 slots, B=16 split, R=1, Cornell 65 K photons)",
+           replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=3, banks=16,
+                   replicated_levels=10, bank_ports="split", cornell_photons=33500), headline=True),
     # The default render's map (200,000 emitted photons, H = 19) on the XC6VSX475T as
     # `--device xc6vsx475t` plans it: D = 32 datapaths on 16 replicas of the top 10
     # levels, 128 banks with split ports, one result stream per four datapaths; enough

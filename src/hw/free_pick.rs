@@ -9,7 +9,11 @@
 //! dispatcher. A free entry stays free until it is loaded, so the registered pick
 //! is still free when it is used; the one taken in this cycle is left out of the
 //! next pick (`still_free`). Cost: an entry freed in cycle t can take a query in
-//! t + 1, not t.
+//! t + 1, not t. Both next picks — with and without the current pick taken — are
+//! encoded side by side and `take` selects one: `take` can arrive late (in a
+//! banked core it is a bank's grant, at the end of a round trip through the
+//! crossbar), and then only a multiplexer stands between it and the registers,
+//! not the lowest-bit carry chain.
 
 use crate::hw::config::{ModuleIndex, ModuleMask};
 use crate::hw::priority_encoder::PriorityEncoder;
@@ -30,7 +34,10 @@ pub struct FreePick {
     pub pick: Signal<Out, ModuleMask>,
     pub pick_index: Signal<Out, ModuleIndex>,
     pub pick_valid: Signal<Out, bool>,
+    /// The lowest free entry, and the lowest but the current pick.
     lowest_free: PriorityEncoder<32>,
+    lowest_rest: PriorityEncoder<32>,
+    rest: Signal<Local, ModuleMask>,
     pick_reg: DFF<ModuleMask>,
     pick_index_reg: DFF<ModuleIndex>,
     pick_valid_reg: DFF<bool>,
@@ -49,6 +56,8 @@ impl FreePick {
             pick_index: Default::default(),
             pick_valid: Default::default(),
             lowest_free: PriorityEncoder::lowest(entries),
+            lowest_rest: PriorityEncoder::lowest(entries),
+            rest: Default::default(),
             pick_reg: Default::default(),
             pick_index_reg: Default::default(),
             pick_valid_reg: Default::default(),
@@ -60,14 +69,19 @@ impl Logic for FreePick {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, pick_reg, pick_index_reg, pick_valid_reg);
+        self.rest.next = self.free.val() & (!self.pick_reg.q.val());
+        self.lowest_free.mask.next = self.free.val();
+        self.lowest_rest.mask.next = self.rest.val();
         self.still_free.next = self.free.val();
-        if self.take.val() {
-            self.still_free.next = self.free.val() & (!self.pick_reg.q.val());
-        }
-        self.lowest_free.mask.next = self.still_free.val();
         self.pick_reg.d.next = self.lowest_free.lowest.val();
         self.pick_index_reg.d.next = self.lowest_free.index.val();
-        self.pick_valid_reg.d.next = self.still_free.val().any();
+        self.pick_valid_reg.d.next = self.free.val().any();
+        if self.take.val() {
+            self.still_free.next = self.rest.val();
+            self.pick_reg.d.next = self.lowest_rest.lowest.val();
+            self.pick_index_reg.d.next = self.lowest_rest.index.val();
+            self.pick_valid_reg.d.next = self.rest.val().any();
+        }
         if self.reset.val() {
             self.pick_reg.d.next = 0.into();
             self.pick_valid_reg.d.next = false;
