@@ -3,6 +3,12 @@
 //! parallel with AxisDist/NextIndex. The in-range test against the radius of the
 //! QueryModule that issued the read is the SearchModule's next stage, on the
 //! registered distance, so this stage ends after one carry chain.
+//!
+//! `registered`: the three axis differences are registered before the squares and
+//! the sum, and the inputs come a cycle early (the SearchModule feeds them from
+//! the BlockRAM's word as it arrives, where a pipelined core registers the word
+//! anyway): the difference, the multiplier and the sum in one cycle are the
+//! critical path of a squared-L2 barrel datapath on the ECP5.
 
 use crate::hw::config::{low_mask, Coord, Dist};
 use crate::hw::metric::Metric;
@@ -10,6 +16,7 @@ use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
 pub struct DistModule {
+    pub clock: Signal<In, Clock>,
     pub query_x: Signal<In, Coord>,
     pub query_y: Signal<In, Coord>,
     pub query_z: Signal<In, Coord>,
@@ -28,6 +35,14 @@ pub struct DistModule {
     delta_x: Signal<Local, Coord>,
     delta_y: Signal<Local, Coord>,
     delta_z: Signal<Local, Coord>,
+    /// The differences as the terms take them: registered or not.
+    registered: Constant<bool>,
+    reg_x: DFF<Coord>,
+    reg_y: DFF<Coord>,
+    reg_z: DFF<Coord>,
+    used_x: Signal<Local, Coord>,
+    used_y: Signal<Local, Coord>,
+    used_z: Signal<Local, Coord>,
     term_x: Signal<Local, Dist>,
     term_y: Signal<Local, Dist>,
     term_z: Signal<Local, Dist>,
@@ -41,8 +56,27 @@ impl DistModule {
 
     /// A datapath for `coord_bits` per axis and `dist_bits`-bit distances.
     pub fn with_widths(metric: Metric, coord_bits: [u32; 3], dist_bits: u32) -> Self {
+        Self::pipelined(metric, coord_bits, dist_bits, false)
+    }
+
+    /// The same, with the differences registered when `registered` (the distance
+    /// then belongs to the inputs of the previous cycle).
+    pub fn pipelined(
+        metric: Metric,
+        coord_bits: [u32; 3],
+        dist_bits: u32,
+        registered: bool,
+    ) -> Self {
         let coord = |a: usize| Constant::new(Coord::from(low_mask(coord_bits[a])));
         DistModule {
+            clock: Default::default(),
+            registered: Constant::new(registered),
+            reg_x: Default::default(),
+            reg_y: Default::default(),
+            reg_z: Default::default(),
+            used_x: Default::default(),
+            used_y: Default::default(),
+            used_z: Default::default(),
             mask_x: coord(0),
             mask_y: coord(1),
             mask_z: coord(2),
@@ -68,6 +102,7 @@ impl DistModule {
 impl Logic for DistModule {
     #[hdl_gen]
     fn update(&mut self) {
+        dff_setup!(self, clock, reg_x, reg_y, reg_z);
         if self.query_x.val() >= self.photon_x.val() {
             self.delta_x.next = (self.query_x.val() - self.photon_x.val()) & self.mask_x.val();
         } else {
@@ -83,14 +118,25 @@ impl Logic for DistModule {
         } else {
             self.delta_z.next = (self.photon_z.val() - self.query_z.val()) & self.mask_z.val();
         }
+        self.reg_x.d.next = self.delta_x.val();
+        self.reg_y.d.next = self.delta_y.val();
+        self.reg_z.d.next = self.delta_z.val();
+        self.used_x.next = self.delta_x.val();
+        self.used_y.next = self.delta_y.val();
+        self.used_z.next = self.delta_z.val();
+        if self.registered.val() {
+            self.used_x.next = self.reg_x.q.val();
+            self.used_y.next = self.reg_y.q.val();
+            self.used_z.next = self.reg_z.q.val();
+        }
         if self.metric_is_l2.val() {
-            self.term_x.next = self.delta_x.val() * self.delta_x.val();
-            self.term_y.next = self.delta_y.val() * self.delta_y.val();
-            self.term_z.next = self.delta_z.val() * self.delta_z.val();
+            self.term_x.next = self.used_x.val() * self.used_x.val();
+            self.term_y.next = self.used_y.val() * self.used_y.val();
+            self.term_z.next = self.used_z.val() * self.used_z.val();
         } else {
-            self.term_x.next = bit_cast::<32, 16>(self.delta_x.val());
-            self.term_y.next = bit_cast::<32, 16>(self.delta_y.val());
-            self.term_z.next = bit_cast::<32, 16>(self.delta_z.val());
+            self.term_x.next = bit_cast::<32, 16>(self.used_x.val());
+            self.term_y.next = bit_cast::<32, 16>(self.used_y.val());
+            self.term_z.next = bit_cast::<32, 16>(self.used_z.val());
         }
         // CoreConfig::validate guarantees the sum fits the distance width.
         self.distance.next =

@@ -68,6 +68,12 @@ pub struct SearchModule<const W: usize> {
     photon_x: Signal<Local, Coord>,
     photon_y: Signal<Local, Coord>,
     photon_z: Signal<Local, Coord>,
+    /// The photon as the BlockRAM's word arrives (stage W's input): a pipelined
+    /// core's DistModule takes its differences from it and registers them in
+    /// place of the word.
+    raw_x: Signal<Local, Coord>,
+    raw_y: Signal<Local, Coord>,
+    raw_z: Signal<Local, Coord>,
     // Stage 0: the request, aligned with the word.
     s0_valid: DFF<bool>,
     s0: DFF<ReadRequest>,
@@ -124,7 +130,7 @@ impl<const W: usize> SearchModule<W> {
             result_for: Default::default(),
             result: Default::default(),
             axis_dist: AxisDistModule::with_widths(cfg.metric, cfg.axis_dist_bits()),
-            dist_module: DistModule::with_widths(cfg.metric, l.bits, cfg.dist_bits()),
+            dist_module: DistModule::pipelined(cfg.metric, l.bits, cfg.dist_bits(), cfg.pipelined),
             next_index: NextIndexModule::new(cfg.address_bits),
             offset_x: offset(l.offset(0)),
             offset_y: offset(l.offset(1)),
@@ -136,6 +142,9 @@ impl<const W: usize> SearchModule<W> {
             photon_x: Default::default(),
             photon_y: Default::default(),
             photon_z: Default::default(),
+            raw_x: Default::default(),
+            raw_y: Default::default(),
+            raw_z: Default::default(),
             s0_valid: Default::default(),
             s0: Default::default(),
             word_stage: Constant::new(cfg.pipelined),
@@ -234,12 +243,30 @@ impl<const W: usize> Logic for SearchModule<W> {
         self.axis_dist.photon_z.next = self.photon_z.val();
         self.axis_dist.axis.next =
             bit_cast::<2, W>((self.in_word.val() >> self.offset_axis.val()) & 3);
-        self.dist_module.query_x.next = self.in_request.val().x;
-        self.dist_module.query_y.next = self.in_request.val().y;
-        self.dist_module.query_z.next = self.in_request.val().z;
-        self.dist_module.photon_x.next = self.photon_x.val();
-        self.dist_module.photon_y.next = self.photon_y.val();
-        self.dist_module.photon_z.next = self.photon_z.val();
+        // The full distance: from stage W's inputs into its registered
+        // differences (pipelined), else from stage 1's like the axis distance.
+        self.dist_module.clock.next = self.clock.val();
+        self.raw_x.next =
+            bit_cast::<16, W>((self.word.val() >> self.offset_x.val()) & self.mask_x.val());
+        self.raw_y.next =
+            bit_cast::<16, W>((self.word.val() >> self.offset_y.val()) & self.mask_y.val());
+        self.raw_z.next =
+            bit_cast::<16, W>((self.word.val() >> self.offset_z.val()) & self.mask_z.val());
+        if self.word_stage.val() {
+            self.dist_module.query_x.next = self.looked_up.val().x;
+            self.dist_module.query_y.next = self.looked_up.val().y;
+            self.dist_module.query_z.next = self.looked_up.val().z;
+            self.dist_module.photon_x.next = self.raw_x.val();
+            self.dist_module.photon_y.next = self.raw_y.val();
+            self.dist_module.photon_z.next = self.raw_z.val();
+        } else {
+            self.dist_module.query_x.next = self.in_request.val().x;
+            self.dist_module.query_y.next = self.in_request.val().y;
+            self.dist_module.query_z.next = self.in_request.val().z;
+            self.dist_module.photon_x.next = self.photon_x.val();
+            self.dist_module.photon_y.next = self.photon_y.val();
+            self.dist_module.photon_z.next = self.photon_z.val();
+        }
         self.s1_valid.d.next = self.in_valid.val();
         // The query's coordinates are not needed past this stage; synthesis drops
         // their stage-1 bits.
