@@ -7,6 +7,7 @@ use assert_cmd::Command;
 use photon_fpga::host::gather::{FloatBackend, GatherBackend, GatherParams, Gathered, Neighbour};
 use photon_fpga::host::study::hwcost::{cost, SynthResults};
 use photon_fpga::host::study::metrics::{host_radius, radius_rel_error, recall, rel_rmse};
+use photon_fpga::host::study::plan::STUDY_CONTROLLER;
 use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::traversal::Traversal;
@@ -378,13 +379,13 @@ fn results() -> SynthResults {
 #[test]
 fn results_rows_give_clocks_and_areas_with_their_source() {
     let all = results();
-    let rows = all.study_rows(Traversal::default(), Controller::default());
+    let rows = all.study_rows(Traversal::Cell, STUDY_CONTROLLER);
     // Only single-tree, pipelined cores of the study's own traversal and controller.
     for r in &rows {
         let o = &all.rows.iter().find(|x| x.name == r.name).unwrap().options;
         assert_eq!(
             (o.trees, o.pipelined, o.traversal, o.controller),
-            (1, true, Traversal::default(), Controller::default()),
+            (1, true, Traversal::Cell, STUDY_CONTROLLER),
             "{}",
             r.name
         );
@@ -392,7 +393,7 @@ fn results_rows_give_clocks_and_areas_with_their_source() {
     let c = cost(&rows, 10, 10, Metric::L1);
     let f = c
         .fmax_mhz
-        .expect("the paper core has a placed-and-routed clock");
+        .expect("the study's core at the paper's k and bits has a placed-and-routed clock");
     assert!(c.fmax_source.starts_with("placed-and-routed"), "{c:?}");
     // That clock is the best seed of a matching record.
     assert!(all.rows.iter().any(|r| r.options.k == 10
@@ -438,13 +439,64 @@ fn results_rows_give_clocks_and_areas_with_their_source() {
     );
 }
 
+/// A core of K answers every k up to K: a study point without a row of its own k
+/// takes the clock and area of the smallest K above it (same bits and metric) and
+/// says so; with no such row, the clock assumed is the nearest K's, not a small
+/// core's.
+#[test]
+fn a_larger_k_row_costs_the_k_it_holds_and_says_so() {
+    let record = |name: &str, k: usize, bits: u32, fmax: &str| {
+        format!(
+            r#"{{"name": "{name}", "options": {{"k": {k}, "bits": {bits}, "address_bits": 10,
+            "queries_per_port": 16, "metric": "l2", "traversal": "cell",
+            "controller": "barrel", "trees": 1, "pipelined": true}},
+            "xc6v": {{"luts": {k}, "lutram": 0, "ffs": 1}},
+            "ecp5": {{"fmax_mhz": [{fmax}], "error": null}}, "status": null}}"#
+        )
+    };
+    let text = format!(
+        r#"{{"schema": 1, "rows": [{}, {}, {}]}}"#,
+        record("small", 10, 10, "99.0"),
+        record("big", 512, 10, "48.0"),
+        record("mid", 100, 10, "45.0")
+    );
+    let all = SynthResults::parse(&text, Path::new("x.json")).unwrap();
+    let rows = all.study_rows(Traversal::Cell, Controller::Barrel);
+    // k = 500 at 10 bits: the K = 512 row, placed and routed, labelled as holding it.
+    let c = cost(&rows, 500, 10, Metric::L2);
+    assert_eq!((c.fmax_mhz, c.luts.as_str()), (Some(48.0), "512"));
+    assert!(c.fmax_source.starts_with("placed-and-routed"), "{c:?}");
+    assert!(
+        c.fmax_source.contains("'big', K = 512 holds k = 500"),
+        "{c:?}"
+    );
+    assert!(c.area_source.contains("K = 512 holds k = 500"), "{c:?}");
+    // k = 64: the smallest K above it is 100, not 512.
+    assert_eq!(cost(&rows, 64, 10, Metric::L2).fmax_mhz, Some(45.0));
+    // An exact row wins and carries no note.
+    let exact = cost(&rows, 100, 10, Metric::L2);
+    assert_eq!(exact.fmax_mhz, Some(45.0));
+    assert!(!exact.fmax_source.contains("holds"), "{exact:?}");
+    // Other bits: no area, and the clock assumed from the nearest K (512 for 500,
+    // 100 for 64), never the small core's.
+    let other = cost(&rows, 500, 12, Metric::L2);
+    assert_eq!(other.luts, "not in REPORT.md");
+    assert_eq!(other.fmax_mhz, Some(48.0));
+    assert!(other.fmax_source.starts_with("assumed"), "{other:?}");
+    assert_eq!(cost(&rows, 64, 12, Metric::L2).fmax_mhz, Some(45.0));
+    // Above every K: the largest K's clock, assumed.
+    let above = cost(&rows, 600, 10, Metric::L2);
+    assert_eq!(above.fmax_mhz, Some(48.0));
+    assert!(above.fmax_source.starts_with("assumed"), "{above:?}");
+}
+
 /// The committed study (docs/study.csv, made by `photon-fpga study --out docs`)
 /// took its clocks and areas from these results: every hardware point's columns
 /// are what `cost` gives now, so the selection by options picks the rows the study
 /// used (and a rerun synthesis that changes them shows here until the study is rerun).
 #[test]
 fn committed_study_used_these_results() {
-    let rows = results().study_rows(Traversal::default(), Controller::default());
+    let rows = results().study_rows(Traversal::Cell, STUDY_CONTROLLER);
     let mut r =
         csv::Reader::from_path(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/study.csv"))
             .unwrap();

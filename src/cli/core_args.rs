@@ -61,9 +61,9 @@ impl CoreFileArg {
 /// The core's options that do not follow from the photon map.
 #[derive(Args, Clone, Debug, Default)]
 pub struct CoreOpts {
-    /// Who runs a port's queries [default: barrel for render and gather (the best
-    /// core measured, synth/REPORT.md); modules (the paper's) for export-verilog and
-    /// bench-core and study].
+    /// Who runs a port's queries [default: barrel for render, gather and study (the
+    /// best core measured, synth/REPORT.md); modules (the paper's) for export-verilog
+    /// and bench-core].
     #[arg(long, value_enum)]
     pub controller: Option<ControllerArg>,
     /// How the search climbs back up the tree (changes read counts, never

@@ -9,11 +9,10 @@ use indicatif::ProgressBar;
 use photon_fpga::host::error::Result;
 use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::study::hwcost::SynthResults;
-use photon_fpga::host::study::plan::Plan;
+use photon_fpga::host::study::plan::{Plan, STUDY_CONTROLLER};
 use photon_fpga::host::study::report::{self, OutDir};
 use photon_fpga::host::study::{exact_series, figures, sweep};
 use photon_fpga::hw::config::CoreConfig;
-use photon_fpga::hw::controller::Controller;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::rtl::native::Engine;
 use std::path::{Path, PathBuf};
@@ -38,8 +37,8 @@ pub struct StudyArgs {
     /// Worker threads (results do not depend on it).
     #[arg(long)]
     pub threads: Option<usize>,
-    /// The core simulated and costed [default: the paper's: modules controller,
-    /// remember traversal]. Its clock and area come from the rows of --report
+    /// The core simulated and costed [default: the barrel controller, cell
+    /// traversal; `--controller modules` is the paper's core]. Its clock and area come from the rows of --report
     /// with these options (one tree, pipelined); K, grid and metric follow each
     /// point of the sweep.
     #[command(flatten)]
@@ -61,7 +60,7 @@ pub fn study(args: &StudyArgs) -> Result<()> {
     // scene, the output directory.
     // The study simulates the chosen core: only rows of that core give it a clock
     // and an area.
-    let controller = args.core.controller_or(Controller::default());
+    let controller = args.core.controller_or(STUDY_CONTROLLER);
     let traversal = args.core.traversal_for(controller);
     let core = args.core.builder(CoreConfig::builder(), controller)?;
     core.traversal(traversal).build()?;

@@ -373,37 +373,67 @@ impl Cost {
     }
 }
 
-/// What REPORT.md says about a core of `k`, `bits`, `metric`: the matching row
-/// (one with a clock first); without a matching clock, the first row's clock that
-/// has one, labelled assumed.
+/// What REPORT.md says about a core of `k`, `bits`, `metric`: the row of that very
+/// configuration (one with a clock first); failing that, the row of the same bits
+/// and metric with the smallest K above k (a core of K answers any k up to K: the
+/// study's k = 500 runs on the K = 512 core). Without a matching clock, the clock of
+/// the row nearest in K (the smallest K at or above k, else the largest), labelled
+/// assumed: the found list's depth sets the clock of the large-K cores.
 pub fn cost(rows: &[ReportRow], k: usize, bits: u32, metric: Metric) -> Cost {
-    let mut matching: Vec<&ReportRow> = rows
-        .iter()
-        .filter(|r| r.k == k && r.bits == bits && r.metric == metric)
-        .collect();
+    let same = |r: &&ReportRow| r.bits == bits && r.metric == metric;
+    let mut matching: Vec<&ReportRow> = rows.iter().filter(|r| same(r) && r.k == k).collect();
+    if matching.is_empty() {
+        let holds = rows
+            .iter()
+            .filter(|r| same(r) && r.k > k)
+            .map(|r| r.k)
+            .min();
+        matching = rows
+            .iter()
+            .filter(|r| same(r) && Some(r.k) == holds)
+            .collect();
+    }
     matching.sort_by_key(|r| r.fmax_mhz.is_none());
     let none = "not in REPORT.md".to_string();
+    let holds = |r: &ReportRow| {
+        if r.k == k {
+            String::new()
+        } else {
+            format!(", K = {} holds k = {k}", r.k)
+        }
+    };
     let (luts, ffs, area_source) = match matching.first() {
         Some(r) => (
             r.luts.clone(),
             r.ffs.clone(),
             format!(
-                "synthesised (yosys xc6v), REPORT.md '{}' (2 x {})",
+                "synthesised (yosys xc6v), REPORT.md '{}' (2 x {}{})",
                 r.name,
                 r.queries_per_port
-                    .map_or("the issue interval".into(), |q| q.to_string())
+                    .map_or("the issue interval".into(), |q| q.to_string()),
+                holds(r)
             ),
         ),
         None => (none.clone(), none.clone(), none.clone()),
     };
-    let routed = |r: &ReportRow| r.fmax_mhz.map(|f| (f, r.name.clone()));
+    let routed = |r: &ReportRow| r.fmax_mhz.map(|f| (f, r.name.clone(), holds(r)));
+    // Rows with a clock, nearest in K first: the smallest K at or above k, then the
+    // rest from the largest K down.
+    let mut nearest: Vec<&ReportRow> = rows.iter().filter(|r| r.fmax_mhz.is_some()).collect();
+    nearest.sort_by_key(|r| {
+        if r.k >= k {
+            (0, r.k)
+        } else {
+            (1, usize::MAX - r.k)
+        }
+    });
     let (fmax_mhz, fmax_source) = match matching.iter().find_map(|r| routed(r)) {
-        Some((f, name)) => (
+        Some((f, name, holds)) => (
             Some(f),
-            format!("placed-and-routed (nextpnr ECP5-85k), REPORT.md '{name}'"),
+            format!("placed-and-routed (nextpnr ECP5-85k), REPORT.md '{name}'{holds}"),
         ),
-        None => match rows.iter().find_map(routed) {
-            Some((f, name)) => (
+        None => match nearest.iter().find_map(|r| routed(r)) {
+            Some((f, name, _)) => (
                 Some(f),
                 format!("assumed: the clock of REPORT.md '{name}' (this configuration is not in REPORT.md)"),
             ),

@@ -3,6 +3,7 @@
 
 use crate::host::render::scene::Scene;
 use crate::hw::config_builder::CoreBuilder;
+use crate::hw::controller::Controller;
 use crate::hw::metric::Metric;
 use crate::hw::rtl::native::Engine;
 use crate::hw::traversal::Traversal;
@@ -19,6 +20,11 @@ pub fn corridor() -> Scene {
     )
     .expect("the built-in corridor scene is valid")
 }
+
+/// The core a study simulates and costs unless told otherwise: the barrel
+/// controller (the best single core measured, and the one whose found lists reach
+/// the paper's k = 500 of §3, Fig. 5), with its default cell traversal.
+pub const STUDY_CONTROLLER: Controller = Controller::Barrel;
 
 /// The `--exact` series' coordinate bits: around the paper's 10.
 pub const EXACT_BITS: [u32; 3] = [8, 10, 12];
