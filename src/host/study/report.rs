@@ -12,6 +12,7 @@ use crate::host::study::plan::{Plan, HW_MAX_BITS};
 use crate::host::study::sweep::{Row, Sweep};
 use crate::host::study::{pareto, plots};
 use crate::hw::config::MAX_K;
+use crate::hw::controller::Controller;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -198,10 +199,11 @@ pub fn err(r: &Row, host: bool) -> f64 {
     }
 }
 
-/// The cheapest point of `rows` (one scene, base photons) the core can run with
-/// an image error against float of at most `limit`: the fewest coordinate bits
-/// (the narrowest photon word and distance datapath), then the highest hardware
-/// queries/s.
+/// The fastest point of `rows` (one scene, base photons) the core can run with an
+/// image error against float of at most `limit` (the highest hardware queries/s,
+/// then the fewest coordinate bits). Fastest, not narrowest: once the core holds
+/// k = 500 the narrowest word that meets a bound is a deep list's, ten times
+/// slower than a short list's at a few more bits.
 pub fn best_within<'a>(rows: &[&'a Row], limit: f64, host: bool) -> Option<&'a Row> {
     rows.iter()
         .copied()
@@ -210,7 +212,7 @@ pub fn best_within<'a>(rows: &[&'a Row], limit: f64, host: bool) -> Option<&'a R
         })
         .min_by(|a, b| {
             let q = |r: &Row| r.hw.as_ref().and_then(|h| h.queries_per_s).unwrap_or(0.0);
-            a.bits.cmp(&b.bits).then(q(b).total_cmp(&q(a)))
+            q(b).total_cmp(&q(a)).then(a.bits.cmp(&b.bits))
         })
 }
 
@@ -285,7 +287,21 @@ pub fn markdown(
          Squared L2 is listed as `l2`; distances and radii are Euclidean.\n",
         plan.width, plan.height, plan.spp, plan.seed, plan.reference_k, plan.reference_photons
     );
-    o.push_str(
+    let (controller_name, sim_when, sim_q) = match plan.core.chosen_controller() {
+        Controller::Modules => (
+            "QueryModule",
+            "while every QueryModule is busy",
+            "Q fitted to the sample as the rtl backend does.",
+        ),
+        Controller::Barrel => (
+            "barrel",
+            "over the whole run from the first query (fill and drain included: a barrel port refills a \
+             slot as it frees, so all slots busy at once is not its steady state)",
+            "Q = the query slots per port.",
+        ),
+    };
+    let _ = write!(
+        o,
         "## Provenance\n\n\
          * **rel. RMSE**: sqrt(Σ(img − ref)²/Σref²) over pixels and channels of the linear radiance of the \
          gathered light (the light's own emission, identical in both, left out), against the float render with the \
@@ -298,28 +314,37 @@ pub fn markdown(
          farthest gathered photon's distance (the estimate's radius). Deterministic.\n\
          * **reads / query, distance tests / query**: the software search's counts over every query; the core makes \
          the very same reads (checked query by query on the simulated sample). Deterministic.\n\
-         * **[sim]** core reads per cycle (both ports) while every QueryModule is busy, simulated cycle-accurately \
-         on a sample of the study's own queries (every answer checked against the software search); Q fitted to \
-         the sample as the rtl backend does. The sample, engine and bits of each simulation are listed below; \
+         * **[sim]** core reads per cycle (both ports), {sim_when}, simulated cycle-accurately \
+         on a sample of the study's own queries (every answer checked against the software search); {sim_q} \
+         The sample, engine and bits of each simulation are listed below; \
          points at other bits or photon counts use their scene/metric/k's simulation. Deterministic.\n\
-         * **[P&R]** clock placed and routed (nextpnr ECP5-85k) in synth/REPORT.md for this very configuration; \
-         **[assumed]** the configuration is not in synth/REPORT.md, so the clock of REPORT.md's placed-and-routed \
-         row is assumed for it (its real clock is unknown: a wider distance or larger K is likely slower). \
+         * **[P&R]** clock placed and routed (nextpnr ECP5-85k) in synth/REPORT.md for this very configuration, or \
+         for the smallest K above the point's k at the same bits and metric (a core of K answers every k up to K; \
+         the point names the row and says so); \
+         **[assumed]** the configuration is not in synth/REPORT.md, so the clock of the placed-and-routed row \
+         nearest in K is assumed for it (its real clock is unknown: a wider distance or larger K is likely slower). \
          **[syn]** LUTs (+ LUT-RAM) / FFs synthesised by yosys for Virtex-6 (REPORT.md, its row's Q).\n\
          * **core queries/s** = reads/cycle [sim] × clock / reads per query: one core.\n\
          * **[meas]** software search's queries/s, measured on one thread of this 2-core machine (best of three \
          rounds over a sample of the queries); varies run to run, never compared by tests.\n\
-         * **n/a**: software only: k > 64 (the core's K) or more than 15 bits per axis (the core's word).\n\n",
+         * **n/a**: software only: k > {max_k} (the {controller} core's K) or more than {HW_MAX_BITS} bits per \
+         axis (the core's word).\n\n",
+        max_k = plan.hw_max_k(),
+        controller = controller_name,
     );
     o.push_str("Simulations:\n\n");
     for ((scene, metric, k, _), sim) in &sweep.sims {
         let _ = writeln!(
             o,
-            "* {scene}, {metric}, k = {k}: {} → {:.4} reads/cycle ({} cycles, {} busy)",
+            "* {scene}, {metric}, k = {k}: {} → {:.4} reads/cycle ({} cycles{})",
             sim.source(),
             sim.reads_per_cycle(),
             sim.cycles,
-            sim.busy_cycles
+            if sim.controller == Controller::Modules {
+                format!(", {} busy", sim.busy_cycles)
+            } else {
+                String::new()
+            }
         );
     }
     o.push('\n');
@@ -349,7 +374,7 @@ pub fn markdown(
                                 let h = b.hw.as_ref().expect("best has hw");
                                 let _ = writeln!(
                                     o,
-                                    "Cheapest core configuration (fewest bits, then fastest) with rel. RMSE vs float ≤ {} \
+                                    "Fastest core configuration (then fewest bits) with rel. RMSE vs float ≤ {} \
                                      ({radius}): **{}, k = {}, {} bits**: {} ({} vs reference), {} queries/s per core \
                                      ({:.1} MHz, {}), area {} / {} ({}).\n",
                                     pct(limit), b.metric, b.k, b.bits, pct(err(b, host)),
