@@ -284,7 +284,6 @@ impl Logic for BankCrossbar {
             self.asking[j].next = 0.into();
             for i in 0..self.clients.len() {
                 if self.clients[i].valid.val()
-                    && (!self.reset.val())
                     && (self.clients[i].bank.val() == self.bank_id[j].val())
                 {
                     self.asking[j].next = self.asking[j].val().replace_bit(i, true);
@@ -293,7 +292,7 @@ impl Logic for BankCrossbar {
             self.asking_first[j].next = self.asking[j].val() & self.first_mask.val();
             self.arbiters[j].requests.next = self.asking_first[j].val();
             self.arbiters[j].hold.next = false;
-            self.arbiters[j].advance.next = self.asking_first[j].val().any();
+            self.arbiters[j].advance.next = self.asking_first[j].val().any() && (!self.reset.val());
         }
         for j in 0..self.second.len() {
             self.arbiters_second[j].clock.next = self.clock.val();
@@ -301,7 +300,8 @@ impl Logic for BankCrossbar {
                 self.asking[j].val() & self.second_mask.val() & (!self.arbiters[j].grant.val());
             self.arbiters_second[j].requests.next = self.asking_second[j].val();
             self.arbiters_second[j].hold.next = false;
-            self.arbiters_second[j].advance.next = self.asking_second[j].val().any();
+            self.arbiters_second[j].advance.next =
+                self.asking_second[j].val().any() && (!self.reset.val());
         }
         // A granted request moves, and its row goes to its bank: the row of the
         // grant's index, through a tree per bank port (n: its inputs, sr the
@@ -325,6 +325,14 @@ impl Logic for BankCrossbar {
                         self.clients[i].ready.next = true;
                     }
                 }
+            }
+        }
+        // Reset withholds the grants here, after the arbiters, not from their
+        // requests: the reset register's wide fanout then meets the grant at its
+        // last gate instead of starting the request-grant-taken round trip.
+        if self.reset.val() {
+            for i in 0..self.clients.len() {
+                self.clients[i].ready.next = false;
             }
         }
         for n in (self.row_select.leaves())..(self.row_select.leaves() + 1) {
@@ -354,12 +362,13 @@ impl Logic for BankCrossbar {
             }
         }
         for j in 0..self.banks.len() {
-            self.banks[j].enable.next = self.asking_first[j].val().any();
+            self.banks[j].enable.next = self.asking_first[j].val().any() && (!self.reset.val());
             self.banks[j].row.next = self.row_select.output[j].val();
         }
         for nb in (self.banks.len())..(self.banks.len() + 1) {
             for j in 0..self.second.len() {
-                self.second[j].enable.next = self.asking_second[j].val().any();
+                self.second[j].enable.next =
+                    self.asking_second[j].val().any() && (!self.reset.val());
                 self.second[j].row.next = self.row_select.output[nb + j].val();
             }
         }
