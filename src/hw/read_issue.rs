@@ -12,26 +12,28 @@
 //! reads are a bit per slot (`pending`) with the read's context in LUT-RAM,
 //! written when F asks:
 //! * **offer** — one read at a time is offered, from a register: to the local
-//!   replica (a node above the banked levels: always taken) or to its bank
-//!   through the [`BankCrossbar`](crate::hw::bank_crossbar::BankCrossbar). A
-//!   refused offer stays until its bank takes it (in order: the bank model,
+//!   replica (a node above the banked levels) or to its bank through the
+//!   [`BankCrossbar`](crate::hw::bank_crossbar::BankCrossbar)'s request register
+//!   ([`BankStore`](crate::hw::bank_store::BankStore)). A replica read is taken
+//!   unless a bank read waits before the crossbar's arbiters (`waiting`): then
+//!   that read may be granted this cycle and its word would meet the replica's
+//!   at the SearchModule. A refused offer stays until it is taken (in order: the bank model,
 //!   `host::banking`, measures 0.906 reads per cycle against 0.912 for a refused
 //!   read going to the back of the queue, and holding needs no second queue).
 //!   The next offer is the lowest pending slot, picked a cycle ahead
 //!   ([`FreePick`]); with none pending, F's read goes to the offer register at
-//!   once. Bank and row are registered with the offer, so the crossbar's
-//!   arbitration starts from flip-flops; they are computed ([`BankMap`]) for
-//!   both candidates — the picked waiting read and F's read — before the
-//!   choice, so that the bank's answer ("taken", the end of the round trip
-//!   through the crossbar's arbiters) only selects the offer registers' inputs.
-//! * **grant** — a taken read (at most one a cycle) is registered with its slot;
-//!   its context is read back, and the SearchModule gets the read the cycle
-//!   after it was taken and the word the cycle after that: the crossbar's answer
-//!   (two cycles after its grant) or the replica's word (one cycle, registered
-//!   once more to line up).
+//!   once. Bank and row are registered with the offer; they are computed
+//!   ([`BankMap`]) for both candidates — the picked waiting read and F's read —
+//!   before the choice, so that "taken" (from the request register's flip-flops)
+//!   only selects the offer registers' inputs.
+//! * **grant** — the SearchModule gets a read the cycle before its word: a
+//!   replica read the cycle after it was taken (registered with its slot; the
+//!   word registered once more to line up), a bank read when the crossbar
+//!   announces its answer (`granted`, with the slot as tag). Either way the
+//!   read's context is read back by its slot.
 //!
-//! A slot's read thus costs its round trip two cycles more than with one tree
-//! (13 cycles, which 16 slots cover), plus any wait for its bank.
+//! A slot's read thus costs its round trip three cycles more than with one tree
+//! (14 cycles, which 16 slots cover), plus any wait for its bank.
 
 use crate::hw::bank_crossbar::{BankAnswerIn, BankIndex, BankRequester, BankRow};
 use crate::hw::bank_map::BankMap;
@@ -75,8 +77,10 @@ pub struct ReadIssue<const W: usize> {
     /// The slots with a read waiting (not counting the offer) and the next offer.
     pending: DFF<ModuleMask>,
     pick: FreePick,
-    /// Per slot: its read's address, radius and full flag.
+    /// Per slot: its read's address (twice: read by the next offer's pick and by
+    /// the read going to the SearchModule), radius and full flag.
     ctx_address: LutRam,
+    ctx_address_back: LutRam,
     ctx_radius: LutRam,
     ctx_full: LutRam,
     offer_valid: DFF<bool>,
@@ -89,10 +93,11 @@ pub struct ReadIssue<const W: usize> {
     /// to the offer register.
     taken: Signal<Local, bool>,
     bypass: Signal<Local, bool>,
+    /// A replica read taken last cycle, and its slot.
     grant_valid: DFF<bool>,
     grant_slot: DFF<ModuleIndex>,
-    grant_address: DFF<Addr>,
-    grant_replica: DFF<bool>,
+    /// The slot whose read goes to the SearchModule this cycle (banked).
+    back_slot: Signal<Local, ModuleIndex>,
     word_replica: DFF<bool>,
     replica_word: DFF<Word<W>>,
 }
@@ -128,6 +133,7 @@ impl<const W: usize> ReadIssue<W> {
             pending: Default::default(),
             pick: FreePick::new(q),
             ctx_address: LutRam::new(q, cfg.address_bits),
+            ctx_address_back: LutRam::new(q, cfg.address_bits),
             ctx_radius: LutRam::new(q, db),
             ctx_full: LutRam::new(q, 1),
             offer_valid: Default::default(),
@@ -140,8 +146,7 @@ impl<const W: usize> ReadIssue<W> {
             bypass: Default::default(),
             grant_valid: Default::default(),
             grant_slot: Default::default(),
-            grant_address: Default::default(),
-            grant_replica: Default::default(),
+            back_slot: Default::default(),
             word_replica: Default::default(),
             replica_word: Default::default(),
         }
@@ -168,18 +173,26 @@ impl<const W: usize> Logic for ReadIssue<W> {
             offer_row,
             grant_valid,
             grant_slot,
-            grant_address,
-            grant_replica,
             word_replica,
             replica_word
         );
-        clock!(self, clock, ctx_address, ctx_radius, ctx_full);
+        clock!(
+            self,
+            clock,
+            ctx_address,
+            ctx_address_back,
+            ctx_radius,
+            ctx_full
+        );
         self.pick.clock.next = self.clock.val();
         self.pick.reset.next = self.reset.val();
         // Every read's context, by slot.
         self.ctx_address.write_enable.next = self.push.val();
         self.ctx_address.write_index.next = self.push_slot.val();
         self.ctx_address.write_data.next = bit_cast::<32, 24>(self.push_address.val());
+        self.ctx_address_back.write_enable.next = self.push.val();
+        self.ctx_address_back.write_index.next = self.push_slot.val();
+        self.ctx_address_back.write_data.next = bit_cast::<32, 24>(self.push_address.val());
         self.ctx_radius.write_enable.next = self.push.val();
         self.ctx_radius.write_index.next = self.push_slot.val();
         self.ctx_radius.write_data.next = self.push_radius.val();
@@ -190,17 +203,26 @@ impl<const W: usize> Logic for ReadIssue<W> {
             self.ctx_full.write_data.next = 1.into();
         }
         self.ctx_address.read_index.next = self.pick.pick_index.val();
-        self.ctx_radius.read_index.next = self.grant_slot.q.val();
-        self.ctx_full.read_index.next = self.grant_slot.q.val();
+        self.back_slot.next = self.bank_answer.granted_tag.val();
+        if self.grant_valid.q.val() {
+            self.back_slot.next = self.grant_slot.q.val();
+        }
+        self.ctx_address_back.read_index.next = self.back_slot.val();
+        self.ctx_radius.read_index.next = self.back_slot.val();
+        self.ctx_full.read_index.next = self.back_slot.val();
 
-        // The offer: to the replica (taken) or to its bank (taken if granted).
+        // The offer: to the replica (taken unless a bank read may be granted now)
+        // or to its bank (taken when the request register has room).
         self.bank.valid.next =
             self.banked.val() && self.offer_valid.q.val() && !self.offer_replica.q.val();
         self.bank.bank.next = self.offer_bank.q.val();
         self.bank.row.next = self.offer_row.q.val();
         self.bank.tag.next = self.offer_slot.q.val();
-        self.taken.next =
-            self.offer_valid.q.val() && (self.offer_replica.q.val() || self.bank.ready.val());
+        if self.offer_replica.q.val() {
+            self.taken.next = self.offer_valid.q.val() && !self.bank.waiting.val();
+        } else {
+            self.taken.next = self.offer_valid.q.val() && self.bank.ready.val();
+        }
         // The next offer: the picked pending slot, else F's read at once (an
         // offer that stays keeps its registers).
         self.pick_map.address.next =
@@ -235,12 +257,10 @@ impl<const W: usize> Logic for ReadIssue<W> {
                 self.pick.still_free.val() | (self.one_slot.val() << self.push_slot.val());
         }
 
-        // The taken read, then its word.
-        self.grant_valid.d.next = self.taken.val();
+        // The taken replica read, then its word.
+        self.grant_valid.d.next = self.taken.val() && self.offer_replica.q.val();
         self.grant_slot.d.next = self.offer_slot.q.val();
-        self.grant_address.d.next = self.offer_address.q.val();
-        self.grant_replica.d.next = self.offer_replica.q.val();
-        self.word_replica.d.next = self.grant_replica.q.val();
+        self.word_replica.d.next = self.grant_valid.q.val();
         self.replica_word.d.next = self.ram_data.val();
         if self.reset.val() {
             self.pending.d.next = 0.into();
@@ -257,9 +277,10 @@ impl<const W: usize> Logic for ReadIssue<W> {
         if self.banked.val() {
             self.reading.next = self.taken.val();
             self.ram_address.next = self.offer_address.q.val();
-            self.request_valid.next = self.grant_valid.q.val();
-            self.request.next.query_module = self.grant_slot.q.val();
-            self.request.next.address = self.grant_address.q.val();
+            self.request_valid.next = self.grant_valid.q.val() || self.bank_answer.granted.val();
+            self.request.next.query_module = self.back_slot.val();
+            self.request.next.address =
+                bit_cast::<24, 32>(self.ctx_address_back.read_data.val()) & self.addr_mask.val();
             self.request.next.radius = bit_cast::<32, 32>(self.ctx_radius.read_data.val());
             self.request.next.full = self.ctx_full.read_data.val().get_bit(0);
             if self.word_replica.q.val() {

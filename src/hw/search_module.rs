@@ -22,6 +22,7 @@ use crate::hw::axis_dist::AxisDistModule;
 use crate::hw::config::{low_mask, Addr, Coord, CoreConfig, Dist, ModuleIndex, ModuleMask, Word};
 use crate::hw::dist_module::DistModule;
 use crate::hw::lut_ram::LutRam;
+use crate::hw::metric::Metric;
 use crate::hw::next_index::NextIndexModule;
 use crate::hw::stream::{QueryBeat, ReadRequest, ReadResult};
 use rust_hdl::prelude::*;
@@ -81,6 +82,12 @@ pub struct SearchModule<const W: usize> {
     /// the distances, so the RAM's clock-to-out and the distance arithmetic are not
     /// one path (the critical path of the unpipelined core on ECP5).
     word_stage: Constant<bool>,
+    /// A pipelined squared-L2 core registers the axis differences in place of the
+    /// word (the squares and their sum fill stage 1); an L1 core's differences and
+    /// sum are one short carry chain each and stay in stage 1, after stage W's
+    /// registered word (else the subtraction would follow the BlockRAM's
+    /// clock-to-out in stage W).
+    diff_stage: Constant<bool>,
     // Stage W: the word and its request, one cycle after stage 0 (pipelined only).
     w_word: DFF<Word<W>>,
     w_valid: DFF<bool>,
@@ -112,6 +119,7 @@ impl<const W: usize> SearchModule<W> {
         let l = cfg.layout;
         let mask = |a: usize| Constant::new(Word::<W>::from(l.coord_max(a) as u64));
         let offset = |o: u32| Constant::new(Bits::<8>::from(o as u64));
+        let diff_stage = cfg.pipelined && cfg.metric == Metric::L2;
         SearchModule {
             clock: Default::default(),
             reset: Default::default(),
@@ -130,7 +138,7 @@ impl<const W: usize> SearchModule<W> {
             result_for: Default::default(),
             result: Default::default(),
             axis_dist: AxisDistModule::with_widths(cfg.metric, cfg.axis_dist_bits()),
-            dist_module: DistModule::pipelined(cfg.metric, l.bits, cfg.dist_bits(), cfg.pipelined),
+            dist_module: DistModule::pipelined(cfg.metric, l.bits, cfg.dist_bits(), diff_stage),
             next_index: NextIndexModule::new(cfg.address_bits),
             offset_x: offset(l.offset(0)),
             offset_y: offset(l.offset(1)),
@@ -148,6 +156,7 @@ impl<const W: usize> SearchModule<W> {
             s0_valid: Default::default(),
             s0: Default::default(),
             word_stage: Constant::new(cfg.pipelined),
+            diff_stage: Constant::new(diff_stage),
             w_word: Default::default(),
             w_valid: Default::default(),
             w: Default::default(),
@@ -244,7 +253,7 @@ impl<const W: usize> Logic for SearchModule<W> {
         self.axis_dist.axis.next =
             bit_cast::<2, W>((self.in_word.val() >> self.offset_axis.val()) & 3);
         // The full distance: from stage W's inputs into its registered
-        // differences (pipelined), else from stage 1's like the axis distance.
+        // differences (pipelined squared L2), else from stage 1's like the axis distance.
         self.dist_module.clock.next = self.clock.val();
         self.raw_x.next =
             bit_cast::<16, W>((self.word.val() >> self.offset_x.val()) & self.mask_x.val());
@@ -252,7 +261,7 @@ impl<const W: usize> Logic for SearchModule<W> {
             bit_cast::<16, W>((self.word.val() >> self.offset_y.val()) & self.mask_y.val());
         self.raw_z.next =
             bit_cast::<16, W>((self.word.val() >> self.offset_z.val()) & self.mask_z.val());
-        if self.word_stage.val() {
+        if self.diff_stage.val() {
             self.dist_module.query_x.next = self.looked_up.val().x;
             self.dist_module.query_y.next = self.looked_up.val().y;
             self.dist_module.query_z.next = self.looked_up.val().z;
