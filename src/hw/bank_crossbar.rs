@@ -16,8 +16,7 @@
 //! two). The bank answers its row's word the next cycle (a BlockRAM's registered
 //! read); the crossbar routes it back to the requester that asked and registers
 //! it: the word and the tag appear on that requester's response two cycles after
-//! its request moved, exactly once, announced the cycle before (`granted`, which
-//! a reset withholds with the answer it announces). Requests may change while they wait: nothing
+//! its request moved, exactly once. Requests may change while they wait: nothing
 //! is held for a requester that withdraws. Under `reset` nothing is granted and
 //! the reads in flight are dropped (their answers never appear); the round robin
 //! keeps its turn.
@@ -39,15 +38,6 @@ pub type BankRow = Addr;
 /// The tag a requester gives a read, returned with its word (e.g. the slot).
 pub type BankTag = Bits<8>;
 
-/// A read request as one payload (bank, row, tag), for a register on the way
-/// to the crossbar.
-#[derive(Clone, Copy, Debug, PartialEq, Default, LogicStruct)]
-pub struct BankRead {
-    pub bank: BankIndex,
-    pub row: BankRow,
-    pub tag: BankTag,
-}
-
 /// One requester's read requests, a valid/ready stream: the bank, the row in it
 /// and the requester's tag.
 #[derive(LogicInterface, Default)]
@@ -58,11 +48,6 @@ pub struct BankClient {
     pub bank: Signal<In, BankIndex>,
     pub row: Signal<In, BankRow>,
     pub tag: Signal<In, BankTag>,
-    /// A read of this requester is before the arbiters this cycle (it may be
-    /// granted now): the crossbar's own input is `valid`; behind a request
-    /// register ([`BankStore`](crate::hw::bank_store::BankStore)) it is the
-    /// register's, so a requester learns it from a flip-flop.
-    pub waiting: Signal<Out, bool>,
 }
 
 /// The requester's side of a [`BankClient`].
@@ -74,22 +59,17 @@ pub struct BankRequester {
     pub bank: Signal<Out, BankIndex>,
     pub row: Signal<Out, BankRow>,
     pub tag: Signal<Out, BankTag>,
-    pub waiting: Signal<In, bool>,
 }
 
 /// One requester's answers (flip-flops; no back-pressure: the barrel datapath
 /// takes a read's word in the cycle it arrives): a read's word and its request's
-/// tag; a cycle before, the notice that it comes (`granted`: the read is at its
-/// bank now) with the same tag, so that the requester can look up the read's
-/// context before its word arrives.
+/// tag.
 #[derive(LogicInterface, Default)]
 #[join = "BankAnswerIn"]
 pub struct BankAnswer {
     pub valid: Signal<Out, bool>,
     pub tag: Signal<Out, BankTag>,
     pub word: Signal<Out, BramWord>,
-    pub granted: Signal<Out, bool>,
-    pub granted_tag: Signal<Out, BankTag>,
 }
 
 /// The requester's side of a [`BankAnswer`].
@@ -99,8 +79,6 @@ pub struct BankAnswerIn {
     pub valid: Signal<In, bool>,
     pub tag: Signal<In, BankTag>,
     pub word: Signal<In, BramWord>,
-    pub granted: Signal<In, bool>,
-    pub granted_tag: Signal<In, BankTag>,
 }
 
 /// One bank's read port, seen from the crossbar: a BlockRAM read (`word` is the
@@ -424,9 +402,6 @@ impl Logic for BankCrossbar {
                 self.flight_valid[i].d.next = false;
                 self.answer_valid[i].d.next = false;
             }
-            self.clients[i].waiting.next = self.clients[i].valid.val();
-            self.answers[i].granted.next = self.flight_valid[i].q.val() && (!self.reset.val());
-            self.answers[i].granted_tag.next = self.flight_tag[i].q.val();
             self.answers[i].valid.next = self.answer_valid[i].q.val();
             self.answers[i].tag.next = self.answer_tag[i].q.val();
             self.answers[i].word.next = self.answer_word[i].q.val();

@@ -5,16 +5,11 @@
 //! one, at B = 4 × D). A node's bank and row are the [`BankMap`]'s (XOR-fold);
 //! the levels above it live in the datapaths' replicas, not here.
 //!
-//! Each datapath's requests reach the crossbar through a [`BankRequestRegister`]:
-//! the crossbar arbitrates among flip-flops beside it and a datapath sees
-//! `ready` and `waiting` from flip-flops, at a cycle per read.
-//!
 //! Loading: a written word goes to its bank and row through port A (the core
 //! loads a map only while no query is in flight, so no read competes with it).
 
 use crate::hw::bank_crossbar::{BankAnswer, BankClient, BankCrossbar, BankIndex, BankPorts};
 use crate::hw::bank_map::BankMap;
-use crate::hw::bank_request_register::BankRequestRegister;
 use crate::hw::block_ram::BramWord;
 use crate::hw::config::{Addr, CoreConfig, Word};
 use crate::hw::read_issue::ReadIssue;
@@ -37,8 +32,6 @@ pub struct BankStore<const W: usize> {
     /// `#[hdl_gen]` cannot index into an element of a `Vec`, so the crossbar is
     /// always there; synthesis removes it, nothing reading its outputs.)
     crossbar: BankCrossbar,
-    /// Per datapath: its requests, registered on the way to the crossbar.
-    requests: Vec<BankRequestRegister>,
     /// 64-bit ports, as the crossbar's words (each only as wide as a photon word).
     banks: Vec<TreeModule<64>>,
     wide_word: Signal<Local, BramWord>,
@@ -76,7 +69,6 @@ impl<const W: usize> BankStore<W> {
                 cfg.layout.word_bits(),
                 tag_bits.max(1),
             ),
-            requests: (0..clients).map(|_| Default::default()).collect(),
             banks: (0..banks)
                 .map(|_| TreeModule::new(row_bits.max(1), cfg.layout.word_bits()))
                 .collect(),
@@ -105,25 +97,14 @@ impl<const W: usize> Logic for BankStore<W> {
             self.crossbar.banks[j].word.next = 0.into();
         }
         for i in 0..self.clients.len() {
-            self.requests[i].clock.next = self.clock.val();
-            self.requests[i].reset.next = self.reset.val();
-            self.requests[i].client.valid.next = self.clients[i].valid.val();
-            self.requests[i].client.bank.next = self.clients[i].bank.val();
-            self.requests[i].client.row.next = self.clients[i].row.val();
-            self.requests[i].client.tag.next = self.clients[i].tag.val();
-            self.clients[i].ready.next = self.requests[i].client.ready.val();
-            self.clients[i].waiting.next = self.requests[i].client.waiting.val();
-            self.crossbar.clients[i].valid.next = self.requests[i].request.valid.val();
-            self.crossbar.clients[i].bank.next = self.requests[i].request.bank.val();
-            self.crossbar.clients[i].row.next = self.requests[i].request.row.val();
-            self.crossbar.clients[i].tag.next = self.requests[i].request.tag.val();
-            self.requests[i].request.ready.next = self.crossbar.clients[i].ready.val();
-            self.requests[i].request.waiting.next = self.crossbar.clients[i].waiting.val();
+            self.crossbar.clients[i].valid.next = self.clients[i].valid.val();
+            self.crossbar.clients[i].bank.next = self.clients[i].bank.val();
+            self.crossbar.clients[i].row.next = self.clients[i].row.val();
+            self.crossbar.clients[i].tag.next = self.clients[i].tag.val();
+            self.clients[i].ready.next = self.crossbar.clients[i].ready.val();
             self.answers[i].valid.next = self.crossbar.answers[i].valid.val();
             self.answers[i].tag.next = self.crossbar.answers[i].tag.val();
             self.answers[i].word.next = self.crossbar.answers[i].word.val();
-            self.answers[i].granted.next = self.crossbar.answers[i].granted.val();
-            self.answers[i].granted_tag.next = self.crossbar.answers[i].granted_tag.val();
         }
         for j in 0..self.banks.len() {
             self.banks[j].clock.next = self.clock.val();

@@ -69,6 +69,15 @@ use crate::hw::stream::PortIo;
 use crate::hw::traversal::Traversal;
 use rust_hdl::prelude::*;
 
+/// Where the search climbs from a node (stage D): the deepest level above it with
+/// a pending far child within R (`target`), if there is one (`found`; none: the
+/// query is done). It travels with the event through E and F.
+#[derive(Clone, Copy, Debug, PartialEq, Default, LogicStruct)]
+pub struct Climb {
+    pub target: RamIndex,
+    pub found: bool,
+}
+
 #[derive(LogicBlock)]
 pub struct BarrelPort<const W: usize> {
     pub clock: Signal<In, Clock>,
@@ -147,26 +156,21 @@ pub struct BarrelPort<const W: usize> {
     m_ev: DFF<SlotEvent>,
     // Stage D: the ascent.
     d_ev: DFF<SlotEvent>,
-    /// The level the search climbs to, and whether there is one (none: done).
-    d_target: Signal<Local, RamIndex>,
-    d_found: Signal<Local, bool>,
+    /// Where the search climbs (found in D, used in E and F).
+    d_climb: Signal<Local, Climb>,
     /// The event's pending bits (a signal: Verilog-2005 cannot index a bit of a
     /// struct field's slice).
     d_pending: Signal<Local, LevelMask>,
     // Stage E.
     e_ev: DFF<SlotEvent>,
-    /// Stage D's target and found, a stage later.
-    e_target: DFF<RamIndex>,
-    e_found: DFF<bool>,
+    e_climb: DFF<Climb>,
     /// Levels from this node up to the target's child: the shift to its ancestor.
     e_shift: Signal<Local, RamIndex>,
     /// The (slot, target level) entry of the far-cell offsets BlockRAMs.
     e_far_index: Signal<Local, BramIndex>,
     // Stage F.
     f_ev: DFF<SlotEvent>,
-    /// Stage E's target and found, a stage later.
-    f_target: DFF<RamIndex>,
-    f_found: DFF<bool>,
+    f_climb: DFF<Climb>,
     /// The far child's heap address: the next read when the search climbs.
     f_jump: DFF<Addr>,
     /// The query is over (no target), and whether a read is issued this cycle.
@@ -248,17 +252,14 @@ impl<const W: usize> BarrelPort<W> {
             c_ev: Default::default(),
             m_ev: Default::default(),
             d_ev: Default::default(),
-            d_target: Default::default(),
-            d_found: Default::default(),
+            d_climb: Default::default(),
             d_pending: Default::default(),
             e_ev: Default::default(),
-            e_target: Default::default(),
-            e_found: Default::default(),
+            e_climb: Default::default(),
             e_shift: Default::default(),
             e_far_index: Default::default(),
             f_ev: Default::default(),
-            f_target: Default::default(),
-            f_found: Default::default(),
+            f_climb: Default::default(),
             f_jump: Default::default(),
             f_done: Default::default(),
             f_issue: Default::default(),
@@ -271,10 +272,7 @@ impl<const W: usize> BarrelPort<W> {
 impl<const W: usize> Logic for BarrelPort<W> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(
-            self, clock, free, b_ev, c_ev, m_ev, d_ev, e_ev, e_target, e_found, f_ev, f_target,
-            f_found, f_jump
-        );
+        dff_setup!(self, clock, free, b_ev, c_ev, m_ev, d_ev, e_ev, e_climb, f_ev, f_climb, f_jump);
         self.search.clock.next = self.clock.val();
         self.search.reset.next = self.reset.val();
         self.search.photon_count.next = self.io.photon_count.val();
@@ -484,8 +482,8 @@ impl<const W: usize> Logic for BarrelPort<W> {
         // The software search climbs level by level with R fixed and enters the
         // first pending far child within R: the deepest such level above this one.
         self.d_pending.next = self.d_ev.q.val().pending;
-        self.d_target.next = 0.into();
-        self.d_found.next = false;
+        self.d_climb.next.target = 0.into();
+        self.d_climb.next.found = false;
         for l in 0..self.bound.len() {
             if (self.level_index[l].val() < self.d_ev.q.val().level)
                 && self.d_pending.val().get_bit(l)
@@ -494,36 +492,34 @@ impl<const W: usize> Logic for BarrelPort<W> {
                     if (self.bound[l].read_data.val() & self.dist_mask.val())
                         < self.d_ev.q.val().radius
                     {
-                        self.d_target.next = self.level_index[l].val();
-                        self.d_found.next = true;
+                        self.d_climb.next.target = self.level_index[l].val();
+                        self.d_climb.next.found = true;
                     }
                 } else if (self.bound[l].read_data.val() & self.dist_mask.val())
                     <= self.d_ev.q.val().radius
                 {
-                    self.d_target.next = self.level_index[l].val();
-                    self.d_found.next = true;
+                    self.d_climb.next.target = self.level_index[l].val();
+                    self.d_climb.next.found = true;
                 }
             }
         }
         self.e_ev.d.next = self.d_ev.q.val();
-        self.e_target.d.next = self.d_target.val();
-        self.e_found.d.next = self.d_found.val();
+        self.e_climb.d.next = self.d_climb.val();
 
         // ---- Stage E: the far child's address; its cell's offsets are read. ----
         // The far child is the sibling of the path's node one level below the
         // target: this node's ancestor there.
         self.e_shift.next =
-            ((self.e_ev.q.val().level - self.e_target.q.val()) - 1) & self.level_mask.val();
+            ((self.e_ev.q.val().level - self.e_climb.q.val().target) - 1) & self.level_mask.val();
         self.f_jump.d.next =
             ((self.e_ev.q.val().address >> self.e_shift.val()) ^ 1) & self.addr_mask.val();
         self.e_far_index.next = (bit_cast::<16, 8>(self.e_ev.q.val().slot)
             << self.level_shift.val())
-            | bit_cast::<16, 8>(self.e_target.q.val());
+            | bit_cast::<16, 8>(self.e_climb.q.val().target);
         self.far_xy.read_index.next = self.e_far_index.val();
         self.far_zd.read_index.next = self.e_far_index.val();
         self.f_ev.d.next = self.e_ev.q.val();
-        self.f_target.d.next = self.e_target.q.val();
-        self.f_found.d.next = self.e_found.q.val();
+        self.f_climb.d.next = self.e_climb.q.val();
 
         // ---- Stage F: the slot's new state; its next read. ----
         self.f_state.next = self.f_ev.q.val();
@@ -532,11 +528,11 @@ impl<const W: usize> Logic for BarrelPort<W> {
             self.f_state.next.level = 0.into();
         } else if !self.f_ev.q.val().up {
             self.f_state.next.level = (self.f_ev.q.val().level + 1) & self.level_mask.val();
-        } else if self.f_found.q.val() {
-            self.f_state.next.level = (self.f_target.q.val() + 1) & self.level_mask.val();
+        } else if self.f_climb.q.val().found {
+            self.f_state.next.level = (self.f_climb.q.val().target + 1) & self.level_mask.val();
             self.f_state.next.next_address = self.f_jump.q.val();
-            self.f_state.next.pending =
-                self.f_ev.q.val().pending & (!(self.one_level.val() << self.f_target.q.val()));
+            self.f_state.next.pending = self.f_ev.q.val().pending
+                & (!(self.one_level.val() << self.f_climb.q.val().target));
             if self.cell_mode.val() {
                 self.f_state.next.off_x =
                     bit_cast::<32, 64>(self.far_xy.read_data.val() & self.dist_mask_wide.val());

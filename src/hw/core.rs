@@ -154,9 +154,6 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
             self.ports[i].io.bank_answer.valid.next = false;
             self.ports[i].io.bank_answer.tag.next = 0.into();
             self.ports[i].io.bank_answer.word.next = 0.into();
-            self.ports[i].io.bank.waiting.next = false;
-            self.ports[i].io.bank_answer.granted.next = false;
-            self.ports[i].io.bank_answer.granted_tag.next = 0.into();
             self.ports[i].clock.next = self.clock.val();
             self.ports[i].reset.next = self.reset.val();
             self.ports[i].io.photon_count.next = self.photon_count.q.val();
@@ -232,9 +229,6 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
             self.ports[i].io.bank_answer.valid.next = self.store.answers[i].valid.val();
             self.ports[i].io.bank_answer.tag.next = self.store.answers[i].tag.val();
             self.ports[i].io.bank_answer.word.next = self.store.answers[i].word.val();
-            self.ports[i].io.bank.waiting.next = self.store.clients[i].waiting.val();
-            self.ports[i].io.bank_answer.granted.next = self.store.answers[i].granted.val();
-            self.ports[i].io.bank_answer.granted_tag.next = self.store.answers[i].granted_tag.val();
         }
         if self.load_fire.val() {
             self.loaded.d.next = self.load.last.val();

@@ -78,7 +78,6 @@ pub mod axis_dist;
 pub mod bank_config;
 pub mod bank_crossbar;
 pub mod bank_map;
-pub mod bank_request_register;
 pub mod bank_store;
 pub mod barrel_port;
 pub mod block_ram;

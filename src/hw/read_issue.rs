@@ -12,36 +12,49 @@
 //! reads are a bit per slot (`pending`) with the read's context in LUT-RAM,
 //! written when F asks:
 //! * **offer** — one read at a time is offered, from a register: to the local
-//!   replica (a node above the banked levels) or to its bank through the
-//!   [`BankCrossbar`](crate::hw::bank_crossbar::BankCrossbar)'s request register
-//!   ([`BankStore`](crate::hw::bank_store::BankStore)). A replica read is taken
-//!   unless a bank read waits before the crossbar's arbiters (`waiting`): then
-//!   that read may be granted this cycle and its word would meet the replica's
-//!   at the SearchModule. A refused offer stays until it is taken (in order: the bank model,
+//!   replica (a node above the banked levels: always taken) or to its bank
+//!   through the [`BankCrossbar`](crate::hw::bank_crossbar::BankCrossbar). A
+//!   refused offer stays until its bank takes it (in order: the bank model,
 //!   `host::banking`, measures 0.906 reads per cycle against 0.912 for a refused
 //!   read going to the back of the queue, and holding needs no second queue).
-//!   The next offer is the lowest pending slot, picked a cycle ahead
-//!   ([`FreePick`]); with none pending, F's read goes to the offer register at
-//!   once. Bank and row are registered with the offer; they are computed
-//!   ([`BankMap`]) for both candidates — the picked waiting read and F's read —
-//!   before the choice, so that "taken" (from the request register's flip-flops)
-//!   only selects the offer registers' inputs.
-//! * **grant** — the SearchModule gets a read the cycle before its word: a
-//!   replica read the cycle after it was taken (registered with its slot; the
-//!   word registered once more to line up), a bank read when the crossbar
-//!   announces its answer (`granted`, with the slot as tag). Either way the
-//!   read's context is read back by its slot.
+//!   The offer register is the output register of a [`RegisterSlice`] (the skid
+//!   buffer of verilog-axis' `axis_register`): the next read enters the slice
+//!   whenever its skid register is empty, a flip-flop, so the bank's answer
+//!   ("taken", the end of the round trip through the crossbar's arbiters) only
+//!   moves the slice's registers, which sit between the datapath and the
+//!   crossbar, and never reaches the choice of the next read. The next read is
+//!   the lowest pending slot, picked a cycle ahead ([`FreePick`]); with none
+//!   pending, F's read enters at once. Its bank and row are computed
+//!   ([`BankMap`]) for both candidates before the choice and registered with
+//!   it, so the crossbar's arbitration starts from flip-flops.
+//! * **grant** — a taken read (at most one a cycle) is registered with its slot;
+//!   its context is read back, and the SearchModule gets the read the cycle
+//!   after it was taken and the word the cycle after that: the crossbar's answer
+//!   (two cycles after its grant) or the replica's word (one cycle, registered
+//!   once more to line up).
 //!
-//! A slot's read thus costs its round trip three cycles more than with one tree
-//! (14 cycles, which 16 slots cover), plus any wait for its bank.
+//! A slot's read thus costs its round trip two cycles more than with one tree
+//! (13 cycles, which 16 slots cover), plus any wait for its bank.
 
 use crate::hw::bank_crossbar::{BankAnswerIn, BankIndex, BankRequester, BankRow};
 use crate::hw::bank_map::BankMap;
 use crate::hw::config::{bits_for, Addr, CoreConfig, Dist, ModuleIndex, ModuleMask, Word};
 use crate::hw::free_pick::FreePick;
 use crate::hw::lut_ram::LutRam;
+use crate::hw::register_slice::RegisterSlice;
 use crate::hw::stream::ReadRequest;
 use rust_hdl::prelude::*;
+
+/// A read on offer: its slot, heap address, and where it lives (the replica, or
+/// a bank and row).
+#[derive(Clone, Copy, Debug, PartialEq, Default, LogicStruct)]
+pub struct OfferedRead {
+    pub slot: ModuleIndex,
+    pub address: Addr,
+    pub replica: bool,
+    pub bank: BankIndex,
+    pub row: BankRow,
+}
 
 #[derive(LogicBlock)]
 pub struct ReadIssue<const W: usize> {
@@ -77,27 +90,23 @@ pub struct ReadIssue<const W: usize> {
     /// The slots with a read waiting (not counting the offer) and the next offer.
     pending: DFF<ModuleMask>,
     pick: FreePick,
-    /// Per slot: its read's address (twice: read by the next offer's pick and by
-    /// the read going to the SearchModule), radius and full flag.
+    /// Per slot: its read's address, radius and full flag.
     ctx_address: LutRam,
-    ctx_address_back: LutRam,
     ctx_radius: LutRam,
     ctx_full: LutRam,
-    offer_valid: DFF<bool>,
-    offer_slot: DFF<ModuleIndex>,
-    offer_address: DFF<Addr>,
-    offer_replica: DFF<bool>,
-    offer_bank: DFF<BankIndex>,
-    offer_row: DFF<BankRow>,
+    /// The next read (into the slice) and the offer (its output register).
+    next_valid: Signal<Local, bool>,
+    next: Signal<Local, OfferedRead>,
+    offer: RegisterSlice<OfferedRead>,
+    offered: Signal<Local, OfferedRead>,
     /// Whether the offer moved this cycle, and whether F's read goes straight
-    /// to the offer register.
+    /// to the slice.
     taken: Signal<Local, bool>,
     bypass: Signal<Local, bool>,
-    /// A replica read taken last cycle, and its slot.
     grant_valid: DFF<bool>,
     grant_slot: DFF<ModuleIndex>,
-    /// The slot whose read goes to the SearchModule this cycle (banked).
-    back_slot: Signal<Local, ModuleIndex>,
+    grant_address: DFF<Addr>,
+    grant_replica: DFF<bool>,
     word_replica: DFF<bool>,
     replica_word: DFF<Word<W>>,
 }
@@ -133,20 +142,18 @@ impl<const W: usize> ReadIssue<W> {
             pending: Default::default(),
             pick: FreePick::new(q),
             ctx_address: LutRam::new(q, cfg.address_bits),
-            ctx_address_back: LutRam::new(q, cfg.address_bits),
             ctx_radius: LutRam::new(q, db),
             ctx_full: LutRam::new(q, 1),
-            offer_valid: Default::default(),
-            offer_slot: Default::default(),
-            offer_address: Default::default(),
-            offer_replica: Default::default(),
-            offer_bank: Default::default(),
-            offer_row: Default::default(),
+            next_valid: Default::default(),
+            next: Default::default(),
+            offer: RegisterSlice::new(false),
+            offered: Default::default(),
             taken: Default::default(),
             bypass: Default::default(),
             grant_valid: Default::default(),
             grant_slot: Default::default(),
-            back_slot: Default::default(),
+            grant_address: Default::default(),
+            grant_replica: Default::default(),
             word_replica: Default::default(),
             replica_word: Default::default(),
         }
@@ -165,34 +172,22 @@ impl<const W: usize> Logic for ReadIssue<W> {
             self,
             clock,
             pending,
-            offer_valid,
-            offer_slot,
-            offer_address,
-            offer_replica,
-            offer_bank,
-            offer_row,
             grant_valid,
             grant_slot,
+            grant_address,
+            grant_replica,
             word_replica,
             replica_word
         );
-        clock!(
-            self,
-            clock,
-            ctx_address,
-            ctx_address_back,
-            ctx_radius,
-            ctx_full
-        );
+        clock!(self, clock, ctx_address, ctx_radius, ctx_full);
         self.pick.clock.next = self.clock.val();
         self.pick.reset.next = self.reset.val();
+        self.offer.clock.next = self.clock.val();
+        self.offer.reset.next = self.reset.val();
         // Every read's context, by slot.
         self.ctx_address.write_enable.next = self.push.val();
         self.ctx_address.write_index.next = self.push_slot.val();
         self.ctx_address.write_data.next = bit_cast::<32, 24>(self.push_address.val());
-        self.ctx_address_back.write_enable.next = self.push.val();
-        self.ctx_address_back.write_index.next = self.push_slot.val();
-        self.ctx_address_back.write_data.next = bit_cast::<32, 24>(self.push_address.val());
         self.ctx_radius.write_enable.next = self.push.val();
         self.ctx_radius.write_index.next = self.push_slot.val();
         self.ctx_radius.write_data.next = self.push_radius.val();
@@ -203,68 +198,63 @@ impl<const W: usize> Logic for ReadIssue<W> {
             self.ctx_full.write_data.next = 1.into();
         }
         self.ctx_address.read_index.next = self.pick.pick_index.val();
-        self.back_slot.next = self.bank_answer.granted_tag.val();
-        if self.grant_valid.q.val() {
-            self.back_slot.next = self.grant_slot.q.val();
-        }
-        self.ctx_address_back.read_index.next = self.back_slot.val();
-        self.ctx_radius.read_index.next = self.back_slot.val();
-        self.ctx_full.read_index.next = self.back_slot.val();
+        self.ctx_radius.read_index.next = self.grant_slot.q.val();
+        self.ctx_full.read_index.next = self.grant_slot.q.val();
 
-        // The offer: to the replica (taken unless a bank read may be granted now)
-        // or to its bank (taken when the request register has room).
+        // The offer: to the replica (taken) or to its bank (taken if granted).
+        self.offered.next = self.offer.outbound.data.val();
         self.bank.valid.next =
-            self.banked.val() && self.offer_valid.q.val() && !self.offer_replica.q.val();
-        self.bank.bank.next = self.offer_bank.q.val();
-        self.bank.row.next = self.offer_row.q.val();
-        self.bank.tag.next = self.offer_slot.q.val();
-        if self.offer_replica.q.val() {
-            self.taken.next = self.offer_valid.q.val() && !self.bank.waiting.val();
-        } else {
-            self.taken.next = self.offer_valid.q.val() && self.bank.ready.val();
-        }
-        // The next offer: the picked pending slot, else F's read at once (an
-        // offer that stays keeps its registers).
+            self.banked.val() && self.offer.outbound.valid.val() && !self.offered.val().replica;
+        self.bank.bank.next = self.offered.val().bank;
+        self.bank.row.next = self.offered.val().row;
+        self.bank.tag.next = self.offered.val().slot;
+        self.offer.outbound.ready.next = self.offered.val().replica || self.bank.ready.val();
+        self.taken.next = self.offer.outbound.valid.val() && self.offer.outbound.ready.val();
+        // The next read, whenever the slice has room: the picked pending slot,
+        // else F's read at once.
         self.pick_map.address.next =
             bit_cast::<24, 32>(self.ctx_address.read_data.val()) & self.addr_mask.val();
         self.push_map.address.next = self.push_address.val();
         self.pick.free.next = self.pending.q.val();
         self.pick.take.next = false;
         self.bypass.next = false;
-        if (!self.offer_valid.q.val()) || self.taken.val() {
-            self.offer_valid.d.next = false;
+        self.next_valid.next = false;
+        self.next.next.slot = self.pick.pick_index.val();
+        self.next.next.address = self.pick_map.address.val();
+        self.next.next.replica = self.pick_map.replicated.val();
+        self.next.next.bank = self.pick_map.bank.val();
+        self.next.next.row = self.pick_map.row.val();
+        if self.offer.inbound.ready.val() {
             if self.pick.pick_valid.val() {
                 self.pick.take.next = true;
-                self.offer_valid.d.next = true;
-                self.offer_slot.d.next = self.pick.pick_index.val();
-                self.offer_address.d.next = self.pick_map.address.val();
-                self.offer_replica.d.next = self.pick_map.replicated.val();
-                self.offer_bank.d.next = self.pick_map.bank.val();
-                self.offer_row.d.next = self.pick_map.row.val();
+                self.next_valid.next = true;
             } else if self.push.val() {
                 self.bypass.next = true;
-                self.offer_valid.d.next = true;
-                self.offer_slot.d.next = self.push_slot.val();
-                self.offer_address.d.next = self.push_address.val();
-                self.offer_replica.d.next = self.push_map.replicated.val();
-                self.offer_bank.d.next = self.push_map.bank.val();
-                self.offer_row.d.next = self.push_map.row.val();
+                self.next_valid.next = true;
+                self.next.next.slot = self.push_slot.val();
+                self.next.next.address = self.push_address.val();
+                self.next.next.replica = self.push_map.replicated.val();
+                self.next.next.bank = self.push_map.bank.val();
+                self.next.next.row = self.push_map.row.val();
             }
         }
+        self.offer.inbound.valid.next = self.banked.val() && self.next_valid.val();
+        self.offer.inbound.data.next = self.next.val();
         self.pending.d.next = self.pick.still_free.val();
         if self.push.val() && !self.bypass.val() {
             self.pending.d.next =
                 self.pick.still_free.val() | (self.one_slot.val() << self.push_slot.val());
         }
 
-        // The taken replica read, then its word.
-        self.grant_valid.d.next = self.taken.val() && self.offer_replica.q.val();
-        self.grant_slot.d.next = self.offer_slot.q.val();
-        self.word_replica.d.next = self.grant_valid.q.val();
+        // The taken read, then its word.
+        self.grant_valid.d.next = self.taken.val();
+        self.grant_slot.d.next = self.offered.val().slot;
+        self.grant_address.d.next = self.offered.val().address;
+        self.grant_replica.d.next = self.offered.val().replica;
+        self.word_replica.d.next = self.grant_replica.q.val();
         self.replica_word.d.next = self.ram_data.val();
         if self.reset.val() {
             self.pending.d.next = 0.into();
-            self.offer_valid.d.next = false;
             self.grant_valid.d.next = false;
         }
 
@@ -276,11 +266,10 @@ impl<const W: usize> Logic for ReadIssue<W> {
         self.request.next.z = 0.into();
         if self.banked.val() {
             self.reading.next = self.taken.val();
-            self.ram_address.next = self.offer_address.q.val();
-            self.request_valid.next = self.grant_valid.q.val() || self.bank_answer.granted.val();
-            self.request.next.query_module = self.back_slot.val();
-            self.request.next.address =
-                bit_cast::<24, 32>(self.ctx_address_back.read_data.val()) & self.addr_mask.val();
+            self.ram_address.next = self.offered.val().address;
+            self.request_valid.next = self.grant_valid.q.val();
+            self.request.next.query_module = self.grant_slot.q.val();
+            self.request.next.address = self.grant_address.q.val();
             self.request.next.radius = bit_cast::<32, 32>(self.ctx_radius.read_data.val());
             self.request.next.full = self.ctx_full.read_data.val().get_bit(0);
             if self.word_replica.q.val() {

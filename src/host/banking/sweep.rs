@@ -9,12 +9,10 @@ use rayon::prelude::*;
 
 /// The barrel port's slots and slot loop (`hw::barrel_port`: a read issued in
 /// stage F returns to stage A four cycles later and reaches F again seven stages
-/// on), plus the interconnect's registers: the offer (`hw::read_issue`), the
-/// request register before the arbiters (`hw::bank_request_register`) and the
-/// return.
+/// on), plus the interconnect's request and return registers.
 pub const SLOTS: usize = 16;
 pub const BARREL_LOOP: u64 = 11;
-pub const INTERCONNECT_CYCLES: u64 = 3;
+pub const INTERCONNECT_CYCLES: u64 = 2;
 
 /// One point of the sweep.
 #[derive(Clone, Copy, Debug, PartialEq)]
