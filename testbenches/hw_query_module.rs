@@ -276,18 +276,13 @@ fn query_module_against_the_software_search() {
     let layout = PhotonLayout::paper();
     let mut r = crate::common::rng(131);
     let points = crate::common::random_points(&mut r, 300, layout);
-    for (traversal, metric, k, seed) in [
-        (Traversal::Remember, Metric::L1, 10usize, 132u64),
+    let cases = [
+        (Traversal::Remember, Metric::L1, 10, 132),
         (Traversal::Reread, Metric::L2, 7, 133),
         (Traversal::Cell, Metric::L1, 10, 134),
         (Traversal::Cell, Metric::L2, 1, 135),
-    ] {
-        let cfg = CoreConfig {
-            traversal,
-            metric,
-            k,
-            ..CoreConfig::paper()
-        };
+    ];
+    for (cfg, seed) in crate::common::variants(CoreConfig::paper(), &cases) {
         query_module_against_software::<32>(cfg, &points, 40, seed);
     }
 }

@@ -177,19 +177,13 @@ fn slot_store_against_a_memory_model() {
         queries_per_port: BARREL_SLOTS,
         ..CoreConfig::paper()
     };
-    for (traversal, metric, k, seed) in [
-        (Traversal::Remember, Metric::L1, 10usize, 81u64),
+    let cases = [
+        (Traversal::Remember, Metric::L1, 10, 81),
         (Traversal::Cell, Metric::L1, 10, 82),
         (Traversal::Cell, Metric::L2, 33, 83),
         (Traversal::Remember, Metric::L2, 1, 84),
-    ] {
-        let cfg = CoreConfig {
-            traversal,
-            metric,
-            k,
-            ..barrel
-        };
-        cfg.validate().expect("config");
+    ];
+    for (cfg, seed) in crate::common::variants(barrel, &cases) {
         slot_store_against_model(cfg, seed);
     }
     // Slots that are not a power of two, a tall tree.

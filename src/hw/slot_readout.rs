@@ -17,6 +17,7 @@ use crate::hw::config::{
     bits_for, low_mask, CoreConfig, Count, Dist, Entry, ModuleIndex, ModuleMask, ReadCount,
 };
 use crate::hw::lut_ram::{LutRam, RamIndex};
+use crate::hw::priority_encoder::PriorityEncoder;
 use crate::hw::register_slice::ResultRegister;
 use crate::hw::stream::{ResultBeat, StreamOut};
 use rust_hdl::prelude::*;
@@ -54,7 +55,6 @@ pub struct SlotReadout {
     addr_mask: Constant<Bits<24>>,
     dist_mask_wide: Constant<BramWord>,
     addr_mask_wide: Constant<BramWord>,
-    slot_index: Vec<Constant<ModuleIndex>>,
     ids: LutRam,
     out_count_mem: LutRam,
     out_visited_mem: LutRam,
@@ -68,8 +68,8 @@ pub struct SlotReadout {
     a_found_entry: Signal<Local, BramWord>,
     done_bit: Signal<Local, ModuleMask>,
     result_fire: Signal<Local, bool>,
-    finished_pick: Signal<Local, ModuleMask>,
-    finished_pick_index: Signal<Local, ModuleIndex>,
+    /// The lowest finished slot: its packet leaves next.
+    finished_pick: PriorityEncoder<32>,
     beat: Signal<Local, ResultBeat>,
     out_entry_next: Signal<Local, RamIndex>,
     out_found_index: Signal<Local, BramIndex>,
@@ -119,9 +119,6 @@ impl SlotReadout {
             addr_mask: Constant::new(Bits::<24>::from(low_mask(cfg.address_bits))),
             dist_mask_wide: Constant::new(BramWord::from(low_mask(db))),
             addr_mask_wide: Constant::new(BramWord::from(low_mask(cfg.address_bits))),
-            slot_index: (0..q)
-                .map(|i| Constant::new(ModuleIndex::from(i as u64)))
-                .collect(),
             ids: LutRam::new(q, cfg.id_bits()),
             out_count_mem: LutRam::new(q, cfg.count_bits()),
             out_visited_mem: LutRam::new(q, cfg.visited_bits()),
@@ -133,8 +130,7 @@ impl SlotReadout {
             a_found_entry: Default::default(),
             done_bit: Default::default(),
             result_fire: Default::default(),
-            finished_pick: Default::default(),
-            finished_pick_index: Default::default(),
+            finished_pick: PriorityEncoder::lowest(q),
             beat: Default::default(),
             out_entry_next: Default::default(),
             out_found_index: Default::default(),
@@ -210,14 +206,7 @@ impl Logic for SlotReadout {
         }
 
         // The packet of the lowest finished slot.
-        self.finished_pick.next = self.finished.q.val() & ((!self.finished.q.val()) + 1);
-        self.finished_pick_index.next = 0.into();
-        for i in 0..self.slot_index.len() {
-            if self.finished_pick.val().get_bit(i) {
-                self.finished_pick_index.next =
-                    self.finished_pick_index.val() | self.slot_index[i].val();
-            }
-        }
+        self.finished_pick.mask.next = self.finished.q.val();
         self.result_fire.next = self.out_active.q.val()
             && (!self.out_fetch.q.val())
             && self.result_register.inbound.ready.val();
@@ -284,7 +273,7 @@ impl Logic for SlotReadout {
             if self.finished.q.val().any() {
                 self.out_active.d.next = true;
                 self.out_fetch.d.next = true;
-                self.out_index.d.next = self.finished_pick_index.val();
+                self.out_index.d.next = self.finished_pick.index.val();
                 self.out_entry.d.next = 0.into();
             }
         } else if self.out_fetch.q.val() {

@@ -9,6 +9,7 @@ use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::photon_word::PhotonLayout;
 use photon_fpga::hw::rtl::driver::{HwQuery, HwResult};
 use photon_fpga::hw::rtl::native::SimOptions;
+use photon_fpga::hw::traversal::Traversal;
 use rand::Rng;
 use rand_pcg::Pcg64;
 use rust_hdl::prelude::{simulate, Block, Clock, In, Signal};
@@ -146,6 +147,27 @@ pub fn small_config(
         .metric(metric)
         .build()
         .expect("a small core within the limits")
+}
+
+/// A block's configurations to test: `base` with each (traversal, metric, k) in
+/// `cases`, validated, each with its seed.
+pub fn variants(
+    base: CoreConfig,
+    cases: &[(Traversal, Metric, usize, u64)],
+) -> Vec<(CoreConfig, u64)> {
+    cases
+        .iter()
+        .map(|&(traversal, metric, k, seed)| {
+            let cfg = CoreConfig {
+                traversal,
+                metric,
+                k,
+                ..base
+            };
+            cfg.validate().expect("a configuration within the limits");
+            (cfg, seed)
+        })
+        .collect()
 }
 
 /// `tool` is installed (else the test fails, naming the packages to install).
