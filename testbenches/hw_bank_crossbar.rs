@@ -3,9 +3,10 @@
 //! second): random requests (random banks, a hot bank, withdrawn and changed requests
 //! while waiting), memories that answer junk in every cycle after a row was not
 //! read, and random resets. Every cycle each requester's `ready`, each bank port's
-//! enable and row, and each answer must be the model's (per bank port: the lowest
-//! asking requester above the last one it granted, else the lowest; the second
-//! port among those the first left waiting, or among the odd ones); every granted read's answer must arrive two cycles
+//! enable and row (the previous cycle's grant) and each answer must be the
+//! model's (per bank port: the lowest asking requester above the last one it
+//! granted, else the lowest; the second port among those the first left waiting,
+//! or among the odd ones); every granted read's answer must arrive three cycles
 //! later, exactly once, with its tag and the word at its bank's row; nothing
 //! arrives that was not asked for. The exported Verilog passes yosys, Verilator
 //! lint and Icarus, and replays a recorded run cycle for cycle in both simulators.
@@ -165,10 +166,12 @@ fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
         .map(|_| (0..s.rows).map(|_| r.gen::<u64>() & word_mask).collect())
         .collect();
     let mut recorder = record.then(Recorder::default);
-    // The model, per bank port (port p of bank j at j * ports + p): its last grant
-    // and its memory's registered row (None: not read); per requester its offered
-    // request and its reads due.
+    // The model, per bank port (port p of bank j at j * ports + p): its last
+    // grant, the row it granted (registered at the port) and its memory's
+    // registered row (None: not read); per requester its offered request and its
+    // reads due.
     let mut last: Vec<Option<usize>> = vec![None; np];
+    let mut port_row: Vec<Option<usize>> = vec![None; np];
     let mut bram_row: Vec<Option<usize>> = vec![None; np];
     let mut offer: Vec<Option<(usize, usize, u64)>> = vec![None; d];
     let mut due: Vec<VecDeque<Due>> = vec![VecDeque::new(); d];
@@ -239,14 +242,13 @@ fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
                 "{s:?}: cycle {c}, ready {i}"
             );
         }
-        for (k, w) in winner.iter().enumerate() {
+        for (k, want) in port_row.iter().enumerate() {
             let bp = port(&mut uut, k, ports);
-            assert_eq!(bp.enable.val(), w.is_some(), "cycle {c}, port {k}");
+            assert_eq!(bp.enable.val(), want.is_some(), "cycle {c}, port {k}");
             // The row only counts while the port is enabled (a stream's data
             // while it is not valid).
-            if let Some(i) = w {
-                let row = offer[*i].unwrap().1;
-                assert_eq!(bp.row.val().to_u64(), row as u64, "cycle {c}, port {k}");
+            if let Some(row) = want {
+                assert_eq!(bp.row.val().to_u64(), *row as u64, "cycle {c}, port {k}");
             }
         }
         // The answers due now.
@@ -263,21 +265,24 @@ fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
                 due.pop_front();
                 answered += 1;
             }
-            // A reset drops the read granted last cycle (due next cycle).
-            if reset && due.front().is_some_and(|x| x.cycle == c + 1) {
+            // A reset drops the reads granted in the last two cycles (due
+            // in the next two).
+            while reset && due.front().is_some_and(|x| x.cycle <= c + 2) {
                 due.pop_front();
                 reset_drops += 1;
             }
         }
-        // The edge: grants move, memories register their rows.
+        // The edge: grants move, the ports register their granted rows and the
+        // memories the rows at their ports.
         for k in 0..np {
-            bram_row[k] = winner[k].map(|i| offer[i].unwrap().1);
+            bram_row[k] = port_row[k];
+            port_row[k] = winner[k].map(|i| offer[i].unwrap().1);
         }
         for k in 0..np {
             if let Some(i) = winner[k] {
                 let (j, row, tag) = offer[i].unwrap();
                 due[i].push_back(Due {
-                    cycle: c + 2,
+                    cycle: c + BankCrossbar::LATENCY,
                     tag,
                     word: mem[j][row],
                 });

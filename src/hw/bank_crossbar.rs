@@ -13,10 +13,13 @@
 //! arbiter per bank grants one of the requesters the first left waiting, through
 //! the bank's `second` port (the bank model, `host::banking`, measures D = 16
 //! datapaths on 64 banks at 0.91 reads per cycle each with one port, 0.99 with
-//! two). The bank answers its row's word the next cycle (a BlockRAM's registered
-//! read); the crossbar routes it back to the requester that asked and registers
-//! it: the word and the tag appear on that requester's response two cycles after
-//! its request moved, exactly once. Requests may change while they wait: nothing
+//! two). The granted row is registered at the bank port (`enable` and `row` are
+//! flip-flops), so the arbitration and the row selection end at a register and
+//! the wires out to a bank's BlockRAMs, which spread over the device, start at
+//! one. The bank answers the registered row's word the next cycle (a BlockRAM's
+//! registered read); the crossbar routes it back to the requester that asked and
+//! registers it: the word and the tag appear on that requester's response three
+//! cycles after its request moved ([`BankCrossbar::LATENCY`]), exactly once. Requests may change while they wait: nothing
 //! is held for a requester that withdraws. Under `reset` nothing is granted and
 //! the reads in flight are dropped (their answers never appear); the round robin
 //! keeps its turn.
@@ -153,7 +156,7 @@ pub struct BankCrossbar {
     pub clients: Vec<BankClient>,
     pub answers: Vec<BankAnswer>,
     /// Per bank: its read port, and its second read port (none when the banks
-    /// are single-ported).
+    /// are single-ported): the row granted in the previous cycle, registered.
     pub banks: Vec<BankPort>,
     pub second: Vec<BankPort>,
     /// Per bank: who asks for it; who of them may use each port (`first_mask`,
@@ -173,6 +176,9 @@ pub struct BankCrossbar {
     grant_index: Vec<PriorityEncoder<32>>,
     row_shift: Constant<EncodedIndex>,
     row_select: MuxTrees<BankRow, 8>,
+    /// Per bank port (bank ports first): the granted row, registered.
+    port_enable: Vec<DFF<bool>>,
+    port_row: Vec<DFF<BankRow>>,
     /// The widths in use (registers are loaded through them); whether a
     /// requester's word comes from either port of a bank (`Shared`).
     bank_mask: Constant<BankIndex>,
@@ -181,12 +187,15 @@ pub struct BankCrossbar {
     either_port: Constant<bool>,
     port_bit: Constant<BankIndex>,
     /// Per requester: the bank port granting its read this cycle (the bank, or
-    /// bank × 2 + port when either port may answer), then the read in flight (its
-    /// bank answers now)...
+    /// bank × 2 + port when either port may answer), then the read in flight:
+    /// its row at the bank port, then its bank answering...
     source: Vec<Signal<Local, BankIndex>>,
     flight_valid: Vec<DFF<bool>>,
     flight_source: Vec<DFF<BankIndex>>,
     flight_tag: Vec<DFF<BankTag>>,
+    bram_valid: Vec<DFF<bool>>,
+    bram_source: Vec<DFF<BankIndex>>,
+    bram_tag: Vec<DFF<BankTag>>,
     /// ... the answering port's word (a [`MuxTrees`] per requester over the
     /// ports that may answer it) and the answer, registered.
     word_select: MuxTrees<BramWord, 12>,
@@ -204,6 +213,10 @@ pub struct BankCrossbar {
 }
 
 impl BankCrossbar {
+    /// Cycles from a request moving to its answer: the bank port's row
+    /// register, the BlockRAM's read, the answer register.
+    pub const LATENCY: usize = 3;
+
     /// `requesters` (1..=32; even for split ports) requesters, `banks`
     /// (1..=1024) banks whose read ports are shared as `ports` says, of
     /// `word_bits` (1..=64) bits, tags of `tag_bits` (1..=8) bits.
@@ -254,6 +267,8 @@ impl BankCrossbar {
                 .collect(),
             row_shift: Constant::new(EncodedIndex::from(stride as u64 - 1)),
             row_select: MuxTrees::new(banks + seconds, requesters / stride),
+            port_enable: many(banks + seconds),
+            port_row: many(banks + seconds),
             bank_mask: Constant::new(BankIndex::from((1u64 << bank_bits) - 1)),
             tag_mask: Constant::new(BankTag::from((1u64 << tag_bits) - 1)),
             word_mask: Constant::new(BramWord::from(u64::MAX >> (64 - word_bits))),
@@ -263,6 +278,9 @@ impl BankCrossbar {
             flight_valid: many(requesters),
             flight_source: many(requesters),
             flight_tag: many(requesters),
+            bram_valid: many(requesters),
+            bram_source: many(requesters),
+            bram_tag: many(requesters),
             word_select: MuxTrees::new(requesters, banks * if either { 2 } else { 1 }),
             answer_valid: many(requesters),
             answer_tag: many(requesters),
@@ -361,23 +379,34 @@ impl Logic for BankCrossbar {
                 }
             }
         }
+        // Each bank port's granted row, registered on its way to the bank.
+        for p in 0..self.port_row.len() {
+            self.port_enable[p].clock.next = self.clock.val();
+            self.port_row[p].clock.next = self.clock.val();
+            self.port_row[p].d.next = self.row_select.output[p].val();
+        }
         for j in 0..self.banks.len() {
-            self.banks[j].enable.next = self.asking_first[j].val().any() && (!self.reset.val());
-            self.banks[j].row.next = self.row_select.output[j].val();
+            self.port_enable[j].d.next = self.asking_first[j].val().any() && (!self.reset.val());
+            self.banks[j].enable.next = self.port_enable[j].q.val();
+            self.banks[j].row.next = self.port_row[j].q.val();
         }
         for nb in (self.banks.len())..(self.banks.len() + 1) {
             for j in 0..self.second.len() {
-                self.second[j].enable.next =
+                self.port_enable[nb + j].d.next =
                     self.asking_second[j].val().any() && (!self.reset.val());
-                self.second[j].row.next = self.row_select.output[nb + j].val();
+                self.second[j].enable.next = self.port_enable[nb + j].q.val();
+                self.second[j].row.next = self.port_row[nb + j].q.val();
             }
         }
-        // The read in flight, then the answering port's word back to its
-        // requester.
+        // The read in flight (its row at the bank port, then its bank
+        // answering), then the answering port's word back to its requester.
         for i in 0..self.clients.len() {
             self.flight_valid[i].clock.next = self.clock.val();
             self.flight_source[i].clock.next = self.clock.val();
             self.flight_tag[i].clock.next = self.clock.val();
+            self.bram_valid[i].clock.next = self.clock.val();
+            self.bram_source[i].clock.next = self.clock.val();
+            self.bram_tag[i].clock.next = self.clock.val();
             self.answer_valid[i].clock.next = self.clock.val();
             self.answer_tag[i].clock.next = self.clock.val();
             self.answer_word[i].clock.next = self.clock.val();
@@ -394,12 +423,16 @@ impl Logic for BankCrossbar {
                 self.clients[i].valid.val() && self.clients[i].ready.val();
             self.flight_source[i].d.next = self.source[i].val();
             self.flight_tag[i].d.next = self.clients[i].tag.val() & self.tag_mask.val();
-            self.word_select.index[i].next = self.flight_source[i].q.val();
-            self.answer_valid[i].d.next = self.flight_valid[i].q.val();
-            self.answer_tag[i].d.next = self.flight_tag[i].q.val();
+            self.bram_valid[i].d.next = self.flight_valid[i].q.val();
+            self.bram_source[i].d.next = self.flight_source[i].q.val();
+            self.bram_tag[i].d.next = self.flight_tag[i].q.val();
+            self.word_select.index[i].next = self.bram_source[i].q.val();
+            self.answer_valid[i].d.next = self.bram_valid[i].q.val();
+            self.answer_tag[i].d.next = self.bram_tag[i].q.val();
             self.answer_word[i].d.next = self.word_select.output[i].val() & self.word_mask.val();
             if self.reset.val() {
                 self.flight_valid[i].d.next = false;
+                self.bram_valid[i].d.next = false;
                 self.answer_valid[i].d.next = false;
             }
             self.answers[i].valid.next = self.answer_valid[i].q.val();

@@ -27,14 +27,16 @@
 //!   pending, F's read enters at once. Its bank and row are computed
 //!   ([`BankMap`]) for both candidates before the choice and registered with
 //!   it, so the crossbar's arbitration starts from flip-flops.
-//! * **grant** — a taken read (at most one a cycle) is registered with its slot;
-//!   its context is read back, and the SearchModule gets the read the cycle
-//!   after it was taken and the word the cycle after that: the crossbar's answer
-//!   (two cycles after its grant) or the replica's word (one cycle, registered
-//!   once more to line up).
+//! * **grant** — a taken read (at most one a cycle) is registered with its slot,
+//!   twice; its context is read back, and the SearchModule gets the read two
+//!   cycles after it was taken and the word the cycle after that: the
+//!   crossbar's answer (three cycles after its grant: the bank port's row
+//!   register, the BlockRAM, the answer register) or the replica's word (read
+//!   from the address registered once, like a bank port's row, and the word
+//!   registered once, like the crossbar's answer).
 //!
-//! A slot's read thus costs its round trip two cycles more than with one tree
-//! (13 cycles, which 16 slots cover), plus any wait for its bank.
+//! A slot's read thus costs its round trip three cycles more than with one tree
+//! (14 cycles, which 16 slots cover), plus any wait for its bank.
 
 use crate::hw::bank_crossbar::{BankAnswerIn, BankIndex, BankRequester, BankRow};
 use crate::hw::bank_map::BankMap;
@@ -107,6 +109,11 @@ pub struct ReadIssue<const W: usize> {
     grant_slot: DFF<ModuleIndex>,
     grant_address: DFF<Addr>,
     grant_replica: DFF<bool>,
+    /// The taken read a cycle later: the SearchModule's request.
+    issue_valid: DFF<bool>,
+    issue_slot: DFF<ModuleIndex>,
+    issue_address: DFF<Addr>,
+    issue_replica: DFF<bool>,
     word_replica: DFF<bool>,
     replica_word: DFF<Word<W>>,
 }
@@ -154,6 +161,10 @@ impl<const W: usize> ReadIssue<W> {
             grant_slot: Default::default(),
             grant_address: Default::default(),
             grant_replica: Default::default(),
+            issue_valid: Default::default(),
+            issue_slot: Default::default(),
+            issue_address: Default::default(),
+            issue_replica: Default::default(),
             word_replica: Default::default(),
             replica_word: Default::default(),
         }
@@ -176,6 +187,10 @@ impl<const W: usize> Logic for ReadIssue<W> {
             grant_slot,
             grant_address,
             grant_replica,
+            issue_valid,
+            issue_slot,
+            issue_address,
+            issue_replica,
             word_replica,
             replica_word
         );
@@ -198,8 +213,8 @@ impl<const W: usize> Logic for ReadIssue<W> {
             self.ctx_full.write_data.next = 1.into();
         }
         self.ctx_address.read_index.next = self.pick.pick_index.val();
-        self.ctx_radius.read_index.next = self.grant_slot.q.val();
-        self.ctx_full.read_index.next = self.grant_slot.q.val();
+        self.ctx_radius.read_index.next = self.issue_slot.q.val();
+        self.ctx_full.read_index.next = self.issue_slot.q.val();
 
         // The offer: to the replica (taken) or to its bank (taken if granted).
         self.offered.next = self.offer.outbound.data.val();
@@ -251,11 +266,16 @@ impl<const W: usize> Logic for ReadIssue<W> {
         self.grant_slot.d.next = self.offered.val().slot;
         self.grant_address.d.next = self.offered.val().address;
         self.grant_replica.d.next = self.offered.val().replica;
-        self.word_replica.d.next = self.grant_replica.q.val();
+        self.issue_valid.d.next = self.grant_valid.q.val();
+        self.issue_slot.d.next = self.grant_slot.q.val();
+        self.issue_address.d.next = self.grant_address.q.val();
+        self.issue_replica.d.next = self.grant_replica.q.val();
+        self.word_replica.d.next = self.issue_replica.q.val();
         self.replica_word.d.next = self.ram_data.val();
         if self.reset.val() {
             self.pending.d.next = 0.into();
             self.grant_valid.d.next = false;
+            self.issue_valid.d.next = false;
         }
 
         // The request as the SearchModule takes it (it looks up the coordinates).
@@ -266,10 +286,10 @@ impl<const W: usize> Logic for ReadIssue<W> {
         self.request.next.z = 0.into();
         if self.banked.val() {
             self.reading.next = self.taken.val();
-            self.ram_address.next = self.offered.val().address;
-            self.request_valid.next = self.grant_valid.q.val();
-            self.request.next.query_module = self.grant_slot.q.val();
-            self.request.next.address = self.grant_address.q.val();
+            self.ram_address.next = self.grant_address.q.val();
+            self.request_valid.next = self.issue_valid.q.val();
+            self.request.next.query_module = self.issue_slot.q.val();
+            self.request.next.address = self.issue_address.q.val();
             self.request.next.radius = bit_cast::<32, 32>(self.ctx_radius.read_data.val());
             self.request.next.full = self.ctx_full.read_data.val().get_bit(0);
             if self.word_replica.q.val() {

@@ -9,10 +9,11 @@ use rayon::prelude::*;
 
 /// The barrel port's slots and slot loop (`hw::barrel_port`: a read issued in
 /// stage F returns to stage A four cycles later and reaches F again seven stages
-/// on), plus the interconnect's request and return registers.
+/// on), plus the interconnect's registers (`hw::read_issue`: the offer, the bank
+/// port's row and the answer; a read from the replica is registered alike).
 pub const SLOTS: usize = 16;
 pub const BARREL_LOOP: u64 = 11;
-pub const INTERCONNECT_CYCLES: u64 = 2;
+pub const INTERCONNECT_CYCLES: u64 = 3;
 
 /// One point of the sweep.
 #[derive(Clone, Copy, Debug, PartialEq)]
