@@ -176,7 +176,8 @@ pub struct BankCrossbar {
     grant_index: Vec<PriorityEncoder<32>>,
     row_shift: Constant<EncodedIndex>,
     row_select: MuxTrees<BankRow, 8>,
-    /// Per bank port (bank ports first): the granted row, registered.
+    /// Per bank port (bank ports first): the granted row, registered (none in
+    /// the placeholder).
     port_enable: Vec<DFF<bool>>,
     port_row: Vec<DFF<BankRow>>,
     /// The widths in use (registers are loaded through them); whether a
@@ -193,6 +194,7 @@ pub struct BankCrossbar {
     flight_valid: Vec<DFF<bool>>,
     flight_source: Vec<DFF<BankIndex>>,
     flight_tag: Vec<DFF<BankTag>>,
+    /// (none in the placeholder)
     bram_valid: Vec<DFF<bool>>,
     bram_source: Vec<DFF<BankIndex>>,
     bram_tag: Vec<DFF<BankTag>>,
@@ -206,6 +208,8 @@ pub struct BankCrossbar {
     /// elaboration: shared second ports, split ports.
     _shared: usize,
     _split: usize,
+    /// 1, or 0 for the placeholder (the bank ports unregistered).
+    _registered: usize,
     /// Requesters per port (all, or half for split ports) and the stride
     /// between them.
     _per_port: usize,
@@ -226,6 +230,27 @@ impl BankCrossbar {
         ports: BankPorts,
         word_bits: u32,
         tag_bits: u32,
+    ) -> Self {
+        Self::build(requesters, banks, ports, word_bits, tag_bits, true)
+    }
+
+    /// The crossbar of a core without banks: one requester, one bank, nothing
+    /// reading its outputs (rust-hdl's `#[hdl_gen]` cannot leave an optional
+    /// block out, so it is there, inputs held at zero, and synthesis removes
+    /// it). Its bank port is not registered, which keeps it (and so the exported
+    /// Verilog of every core without banks) to the registers a crossbar needs at
+    /// the least.
+    pub fn placeholder(word_bits: u32, tag_bits: u32) -> Self {
+        Self::build(1, 1, BankPorts::One, word_bits, tag_bits, false)
+    }
+
+    fn build(
+        requesters: usize,
+        banks: usize,
+        ports: BankPorts,
+        word_bits: u32,
+        tag_bits: u32,
+        registered: bool,
     ) -> Self {
         assert!((1..=32).contains(&requesters) && (1..=1024).contains(&banks));
         assert!(ports != BankPorts::Split || requesters.is_multiple_of(2));
@@ -267,8 +292,8 @@ impl BankCrossbar {
                 .collect(),
             row_shift: Constant::new(EncodedIndex::from(stride as u64 - 1)),
             row_select: MuxTrees::new(banks + seconds, requesters / stride),
-            port_enable: many(banks + seconds),
-            port_row: many(banks + seconds),
+            port_enable: many(if registered { banks + seconds } else { 0 }),
+            port_row: many(if registered { banks + seconds } else { 0 }),
             bank_mask: Constant::new(BankIndex::from((1u64 << bank_bits) - 1)),
             tag_mask: Constant::new(BankTag::from((1u64 << tag_bits) - 1)),
             word_mask: Constant::new(BramWord::from(u64::MAX >> (64 - word_bits))),
@@ -278,15 +303,16 @@ impl BankCrossbar {
             flight_valid: many(requesters),
             flight_source: many(requesters),
             flight_tag: many(requesters),
-            bram_valid: many(requesters),
-            bram_source: many(requesters),
-            bram_tag: many(requesters),
+            bram_valid: many(if registered { requesters } else { 0 }),
+            bram_source: many(if registered { requesters } else { 0 }),
+            bram_tag: many(if registered { requesters } else { 0 }),
             word_select: MuxTrees::new(requesters, banks * if either { 2 } else { 1 }),
             answer_valid: many(requesters),
             answer_tag: many(requesters),
             answer_word: many(requesters),
             _shared: usize::from(either),
             _split: usize::from(split),
+            _registered: usize::from(registered),
             _per_port: requesters / stride,
             _stride: stride,
         }
@@ -379,34 +405,25 @@ impl Logic for BankCrossbar {
                 }
             }
         }
-        // Each bank port's granted row, registered on its way to the bank.
-        for p in 0..self.port_row.len() {
-            self.port_enable[p].clock.next = self.clock.val();
-            self.port_row[p].clock.next = self.clock.val();
-            self.port_row[p].d.next = self.row_select.output[p].val();
-        }
+        // Each bank port's grant (the placeholder's, unregistered).
         for j in 0..self.banks.len() {
-            self.port_enable[j].d.next = self.asking_first[j].val().any() && (!self.reset.val());
-            self.banks[j].enable.next = self.port_enable[j].q.val();
-            self.banks[j].row.next = self.port_row[j].q.val();
+            self.banks[j].enable.next = self.asking_first[j].val().any() && (!self.reset.val());
+            self.banks[j].row.next = self.row_select.output[j].val();
         }
         for nb in (self.banks.len())..(self.banks.len() + 1) {
             for j in 0..self.second.len() {
-                self.port_enable[nb + j].d.next =
+                self.second[j].enable.next =
                     self.asking_second[j].val().any() && (!self.reset.val());
-                self.second[j].enable.next = self.port_enable[nb + j].q.val();
-                self.second[j].row.next = self.port_row[nb + j].q.val();
+                self.second[j].row.next = self.row_select.output[nb + j].val();
             }
         }
-        // The read in flight (its row at the bank port, then its bank
-        // answering), then the answering port's word back to its requester.
+        // The read in flight, then the answering port's word back to its
+        // requester (the placeholder's; a registered crossbar inserts a stage
+        // below).
         for i in 0..self.clients.len() {
             self.flight_valid[i].clock.next = self.clock.val();
             self.flight_source[i].clock.next = self.clock.val();
             self.flight_tag[i].clock.next = self.clock.val();
-            self.bram_valid[i].clock.next = self.clock.val();
-            self.bram_source[i].clock.next = self.clock.val();
-            self.bram_tag[i].clock.next = self.clock.val();
             self.answer_valid[i].clock.next = self.clock.val();
             self.answer_tag[i].clock.next = self.clock.val();
             self.answer_word[i].clock.next = self.clock.val();
@@ -423,21 +440,58 @@ impl Logic for BankCrossbar {
                 self.clients[i].valid.val() && self.clients[i].ready.val();
             self.flight_source[i].d.next = self.source[i].val();
             self.flight_tag[i].d.next = self.clients[i].tag.val() & self.tag_mask.val();
-            self.bram_valid[i].d.next = self.flight_valid[i].q.val();
-            self.bram_source[i].d.next = self.flight_source[i].q.val();
-            self.bram_tag[i].d.next = self.flight_tag[i].q.val();
-            self.word_select.index[i].next = self.bram_source[i].q.val();
-            self.answer_valid[i].d.next = self.bram_valid[i].q.val();
-            self.answer_tag[i].d.next = self.bram_tag[i].q.val();
+            self.word_select.index[i].next = self.flight_source[i].q.val();
+            self.answer_valid[i].d.next = self.flight_valid[i].q.val();
+            self.answer_tag[i].d.next = self.flight_tag[i].q.val();
             self.answer_word[i].d.next = self.word_select.output[i].val() & self.word_mask.val();
             if self.reset.val() {
                 self.flight_valid[i].d.next = false;
-                self.bram_valid[i].d.next = false;
                 self.answer_valid[i].d.next = false;
             }
             self.answers[i].valid.next = self.answer_valid[i].q.val();
             self.answers[i].tag.next = self.answer_tag[i].q.val();
             self.answers[i].word.next = self.answer_word[i].q.val();
+        }
+        // The registered crossbar: each bank port's granted row and enable
+        // registered on the way to its bank (the wires out to a bank's
+        // BlockRAMs, spread over the device, start at a flip-flop), and the read
+        // in flight a stage longer, so that its word is selected as its bank
+        // answers.
+        for _on in 0..self._registered {
+            for p in 0..self.port_row.len() {
+                self.port_enable[p].clock.next = self.clock.val();
+                self.port_row[p].clock.next = self.clock.val();
+                self.port_row[p].d.next = self.row_select.output[p].val();
+            }
+            for j in 0..self.banks.len() {
+                self.port_enable[j].d.next =
+                    self.asking_first[j].val().any() && (!self.reset.val());
+                self.banks[j].enable.next = self.port_enable[j].q.val();
+                self.banks[j].row.next = self.port_row[j].q.val();
+            }
+            for nb in (self.banks.len())..(self.banks.len() + 1) {
+                for j in 0..self.second.len() {
+                    self.port_enable[nb + j].d.next =
+                        self.asking_second[j].val().any() && (!self.reset.val());
+                    self.second[j].enable.next = self.port_enable[nb + j].q.val();
+                    self.second[j].row.next = self.port_row[nb + j].q.val();
+                }
+            }
+            for i in 0..self.clients.len() {
+                self.bram_valid[i].clock.next = self.clock.val();
+                self.bram_source[i].clock.next = self.clock.val();
+                self.bram_tag[i].clock.next = self.clock.val();
+                self.bram_valid[i].d.next = self.flight_valid[i].q.val();
+                self.bram_source[i].d.next = self.flight_source[i].q.val();
+                self.bram_tag[i].d.next = self.flight_tag[i].q.val();
+                self.word_select.index[i].next = self.bram_source[i].q.val();
+                self.answer_valid[i].d.next = self.bram_valid[i].q.val();
+                self.answer_tag[i].d.next = self.bram_tag[i].q.val();
+                if self.reset.val() {
+                    self.bram_valid[i].d.next = false;
+                    self.answer_valid[i].d.next = false;
+                }
+            }
         }
         // The words each requester's tree chooses from (w: its inputs): every
         // bank's first port; with shared ports, each bank's two ports side by

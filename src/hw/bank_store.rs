@@ -28,9 +28,9 @@ pub struct BankStore<const W: usize> {
     pub clients: Vec<BankClient>,
     pub answers: Vec<BankAnswer>,
     map: BankMap,
-    /// (Without banks a 1 x 1 crossbar whose inputs are held at zero: rust-hdl's
-    /// `#[hdl_gen]` cannot index into an element of a `Vec`, so the crossbar is
-    /// always there; synthesis removes it, nothing reading its outputs.)
+    /// (Without banks, [`BankCrossbar::placeholder`]: rust-hdl's `#[hdl_gen]`
+    /// cannot index into an element of a `Vec`, so a crossbar is always there;
+    /// synthesis removes it, nothing reading its outputs.)
     crossbar: BankCrossbar,
     /// 64-bit ports, as the crossbar's words (each only as wide as a photon word).
     banks: Vec<TreeModule<64>>,
@@ -62,13 +62,17 @@ impl<const W: usize> BankStore<W> {
             clients: (0..clients).map(|_| Default::default()).collect(),
             answers: (0..clients).map(|_| Default::default()).collect(),
             map: BankMap::new(levels, bank_bits, cfg.address_bits),
-            crossbar: BankCrossbar::new(
-                clients.max(1),
-                banks.max(1),
-                ports,
-                cfg.layout.word_bits(),
-                tag_bits.max(1),
-            ),
+            crossbar: if banks > 0 {
+                BankCrossbar::new(
+                    clients,
+                    banks,
+                    ports,
+                    cfg.layout.word_bits(),
+                    tag_bits.max(1),
+                )
+            } else {
+                BankCrossbar::placeholder(cfg.layout.word_bits(), tag_bits.max(1))
+            },
             banks: (0..banks)
                 .map(|_| TreeModule::new(row_bits.max(1), cfg.layout.word_bits()))
                 .collect(),

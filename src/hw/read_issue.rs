@@ -109,11 +109,12 @@ pub struct ReadIssue<const W: usize> {
     grant_slot: DFF<ModuleIndex>,
     grant_address: DFF<Addr>,
     grant_replica: DFF<bool>,
-    /// The taken read a cycle later: the SearchModule's request.
-    issue_valid: DFF<bool>,
-    issue_slot: DFF<ModuleIndex>,
-    issue_address: DFF<Addr>,
-    issue_replica: DFF<bool>,
+    /// The taken read a cycle later: the SearchModule's request (with banks;
+    /// none without).
+    issue_valid: Vec<DFF<bool>>,
+    issue_slot: Vec<DFF<ModuleIndex>>,
+    issue_address: Vec<DFF<Addr>>,
+    issue_replica: Vec<DFF<bool>>,
     word_replica: DFF<bool>,
     replica_word: DFF<Word<W>>,
 }
@@ -125,6 +126,10 @@ impl<const W: usize> ReadIssue<W> {
             .banking
             .map_or((0, 0), |b| (b.replicated_levels, b.bank_bits));
         let db = cfg.dist_bits();
+        let stages = usize::from(cfg.banking.is_some());
+        fn stage<T: Default>(n: usize) -> Vec<T> {
+            (0..n).map(|_| T::default()).collect()
+        }
         ReadIssue {
             clock: Default::default(),
             reset: Default::default(),
@@ -161,10 +166,10 @@ impl<const W: usize> ReadIssue<W> {
             grant_slot: Default::default(),
             grant_address: Default::default(),
             grant_replica: Default::default(),
-            issue_valid: Default::default(),
-            issue_slot: Default::default(),
-            issue_address: Default::default(),
-            issue_replica: Default::default(),
+            issue_valid: stage(stages),
+            issue_slot: stage(stages),
+            issue_address: stage(stages),
+            issue_replica: stage(stages),
             word_replica: Default::default(),
             replica_word: Default::default(),
         }
@@ -187,10 +192,6 @@ impl<const W: usize> Logic for ReadIssue<W> {
             grant_slot,
             grant_address,
             grant_replica,
-            issue_valid,
-            issue_slot,
-            issue_address,
-            issue_replica,
             word_replica,
             replica_word
         );
@@ -213,8 +214,8 @@ impl<const W: usize> Logic for ReadIssue<W> {
             self.ctx_full.write_data.next = 1.into();
         }
         self.ctx_address.read_index.next = self.pick.pick_index.val();
-        self.ctx_radius.read_index.next = self.issue_slot.q.val();
-        self.ctx_full.read_index.next = self.issue_slot.q.val();
+        self.ctx_radius.read_index.next = self.grant_slot.q.val();
+        self.ctx_full.read_index.next = self.grant_slot.q.val();
 
         // The offer: to the replica (taken) or to its bank (taken if granted).
         self.offered.next = self.offer.outbound.data.val();
@@ -266,16 +267,11 @@ impl<const W: usize> Logic for ReadIssue<W> {
         self.grant_slot.d.next = self.offered.val().slot;
         self.grant_address.d.next = self.offered.val().address;
         self.grant_replica.d.next = self.offered.val().replica;
-        self.issue_valid.d.next = self.grant_valid.q.val();
-        self.issue_slot.d.next = self.grant_slot.q.val();
-        self.issue_address.d.next = self.grant_address.q.val();
-        self.issue_replica.d.next = self.grant_replica.q.val();
-        self.word_replica.d.next = self.issue_replica.q.val();
+        self.word_replica.d.next = self.grant_replica.q.val();
         self.replica_word.d.next = self.ram_data.val();
         if self.reset.val() {
             self.pending.d.next = 0.into();
             self.grant_valid.d.next = false;
-            self.issue_valid.d.next = false;
         }
 
         // The request as the SearchModule takes it (it looks up the coordinates).
@@ -286,10 +282,10 @@ impl<const W: usize> Logic for ReadIssue<W> {
         self.request.next.z = 0.into();
         if self.banked.val() {
             self.reading.next = self.taken.val();
-            self.ram_address.next = self.grant_address.q.val();
-            self.request_valid.next = self.issue_valid.q.val();
-            self.request.next.query_module = self.issue_slot.q.val();
-            self.request.next.address = self.issue_address.q.val();
+            self.ram_address.next = self.offered.val().address;
+            self.request_valid.next = self.grant_valid.q.val();
+            self.request.next.query_module = self.grant_slot.q.val();
+            self.request.next.address = self.grant_address.q.val();
             self.request.next.radius = bit_cast::<32, 32>(self.ctx_radius.read_data.val());
             self.request.next.full = self.ctx_full.read_data.val().get_bit(0);
             if self.word_replica.q.val() {
@@ -306,6 +302,27 @@ impl<const W: usize> Logic for ReadIssue<W> {
             self.request.next.radius = self.push_radius.val();
             self.request.next.full = self.push_full.val();
             self.word.next = self.ram_data.val();
+        }
+        // With banks the taken read is registered once more before it is the
+        // SearchModule's request, and the replica is read from the registered
+        // address, so that both words arrive as the crossbar's answer does (a
+        // bank port's row register, the BlockRAM, the answer register).
+        for b in 0..self.issue_valid.len() {
+            self.issue_valid[b].clock.next = self.clock.val();
+            self.issue_slot[b].clock.next = self.clock.val();
+            self.issue_address[b].clock.next = self.clock.val();
+            self.issue_replica[b].clock.next = self.clock.val();
+            self.issue_valid[b].d.next = self.grant_valid.q.val() && !self.reset.val();
+            self.issue_slot[b].d.next = self.grant_slot.q.val();
+            self.issue_address[b].d.next = self.grant_address.q.val();
+            self.issue_replica[b].d.next = self.grant_replica.q.val();
+            self.word_replica.d.next = self.issue_replica[b].q.val();
+            self.ctx_radius.read_index.next = self.issue_slot[b].q.val();
+            self.ctx_full.read_index.next = self.issue_slot[b].q.val();
+            self.ram_address.next = self.grant_address.q.val();
+            self.request_valid.next = self.issue_valid[b].q.val();
+            self.request.next.query_module = self.issue_slot[b].q.val();
+            self.request.next.address = self.issue_address[b].q.val();
         }
     }
 }
