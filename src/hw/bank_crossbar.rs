@@ -19,14 +19,16 @@
 //! one. The bank answers the registered row's word the next cycle (a BlockRAM's
 //! registered read); the crossbar routes it back to the requester that asked and
 //! registers it: the word and the tag appear on that requester's response three
-//! cycles after its request moved ([`BankCrossbar::LATENCY`]), exactly once. Requests may change while they wait: nothing
-//! is held for a requester that withdraws. Under `reset` nothing is granted and
+//! cycles after its request moved ([`BankCrossbar::LATENCY`]), exactly once.
+//! Requests may change while they wait: nothing is held for a requester that
+//! withdraws. Under `reset` nothing is granted and
 //! the reads in flight are dropped (their answers never appear); the round robin
 //! keeps its turn.
 
 use crate::hw::block_ram::BramWord;
 use crate::hw::config::Addr;
 use crate::hw::config::ModuleMask;
+use crate::hw::many;
 use crate::hw::mux_trees::MuxTrees;
 use crate::hw::port_arbiter::PortArbiter;
 use crate::hw::priority_encoder::{EncodedIndex, PriorityEncoder};
@@ -257,9 +259,6 @@ impl BankCrossbar {
         let seconds = if ports == BankPorts::One { 0 } else { banks };
         assert!((1..=64).contains(&word_bits) && (1..=8).contains(&tag_bits));
         let bank_bits = usize::BITS - (banks - 1).leading_zeros();
-        fn many<T: Default>(n: usize) -> Vec<T> {
-            (0..n).map(|_| T::default()).collect()
-        }
         let all = (1u64 << requesters) - 1;
         let even = all & 0x5555_5555;
         let split = ports == BankPorts::Split;

@@ -17,6 +17,7 @@
 
 use crate::hw::config::{CoreConfig, Count, Dist, Entry, ModuleIndex};
 use crate::hw::lut_ram::LutRam;
+use crate::hw::many;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
@@ -57,11 +58,6 @@ pub struct FoundMax {
     _m_leaves: usize,
     _m_inner: usize,
     _m_root: usize,
-}
-
-/// `n` default signals or registers.
-fn many<T: Default>(n: usize) -> Vec<T> {
-    (0..n).map(|_| T::default()).collect()
 }
 
 impl FoundMax {

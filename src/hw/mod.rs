@@ -119,3 +119,9 @@ pub mod slot_store;
 pub mod stream;
 pub mod traversal;
 pub mod tree_module;
+
+/// `n` default signals, registers or blocks: a block's `Vec` of sub-blocks built at
+/// elaboration (rust-hdl elaborates a `Vec` field element by element).
+pub(crate) fn many<T: Default>(n: usize) -> Vec<T> {
+    (0..n).map(|_| T::default()).collect()
+}

@@ -43,6 +43,7 @@ use crate::hw::bank_map::BankMap;
 use crate::hw::config::{bits_for, Addr, CoreConfig, Dist, ModuleIndex, ModuleMask, Word};
 use crate::hw::free_pick::FreePick;
 use crate::hw::lut_ram::LutRam;
+use crate::hw::many;
 use crate::hw::register_slice::RegisterSlice;
 use crate::hw::stream::ReadRequest;
 use rust_hdl::prelude::*;
@@ -127,9 +128,6 @@ impl<const W: usize> ReadIssue<W> {
             .map_or((0, 0), |b| (b.replicated_levels, b.bank_bits));
         let db = cfg.dist_bits();
         let stages = usize::from(cfg.banking.is_some());
-        fn stage<T: Default>(n: usize) -> Vec<T> {
-            (0..n).map(|_| T::default()).collect()
-        }
         ReadIssue {
             clock: Default::default(),
             reset: Default::default(),
@@ -166,10 +164,10 @@ impl<const W: usize> ReadIssue<W> {
             grant_slot: Default::default(),
             grant_address: Default::default(),
             grant_replica: Default::default(),
-            issue_valid: stage(stages),
-            issue_slot: stage(stages),
-            issue_address: stage(stages),
-            issue_replica: stage(stages),
+            issue_valid: many(stages),
+            issue_slot: many(stages),
+            issue_address: many(stages),
+            issue_replica: many(stages),
             word_replica: Default::default(),
             replica_word: Default::default(),
         }
