@@ -1,9 +1,8 @@
-//! Unit benches of the SearchModule's parts and the TreeModule: AxisDist / Dist at
+//! Unit benches of the SearchModule's parts and the TreeModule: Dist (full and split axis) at
 //! the coordinate extremes in both metrics (no overflow), NextIndex against the
 //! traversal rule of knn.rs, TreeModule read-after-write on both ports, CellBound's
 //! far-cell distances against offsets summed afresh.
 
-use photon_fpga::hw::axis_dist::AxisDistModule;
 use photon_fpga::hw::block_ram::BlockRam;
 use photon_fpga::hw::cell_bound::CellBound;
 use photon_fpga::hw::dist_module::DistModule;
@@ -31,30 +30,50 @@ fn extremes(bits: u32) -> Vec<u64> {
     vec![0, 1, m / 2, m - 1, m]
 }
 
+/// DistModule's split-axis distance and near side (the paper's AxisDistModule) at
+/// the coordinate extremes, unregistered and registered (a cycle later).
 #[test]
 fn axis_dist_extremes() {
     for metric in [Metric::L2, Metric::L1] {
-        let mut uut = AxisDistModule::new(metric);
-        uut.connect_all();
-        check_all(&uut).unwrap();
-        for bits in [10u32, 15] {
-            for axis in 0..3u64 {
-                for &q in &extremes(bits) {
-                    for &p in &extremes(bits) {
-                        let mut qs = [5u64, 6, 7];
-                        let mut ps = [1u64, 2, 3];
-                        qs[axis as usize] = q;
-                        ps[axis as usize] = p;
-                        uut.query_x.next = qs[0].into();
-                        uut.query_y.next = qs[1].into();
-                        uut.query_z.next = qs[2].into();
-                        uut.photon_x.next = ps[0].into();
-                        uut.photon_y.next = ps[1].into();
-                        uut.photon_z.next = ps[2].into();
-                        uut.axis.next = axis.into();
-                        settle(&mut uut);
-                        assert_eq!(uut.axis_dist.val().to_u64(), axis_model(metric, q, p));
-                        assert_eq!(uut.near_right.val(), q >= p);
+        for registered in [false, true] {
+            for bits in [10u32, 15] {
+                let mut uut = DistModule::pipelined(metric, [bits; 3], 32, registered);
+                uut.connect_all();
+                check_all(&uut).unwrap();
+                for axis in 0..4u64 {
+                    // Axis code 3 never occurs in a word; it reads as z.
+                    let a = axis.min(2) as usize;
+                    for &q in &extremes(bits) {
+                        for &p in &extremes(bits) {
+                            let mut qs = [5u64, 6, 7];
+                            let mut ps = [1u64, 2, 3];
+                            qs[a] = q;
+                            ps[a] = p;
+                            uut.query_x.next = qs[0].into();
+                            uut.query_y.next = qs[1].into();
+                            uut.query_z.next = qs[2].into();
+                            uut.photon_x.next = ps[0].into();
+                            uut.photon_y.next = ps[1].into();
+                            uut.photon_z.next = ps[2].into();
+                            uut.axis.next = axis.into();
+                            if registered {
+                                clock_cycle(&mut uut, |u| &mut u.clock);
+                                // The next inputs must not show before their cycle.
+                                uut.axis.next = ((axis + 1) % 3).into();
+                                uut.query_x.next = ps[0].into();
+                                uut.query_y.next = ps[1].into();
+                                uut.query_z.next = ps[2].into();
+                            }
+                            settle(&mut uut);
+                            let d: u64 = (0..3).map(|i| axis_model(metric, qs[i], ps[i])).sum();
+                            assert_eq!(uut.distance.val().to_u64(), d);
+                            assert_eq!(
+                                uut.axis_dist.val().to_u64(),
+                                axis_model(metric, q, p),
+                                "{metric} registered={registered} axis={axis} q={q} p={p}"
+                            );
+                            assert_eq!(uut.near_right.val(), q >= p);
+                        }
                     }
                 }
             }

@@ -298,9 +298,12 @@ impl<const W: usize> Logic for BarrelPort<W> {
         } else {
             self.a_slot.next = self.free_pick.pick_index.val();
         }
-        // The slot's state as read, then this result's changes.
-        self.store.read_index.next = self.a_slot.val();
+        // The slot's state as read, then this result's changes. Only a result needs
+        // it (a load sets every stored field) or inserts: both are addressed by the
+        // result's slot from the SearchModule's register, not through the load mux.
+        self.store.read_index.next = self.search.result.val().query_module;
         self.a_ev.next = self.store.read.val();
+        self.a_ev.next.slot = self.a_slot.val();
         self.a_ev.next.valid = self.a_result.val() || self.a_load.val();
         self.a_ev.next.load = self.a_load.val();
         self.a_ev.next.visited = (self.store.read.val().visited + 1) & self.visited_mask.val();
@@ -332,14 +335,14 @@ impl<const W: usize> Logic for BarrelPort<W> {
             self.a_ev.next.count = self.a_rule.next_count.val();
         }
         self.found_max.write_enable.next = self.a_insert.val();
-        self.found_max.write_slot.next = self.a_slot.val();
+        self.found_max.write_slot.next = self.search.result.val().query_module;
         self.found_max.write_pos.next = self.a_rule.at.val();
         self.found_max.write_dist.next = self.search.result.val().distance;
         // (Heaps: the same insertion as a heap insert or a replacement of the root.)
         self.a_heap_op.next = self.no_heap_op.val();
         self.a_heap_op.next.valid = self.a_insert.val();
         self.a_heap_op.next.replace = self.store.read.val().full;
-        self.a_heap_op.next.slot = self.a_slot.val();
+        self.a_heap_op.next.slot = self.search.result.val().query_module;
         self.a_heap_op.next.key = (self.search.result.val().distance << self.heap_key_shift.val())
             | (bit_cast::<32, 16>(!self.a_rule.at.val()) & self.heap_entry_mask.val());
         if self.store.read.val().full {
@@ -352,7 +355,7 @@ impl<const W: usize> Logic for BarrelPort<W> {
             self.heap[h].op.next = self.a_heap_op.val();
         }
         self.readout.found_write.next = self.a_insert.val();
-        self.readout.found_slot.next = self.a_slot.val();
+        self.readout.found_slot.next = self.search.result.val().query_module;
         self.readout.found_pos.next = self.a_rule.at.val();
         self.readout.found_address.next = self.search.result.val().address;
         self.readout.found_dist.next = self.search.result.val().distance;

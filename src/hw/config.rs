@@ -151,7 +151,7 @@ pub struct CoreConfig {
     /// datapath). `CoreBuilder::modules_per_port` and `CoreBuilder::slots_per_port`
     /// set it under the name that applies.
     pub queries_per_port: usize,
-    /// Distance metric of DistModule / AxisDistModule.
+    /// Distance metric of DistModule (the full and the split-axis distance).
     pub metric: Metric,
     /// Pipeline registers that shorten the critical paths, each one cycle of latency:
     /// the BlockRAM's read data (SearchModule stage W) and each SearchPort's result
@@ -185,12 +185,6 @@ impl CoreConfig {
     /// Bits of a distance in this metric and layout.
     pub fn dist_bits(&self) -> u32 {
         self.metric.dist_bits(self.layout.bits)
-    }
-
-    /// Bits of a distance along one axis (the widest axis's largest).
-    pub fn axis_dist_bits(&self) -> u32 {
-        let widest = (0..3).map(|a| self.layout.coord_max(a)).max().unwrap_or(0);
-        bits_for(self.metric.axis_dist(0, widest))
     }
 
     /// Largest distance two photons of this layout can have.

@@ -12,6 +12,13 @@
 //! among ties"); entries at and past the slot's k hold nothing and read as zero,
 //! so a real entry (below them) wins every tie with them.
 //!
+//! The write port is registered: the entry is written at the end of the next cycle,
+//! and a read in that cycle sees it by forwarding (the stored distance of the
+//! written entry replaced by the new one). In a BarrelPort the entry comes from
+//! the slot state's asynchronous read in stage A; unregistered, that read, the
+//! list rule and the K entries' write-enable decode were one path, ending at the
+//! LUT-RAMs' write enables.
+//!
 //! The tree is flat: leaves 0..P (P a power of two, at least 8), node `P + i`
 //! over nodes `2i` and `2i + 1`; each stage's winners are the next stage's leaves.
 
@@ -23,7 +30,8 @@ use rust_hdl::prelude::*;
 #[derive(LogicBlock)]
 pub struct FoundMax {
     pub clock: Signal<In, Clock>,
-    /// Write `write_dist` into entry `write_pos` of slot `write_slot`.
+    /// Write `write_dist` into entry `write_pos` of slot `write_slot` (registered:
+    /// a read in the next cycle sees it).
     pub write_enable: Signal<In, bool>,
     pub write_slot: Signal<In, ModuleIndex>,
     pub write_pos: Signal<In, Entry>,
@@ -39,6 +47,12 @@ pub struct FoundMax {
     entry_index: Vec<Constant<Entry>>,
     /// One LUT-RAM per entry (padded to P with never-written ones).
     found_dist: Vec<LutRam>,
+    /// The write, registered; `w_here`: it is to the slot being read.
+    w_enable: DFF<bool>,
+    w_slot: DFF<ModuleIndex>,
+    w_pos: DFF<Entry>,
+    w_dist: DFF<Dist>,
+    w_here: Signal<Local, bool>,
     b_node: Vec<Signal<Local, Dist>>,
     b_node_ix: Vec<Signal<Local, Entry>>,
     _b_leaves: usize,
@@ -89,6 +103,11 @@ impl FoundMax {
                     }
                 })
                 .collect(),
+            w_enable: Default::default(),
+            w_slot: Default::default(),
+            w_pos: Default::default(),
+            w_dist: Default::default(),
+            w_here: Default::default(),
             b_node: many(p + p / 2),
             b_node_ix: many(p + p / 2),
             _b_leaves: p,
@@ -115,19 +134,29 @@ impl FoundMax {
 impl Logic for FoundMax {
     #[hdl_gen]
     fn update(&mut self) {
+        dff_setup!(self, clock, w_enable, w_slot, w_pos, w_dist);
+        self.w_enable.d.next = self.write_enable.val();
+        self.w_slot.d.next = self.write_slot.val();
+        self.w_pos.d.next = self.write_pos.val();
+        self.w_dist.d.next = self.write_dist.val() & self.dist_mask.val();
         for i in 0..self.found_dist.len() {
             self.found_dist[i].clock.next = self.clock.val();
             self.found_dist[i].write_enable.next =
-                self.write_enable.val() && (self.write_pos.val() == self.entry_index[i].val());
-            self.found_dist[i].write_index.next = self.write_slot.val();
-            self.found_dist[i].write_data.next = self.write_dist.val() & self.dist_mask.val();
+                self.w_enable.q.val() && (self.w_pos.q.val() == self.entry_index[i].val());
+            self.found_dist[i].write_index.next = self.w_slot.q.val();
+            self.found_dist[i].write_data.next = self.w_dist.q.val();
             self.found_dist[i].read_index.next = self.read_slot.val();
         }
-        // Stage B: the read and the first level.
+        // Stage B: the read (with the registered write forwarded) and the first level.
+        self.w_here.next = self.w_enable.q.val() && (self.w_slot.q.val() == self.read_slot.val());
         for i in 0..self.found_dist.len() {
             self.b_node[i].next = 0.into();
             if self.entry_index[i].val() < self.read_k.val() {
-                self.b_node[i].next = self.found_dist[i].read_data.val() & self.dist_mask.val();
+                if self.w_here.val() && (self.w_pos.q.val() == self.entry_index[i].val()) {
+                    self.b_node[i].next = self.w_dist.q.val();
+                } else {
+                    self.b_node[i].next = self.found_dist[i].read_data.val() & self.dist_mask.val();
+                }
             }
             self.b_node_ix[i].next = self.entry_index[i].val();
         }

@@ -1,5 +1,5 @@
 //! The distance metric of the photon search, shared by the software search and the
-//! hardware DistModule / AxisDistModule so both compute the very same integers.
+//! hardware DistModule (full and split-axis distances) so both compute the very same integers.
 //!
 //! The paper (§4.4) keeps a 12-bit "absolute distance"; we read that as the L1
 //! distance of 10-bit coordinates (max 3 x 1023 = 3069). Squared Euclidean is the

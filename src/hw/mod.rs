@@ -32,8 +32,7 @@
 //!     │   │   └── PriorityEncoder
 //!     │   ├── LutRam                             query ids
 //!     │   ├── SearchModule (search_module.rs)
-//!     │   │   ├── AxisDistModule (axis_dist.rs)
-//!     │   │   ├── DistModule (dist_module.rs)
+//!     │   │   ├── DistModule (dist_module.rs)       with the paper's AxisDistModule
 //!     │   │   └── NextIndexModule (next_index.rs)
 //!     │   └── ResultReadout (result_readout.rs)  the result stream's sequencer
 //!     │       ├── PriorityEncoder                the lowest finished query
@@ -74,7 +73,6 @@
 //! banks and result streams) are in [`config`] and [`bank_config`].
 
 pub mod array;
-pub mod axis_dist;
 pub mod bank_config;
 pub mod bank_crossbar;
 pub mod bank_map;

@@ -24,7 +24,7 @@ pub struct NextIndexModule {
     pub address: Signal<In, Addr>,
     pub up: Signal<In, bool>,
     pub came_from_right: Signal<In, bool>,
-    /// From AxisDistModule.
+    /// From DistModule (the paper's AxisDistModule).
     pub near_right: Signal<In, bool>,
     pub axis_dist: Signal<In, Dist>,
     /// The requesting QueryModule's radius and full flag.

@@ -10,6 +10,12 @@
 //! source index. The mux of each output then has constant-zero selects outside its
 //! group, and synthesis keeps only the group's N/R inputs; without the mask each of
 //! the R outputs would be an N-input mux of a 195-bit beat.
+//!
+//! An output's valid is not read through its grant: between packets the arbiter
+//! grants a requesting source whenever one requests, so valid is the OR of the
+//! group's valids; within a packet it is the held source's valid. The turn's
+//! `advance` (valid and ready) then starts from the sources' valids and two gates,
+//! not from the arbiter's carry chain and the beat multiplexer behind it.
 
 use crate::hw::config::ModuleMask;
 use crate::hw::port_arbiter::PortArbiter;
@@ -34,6 +40,8 @@ pub struct PacketMerge {
     /// The sources of each output's group, one bit each.
     group: Vec<Constant<ModuleMask>>,
     valid_mask: Signal<Local, ModuleMask>,
+    /// Each output's last grant as a source mask: the packet's source while `locked`.
+    held: Vec<Signal<Local, ModuleMask>>,
     /// The beat of the output being wired (a temporary reused for each output).
     picked: Signal<Local, ResultBeat>,
     fire: Vec<Signal<Local, bool>>,
@@ -68,6 +76,7 @@ impl PacketMerge {
                 .map(|o| Constant::new(ModuleMask::from(((1u64 << g) - 1) << (o * g))))
                 .collect(),
             valid_mask: Default::default(),
+            held: (0..r).map(|_| Default::default()).collect(),
             picked: Default::default(),
             fire: (0..r).map(|_| Default::default()).collect(),
         }
@@ -95,12 +104,19 @@ impl Logic for PacketMerge {
             // whose bits above N/R synthesis cannot prove zero.
             self.grants[o].next =
                 (self.arbiters[o].grant.val() << self.offset[o].val()) & self.group[o].val();
+            self.held[o].next =
+                (self.arbiters[o].last_grant.val() << self.offset[o].val()) & self.group[o].val();
+            // Valid: the held source's within a packet, else any of the group's (the
+            // arbiter then grants one of them).
+            if self.locked[o].q.val() {
+                self.merged[o].valid.next = (self.valid_mask.val() & self.held[o].val()).any();
+            } else {
+                self.merged[o].valid.next = (self.valid_mask.val() & self.group[o].val()).any();
+            }
             // The picked source's beat (source 0's while nothing is picked: valid is low).
-            self.merged[o].valid.next = false;
             self.picked.next = self.sources[0].data.val();
             for i in 0..self.sources.len() {
                 if self.grants[o].val().get_bit(i) {
-                    self.merged[o].valid.next = self.sources[i].valid.val();
                     self.picked.next = self.sources[i].data.val();
                 }
             }

@@ -27,7 +27,9 @@ pub struct PortArbiter {
     /// One-hot grant (zero when nobody requests).
     pub grant: Signal<Out, ModuleMask>,
     pub granted: Signal<Out, bool>,
-    last_grant: DFF<ModuleMask>,
+    /// The last grant used (what `hold` grants), from its register.
+    pub last_grant: Signal<Out, ModuleMask>,
+    last: DFF<ModuleMask>,
     /// Every bit at or below the last grant, kept in a register beside it so that
     /// the grant starts from flip-flops, not from a subtraction (the arbiter → read
     /// address path bounds a port's clock).
@@ -59,6 +61,7 @@ impl PortArbiter {
             hold: Default::default(),
             grant: Default::default(),
             granted: Default::default(),
+            last: Default::default(),
             last_grant: Default::default(),
             at_or_below_last: Default::default(),
             above_last: Default::default(),
@@ -83,7 +86,7 @@ impl Default for PortArbiter {
 impl Logic for PortArbiter {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, last_grant, at_or_below_last);
+        dff_setup!(self, clock, last, at_or_below_last);
         self.above_last.next = self.requests.val() & (!self.at_or_below_last.q.val());
         // Round robin as one "lowest set bit" over 2n bits, {requests, above_last}:
         // one subtraction, where a mux between two lowest bits (selected by a
@@ -99,8 +102,8 @@ impl Logic for PortArbiter {
         self.lowest.next = self.both.val() & (!self.both_less.val());
         self.upto.next = self.both.val() ^ self.both_less.val();
         if self.hold.val() {
-            self.grant.next = self.last_grant.q.val();
-            self.next_at_or_below.next = (self.last_grant.q.val() << 1) - 1;
+            self.grant.next = self.last.q.val();
+            self.next_at_or_below.next = (self.last.q.val() << 1) - 1;
         } else {
             self.grant.next = (bit_cast::<32, 64>(self.lowest.val()) & self.mask.val())
                 | bit_cast::<32, 64>(self.lowest.val() >> self.n.val());
@@ -111,8 +114,9 @@ impl Logic for PortArbiter {
             }
         }
         self.granted.next = self.requests.val().any();
+        self.last_grant.next = self.last.q.val();
         if self.advance.val() {
-            self.last_grant.d.next = self.grant.val() & self.mask.val();
+            self.last.d.next = self.grant.val() & self.mask.val();
             self.at_or_below_last.d.next = self.next_at_or_below.val() & self.mask.val();
         }
     }

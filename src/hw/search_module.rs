@@ -13,12 +13,11 @@
 //! Timing, with the read granted in cycle t:
 //! * t:   request latched (stage 0) while the TreeModule reads the word;
 //! * t+1: (pipelined core) word and request registered (stage W);
-//! * t+1 (t+2 pipelined): word unpacked; AxisDistModule and DistModule in parallel
-//!   -> stage 1;
+//! * t+1 (t+2 pipelined): word unpacked; DistModule's distance and split-axis
+//!   distance (the paper's AxisDistModule) -> stage 1;
 //! * t+2 (t+3): NextIndexModule and the in-range test of the registered distance
 //!   -> result registers, seen by the QueryModules at t+3 (t+4).
 
-use crate::hw::axis_dist::AxisDistModule;
 use crate::hw::config::{low_mask, Addr, Coord, CoreConfig, Dist, ModuleIndex, ModuleMask, Word};
 use crate::hw::dist_module::DistModule;
 use crate::hw::lut_ram::LutRam;
@@ -55,7 +54,6 @@ pub struct SearchModule<const W: usize> {
     query_z: LutRam,
     /// Stage 0's request with its query's coordinates.
     looked_up: Signal<Local, ReadRequest>,
-    axis_dist: AxisDistModule,
     dist_module: DistModule,
     next_index: NextIndexModule,
     // Word layout (PhotonLayout) as elaboration-time constants.
@@ -75,6 +73,9 @@ pub struct SearchModule<const W: usize> {
     raw_x: Signal<Local, Coord>,
     raw_y: Signal<Local, Coord>,
     raw_z: Signal<Local, Coord>,
+    raw_axis: Signal<Local, Bits<2>>,
+    /// The split axis as stage 1 sees it.
+    in_axis: Signal<Local, Bits<2>>,
     // Stage 0: the request, aligned with the word.
     s0_valid: DFF<bool>,
     s0: DFF<ReadRequest>,
@@ -137,7 +138,6 @@ impl<const W: usize> SearchModule<W> {
             result_valid: Default::default(),
             result_for: Default::default(),
             result: Default::default(),
-            axis_dist: AxisDistModule::with_widths(cfg.metric, cfg.axis_dist_bits()),
             dist_module: DistModule::pipelined(cfg.metric, l.bits, cfg.dist_bits(), diff_stage),
             next_index: NextIndexModule::new(cfg.address_bits),
             offset_x: offset(l.offset(0)),
@@ -153,6 +153,8 @@ impl<const W: usize> SearchModule<W> {
             raw_x: Default::default(),
             raw_y: Default::default(),
             raw_z: Default::default(),
+            raw_axis: Default::default(),
+            in_axis: Default::default(),
             s0_valid: Default::default(),
             s0: Default::default(),
             word_stage: Constant::new(cfg.pipelined),
@@ -244,16 +246,9 @@ impl<const W: usize> Logic for SearchModule<W> {
             bit_cast::<16, W>((self.in_word.val() >> self.offset_y.val()) & self.mask_y.val());
         self.photon_z.next =
             bit_cast::<16, W>((self.in_word.val() >> self.offset_z.val()) & self.mask_z.val());
-        self.axis_dist.query_x.next = self.in_request.val().x;
-        self.axis_dist.query_y.next = self.in_request.val().y;
-        self.axis_dist.query_z.next = self.in_request.val().z;
-        self.axis_dist.photon_x.next = self.photon_x.val();
-        self.axis_dist.photon_y.next = self.photon_y.val();
-        self.axis_dist.photon_z.next = self.photon_z.val();
-        self.axis_dist.axis.next =
-            bit_cast::<2, W>((self.in_word.val() >> self.offset_axis.val()) & 3);
-        // The full distance: from stage W's inputs into its registered
-        // differences (pipelined squared L2), else from stage 1's like the axis distance.
+        self.in_axis.next = bit_cast::<2, W>((self.in_word.val() >> self.offset_axis.val()) & 3);
+        // The full and split-axis distances: from stage W's inputs into its
+        // registered differences (pipelined squared L2), else from stage 1's.
         self.dist_module.clock.next = self.clock.val();
         self.raw_x.next =
             bit_cast::<16, W>((self.word.val() >> self.offset_x.val()) & self.mask_x.val());
@@ -261,6 +256,7 @@ impl<const W: usize> Logic for SearchModule<W> {
             bit_cast::<16, W>((self.word.val() >> self.offset_y.val()) & self.mask_y.val());
         self.raw_z.next =
             bit_cast::<16, W>((self.word.val() >> self.offset_z.val()) & self.mask_z.val());
+        self.raw_axis.next = bit_cast::<2, W>((self.word.val() >> self.offset_axis.val()) & 3);
         if self.diff_stage.val() {
             self.dist_module.query_x.next = self.looked_up.val().x;
             self.dist_module.query_y.next = self.looked_up.val().y;
@@ -268,6 +264,7 @@ impl<const W: usize> Logic for SearchModule<W> {
             self.dist_module.photon_x.next = self.raw_x.val();
             self.dist_module.photon_y.next = self.raw_y.val();
             self.dist_module.photon_z.next = self.raw_z.val();
+            self.dist_module.axis.next = self.raw_axis.val();
         } else {
             self.dist_module.query_x.next = self.in_request.val().x;
             self.dist_module.query_y.next = self.in_request.val().y;
@@ -275,14 +272,15 @@ impl<const W: usize> Logic for SearchModule<W> {
             self.dist_module.photon_x.next = self.photon_x.val();
             self.dist_module.photon_y.next = self.photon_y.val();
             self.dist_module.photon_z.next = self.photon_z.val();
+            self.dist_module.axis.next = self.in_axis.val();
         }
         self.s1_valid.d.next = self.in_valid.val();
         // The query's coordinates are not needed past this stage; synthesis drops
         // their stage-1 bits.
         self.s1.d.next = self.in_request.val();
-        self.s1_axis_dist.d.next = self.axis_dist.axis_dist.val();
-        self.s1_near_right.d.next = self.axis_dist.near_right.val();
-        self.s1_axis.d.next = self.axis_dist.axis.val();
+        self.s1_axis_dist.d.next = self.dist_module.axis_dist.val();
+        self.s1_near_right.d.next = self.dist_module.near_right.val();
+        self.s1_axis.d.next = self.in_axis.val();
         self.s1_dist.d.next = self.dist_module.distance.val();
 
         // Stage 2: the next traversal step.

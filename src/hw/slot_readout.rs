@@ -10,7 +10,10 @@
 //! are fetched into registers the cycle before the header (as the SearchPort
 //! does: `last` and every sequencer decision then start from flip-flops), and the
 //! BlockRAMs are addressed with the next pair while a beat leaves, so that their
-//! registered read keeps up with one beat per cycle.
+//! registered read keeps up with one beat per cycle. A found photon is written a
+//! cycle after it is offered (its entry comes from the slot state's asynchronous
+//! read in the port's stage A; the BlockRAMs' write port is then not the end of
+//! that path); its packet leaves cycles later, after the search's last stage.
 
 use crate::hw::block_ram::{BlockRam, BramIndex, BramWord};
 use crate::hw::config::{
@@ -64,8 +67,11 @@ pub struct SlotReadout {
     result_register: ResultRegister,
     /// Slots whose search ended and whose packet has not left yet.
     finished: DFF<ModuleMask>,
-    a_found_index: Signal<Local, BramIndex>,
-    a_found_entry: Signal<Local, BramWord>,
+    /// The found photon's write, registered: where, what, and into which BlockRAM.
+    a_found_index: DFF<BramIndex>,
+    a_found_entry: DFF<BramWord>,
+    a_found_even: DFF<bool>,
+    a_found_odd: DFF<bool>,
     done_bit: Signal<Local, ModuleMask>,
     result_fire: Signal<Local, bool>,
     /// The lowest finished slot: its packet leaves next.
@@ -128,6 +134,8 @@ impl SlotReadout {
             finished: Default::default(),
             a_found_index: Default::default(),
             a_found_entry: Default::default(),
+            a_found_even: Default::default(),
+            a_found_odd: Default::default(),
             done_bit: Default::default(),
             result_fire: Default::default(),
             finished_pick: PriorityEncoder::lowest(q),
@@ -154,6 +162,10 @@ impl Logic for SlotReadout {
         dff_setup!(
             self,
             clock,
+            a_found_index,
+            a_found_entry,
+            a_found_even,
+            a_found_odd,
             finished,
             out_active,
             out_fetch,
@@ -179,21 +191,21 @@ impl Logic for SlotReadout {
         self.ids.write_enable.next = self.id_write.val();
         self.ids.write_index.next = self.id_slot.val();
         self.ids.write_data.next = self.id.val();
-        self.a_found_index.next = (bit_cast::<16, 8>(self.found_slot.val())
+        self.a_found_index.d.next = (bit_cast::<16, 8>(self.found_slot.val())
             << self.pair_shift.val())
             | (self.found_pos.val() >> 1);
-        self.a_found_entry.next =
+        self.a_found_entry.d.next =
             bit_cast::<64, 24>(self.found_address.val() & self.addr_mask.val())
                 | (bit_cast::<64, 32>(self.found_dist.val() & self.dist_mask.val())
                     << self.addr_shift.val());
-        self.found_even.write_enable.next =
-            self.found_write.val() && !self.found_pos.val().get_bit(0);
-        self.found_odd.write_enable.next =
-            self.found_write.val() && self.found_pos.val().get_bit(0);
-        self.found_even.write_index.next = self.a_found_index.val();
-        self.found_odd.write_index.next = self.a_found_index.val();
-        self.found_even.write_data.next = self.a_found_entry.val();
-        self.found_odd.write_data.next = self.a_found_entry.val();
+        self.a_found_even.d.next = self.found_write.val() && !self.found_pos.val().get_bit(0);
+        self.a_found_odd.d.next = self.found_write.val() && self.found_pos.val().get_bit(0);
+        self.found_even.write_enable.next = self.a_found_even.q.val();
+        self.found_odd.write_enable.next = self.a_found_odd.q.val();
+        self.found_even.write_index.next = self.a_found_index.q.val();
+        self.found_odd.write_index.next = self.a_found_index.q.val();
+        self.found_even.write_data.next = self.a_found_entry.q.val();
+        self.found_odd.write_data.next = self.a_found_entry.q.val();
         self.out_count_mem.write_enable.next = self.done.val();
         self.out_visited_mem.write_enable.next = self.done.val();
         self.out_count_mem.write_index.next = self.done_slot.val();

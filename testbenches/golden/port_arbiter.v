@@ -1,6 +1,6 @@
 
 
-module top(clock,requests,advance,hold,grant,granted);
+module top(clock,requests,advance,hold,grant,granted,last_grant);
     
     // Module arguments
     input wire  clock;
@@ -9,15 +9,16 @@ module top(clock,requests,advance,hold,grant,granted);
     input wire  hold;
     output reg  [31:0] grant;
     output reg  granted;
+    output reg  [31:0] last_grant;
     
     // Constant declarations
     localparam  n = 6'b100000;
     localparam  mask = 32'hffffffff;
     
     // Stub signals
-    reg  [31:0] last_grant$d;
-    wire  [31:0] last_grant$q;
-    reg  last_grant$clock;
+    reg  [31:0] last$d;
+    wire  [31:0] last$q;
+    reg  last$clock;
     reg  [31:0] at_or_below_last$d;
     wire  [31:0] at_or_below_last$q;
     reg  at_or_below_last$clock;
@@ -31,10 +32,10 @@ module top(clock,requests,advance,hold,grant,granted);
     reg  [31:0] next_at_or_below;
     
     // Sub module instances
-    top$last_grant last_grant(
-        .d(last_grant$d),
-        .q(last_grant$q),
-        .clock(last_grant$clock)
+    top$last last(
+        .d(last$d),
+        .q(last$q),
+        .clock(last$clock)
     );
     top$at_or_below_last at_or_below_last(
         .d(at_or_below_last$d),
@@ -44,9 +45,9 @@ module top(clock,requests,advance,hold,grant,granted);
     
     // Update code
     always @(*) begin
-        last_grant$clock = clock;
+        last$clock = clock;
         at_or_below_last$clock = clock;
-        last_grant$d = last_grant$q;
+        last$d = last$q;
         at_or_below_last$d = at_or_below_last$q;
         above_last = requests & (~at_or_below_last$q);
         both = (((requests) & 64'hffffffffffffffff) << n) | ((above_last) & 64'hffffffffffffffff);
@@ -54,8 +55,8 @@ module top(clock,requests,advance,hold,grant,granted);
         lowest = both & (~both_less);
         upto = both ^ both_less;
         if (hold) begin
-            grant = last_grant$q;
-            next_at_or_below = (last_grant$q << 32'h1) - 32'h1;
+            grant = last$q;
+            next_at_or_below = (last$q << 32'h1) - 32'h1;
         end
         else begin
             grant = (((lowest) & 32'hffffffff) & mask) | ((lowest >> n) & 32'hffffffff);
@@ -67,8 +68,9 @@ module top(clock,requests,advance,hold,grant,granted);
             end
         end
         granted = |requests;
+        last_grant = last$q;
         if (advance) begin
-            last_grant$d = grant & mask;
+            last$d = grant & mask;
             at_or_below_last$d = next_at_or_below & mask;
         end
     end
@@ -95,7 +97,7 @@ module top$at_or_below_last(d,q,clock);
 endmodule // top$at_or_below_last
 
 
-module top$last_grant(d,q,clock);
+module top$last(d,q,clock);
     
     // Module arguments
     input wire  [31:0] d;
@@ -111,4 +113,4 @@ module top$last_grant(d,q,clock);
        q <= d;
     end
           
-endmodule // top$last_grant
+endmodule // top$last

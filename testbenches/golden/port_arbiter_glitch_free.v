@@ -1,6 +1,6 @@
 
 
-module top(clock,requests,advance,hold,grant,granted);
+module top(clock,requests,advance,hold,grant,granted,last_grant);
     
     // Module arguments
     input wire  clock;
@@ -9,15 +9,16 @@ module top(clock,requests,advance,hold,grant,granted);
     input wire  hold;
     output reg  [31:0] grant;
     output reg  granted;
+    output reg  [31:0] last_grant;
     
     // Constant declarations
     localparam  n = 6'b100000;
     localparam  mask = 32'hffffffff;
     
     // Stub signals
-    reg  [31:0] last_grant$d;
-    wire  [31:0] last_grant$q;
-    reg  last_grant$clock;
+    reg  [31:0] last$d;
+    wire  [31:0] last$q;
+    reg  last$clock;
     reg  [31:0] at_or_below_last$d;
     wire  [31:0] at_or_below_last$q;
     reg  at_or_below_last$clock;
@@ -31,10 +32,10 @@ module top(clock,requests,advance,hold,grant,granted);
     reg  [31:0] next_at_or_below;
     
     // Sub module instances
-    top$last_grant last_grant(
-        .d(last_grant$d),
-        .q(last_grant$q),
-        .clock(last_grant$clock)
+    top$last last(
+        .d(last$d),
+        .q(last$q),
+        .clock(last$clock)
     );
     top$at_or_below_last at_or_below_last(
         .d(at_or_below_last$d),
@@ -43,9 +44,9 @@ module top(clock,requests,advance,hold,grant,granted);
     );
     
     // Update code
-    reg last_grant$clock__xs;
+    reg last$clock__xs;
     reg at_or_below_last$clock__xs;
-    reg [31:0] last_grant$d__xs;
+    reg [31:0] last$d__xs;
     reg [31:0] at_or_below_last$d__xs;
     reg [31:0] above_last__xs;
     reg [63:0] both__xs;
@@ -55,10 +56,11 @@ module top(clock,requests,advance,hold,grant,granted);
     reg [31:0] grant__xs;
     reg [31:0] next_at_or_below__xs;
     reg granted__xs;
+    reg [31:0] last_grant__xs;
     always @(*) begin
-        last_grant$clock__xs = clock;
+        last$clock__xs = clock;
         at_or_below_last$clock__xs = clock;
-        last_grant$d__xs = last_grant$q;
+        last$d__xs = last$q;
         at_or_below_last$d__xs = at_or_below_last$q;
         above_last__xs = requests & (~at_or_below_last$q);
         both__xs = (((requests) & 64'hffffffffffffffff) << n) | ((above_last__xs) & 64'hffffffffffffffff);
@@ -66,8 +68,8 @@ module top(clock,requests,advance,hold,grant,granted);
         lowest__xs = both__xs & (~both_less__xs);
         upto__xs = both__xs ^ both_less__xs;
         if (hold) begin
-            grant__xs = last_grant$q;
-            next_at_or_below__xs = (last_grant$q << 32'h1) - 32'h1;
+            grant__xs = last$q;
+            next_at_or_below__xs = (last$q << 32'h1) - 32'h1;
         end
         else begin
             grant__xs = (((lowest__xs) & 32'hffffffff) & mask) | ((lowest__xs >> n) & 32'hffffffff);
@@ -79,13 +81,14 @@ module top(clock,requests,advance,hold,grant,granted);
             end
         end
         granted__xs = |requests;
+        last_grant__xs = last$q;
         if (advance) begin
-            last_grant$d__xs = grant__xs & mask;
+            last$d__xs = grant__xs & mask;
             at_or_below_last$d__xs = next_at_or_below__xs & mask;
         end
-        last_grant$clock = last_grant$clock__xs;
+        last$clock = last$clock__xs;
         at_or_below_last$clock = at_or_below_last$clock__xs;
-        last_grant$d = last_grant$d__xs;
+        last$d = last$d__xs;
         at_or_below_last$d = at_or_below_last$d__xs;
         above_last = above_last__xs;
         both = both__xs;
@@ -95,6 +98,7 @@ module top(clock,requests,advance,hold,grant,granted);
         grant = grant__xs;
         next_at_or_below = next_at_or_below__xs;
         granted = granted__xs;
+        last_grant = last_grant__xs;
     end
     
 endmodule // top
@@ -119,7 +123,7 @@ module top$at_or_below_last(d,q,clock);
 endmodule // top$at_or_below_last
 
 
-module top$last_grant(d,q,clock);
+module top$last(d,q,clock);
     
     // Module arguments
     input wire  [31:0] d;
@@ -135,4 +139,4 @@ module top$last_grant(d,q,clock);
        q <= d;
     end
           
-endmodule // top$last_grant
+endmodule // top$last
