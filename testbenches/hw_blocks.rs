@@ -378,9 +378,10 @@ fn found_max_is_the_lowest_maximum() {
         let mut r = crate::common::rng(seed);
         let mut model = vec![vec![0u64; k]; 6];
         let mut expected = std::collections::VecDeque::new();
+        let mut last_ws = 0;
         for step in 0..300 {
-            // A write to one slot, a read of another (of the slot written in the
-            // cycle before, now and then).
+            // A write to one slot, a read of another, or (half the time) of the slot
+            // written in the cycle before: the registered write is forwarded.
             let ws: usize = r.gen_range(0..6);
             let wp: usize = r.gen_range(0..k);
             let d: u64 = r.gen_range(0..6);
@@ -388,7 +389,12 @@ fn found_max_is_the_lowest_maximum() {
             uut.write_slot.next = (ws as u64).into();
             uut.write_pos.next = (wp as u64).into();
             uut.write_dist.next = d.into();
-            let rs: usize = r.gen_range(0..6);
+            let rs: usize = if r.gen_bool(0.5) {
+                last_ws
+            } else {
+                r.gen_range(0..6)
+            };
+            last_ws = ws;
             let rk: usize = r.gen_range(1..=k);
             uut.read_slot.next = (rs as u64).into();
             uut.read_k.next = (rk as u64).into();

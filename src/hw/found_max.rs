@@ -13,11 +13,14 @@
 //! so a real entry (below them) wins every tie with them.
 //!
 //! The write port is registered: the entry is written at the end of the next cycle,
-//! and a read in that cycle sees it by forwarding (the stored distance of the
-//! written entry replaced by the new one). In a BarrelPort the entry comes from
-//! the slot state's asynchronous read in stage A; unregistered, that read, the
-//! list rule and the K entries' write-enable decode were one path, ending at the
-//! LUT-RAMs' write enables.
+//! and a read in that cycle sees it by forwarding. In a BarrelPort the entry comes
+//! from the slot state's asynchronous read in stage A; unregistered, that read,
+//! the list rule and the K entries' write-enable decode were one path, ending at
+//! the LUT-RAMs' write enables. The forwarded entry does not replace its leaf (a
+//! multiplexer on every bit of every leaf): its leaf reads as zero, like an entry
+//! past k, and the entry itself travels beside the tree as one more candidate,
+//! compared with the root at the end of stage M (on a tie the lower entry wins, as
+//! in the tree).
 //!
 //! The tree is flat: leaves 0..P (P a power of two, at least 8), node `P + i`
 //! over nodes `2i` and `2i + 1`; each stage's winners are the next stage's leaves.
@@ -53,6 +56,13 @@ pub struct FoundMax {
     w_pos: DFF<Entry>,
     w_dist: DFF<Dist>,
     w_here: Signal<Local, bool>,
+    /// The forwarded entry beside the tree (valid, distance, entry) in C and M.
+    c_fwd: DFF<bool>,
+    c_fwd_dist: DFF<Dist>,
+    c_fwd_pos: DFF<Entry>,
+    m_fwd: DFF<bool>,
+    m_fwd_dist: DFF<Dist>,
+    m_fwd_pos: DFF<Entry>,
     b_node: Vec<Signal<Local, Dist>>,
     b_node_ix: Vec<Signal<Local, Entry>>,
     _b_leaves: usize,
@@ -108,6 +118,12 @@ impl FoundMax {
             w_pos: Default::default(),
             w_dist: Default::default(),
             w_here: Default::default(),
+            c_fwd: Default::default(),
+            c_fwd_dist: Default::default(),
+            c_fwd_pos: Default::default(),
+            m_fwd: Default::default(),
+            m_fwd_dist: Default::default(),
+            m_fwd_pos: Default::default(),
             b_node: many(p + p / 2),
             b_node_ix: many(p + p / 2),
             _b_leaves: p,
@@ -134,7 +150,10 @@ impl FoundMax {
 impl Logic for FoundMax {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, w_enable, w_slot, w_pos, w_dist);
+        dff_setup!(
+            self, clock, w_enable, w_slot, w_pos, w_dist, c_fwd, c_fwd_dist, c_fwd_pos, m_fwd,
+            m_fwd_dist, m_fwd_pos
+        );
         self.w_enable.d.next = self.write_enable.val();
         self.w_slot.d.next = self.write_slot.val();
         self.w_pos.d.next = self.write_pos.val();
@@ -151,15 +170,19 @@ impl Logic for FoundMax {
         self.w_here.next = self.w_enable.q.val() && (self.w_slot.q.val() == self.read_slot.val());
         for i in 0..self.found_dist.len() {
             self.b_node[i].next = 0.into();
-            if self.entry_index[i].val() < self.read_k.val() {
-                if self.w_here.val() && (self.w_pos.q.val() == self.entry_index[i].val()) {
-                    self.b_node[i].next = self.w_dist.q.val();
-                } else {
-                    self.b_node[i].next = self.found_dist[i].read_data.val() & self.dist_mask.val();
-                }
+            if (self.entry_index[i].val() < self.read_k.val())
+                && !(self.w_here.val() && (self.w_pos.q.val() == self.entry_index[i].val()))
+            {
+                self.b_node[i].next = self.found_dist[i].read_data.val() & self.dist_mask.val();
             }
             self.b_node_ix[i].next = self.entry_index[i].val();
         }
+        self.c_fwd.d.next = self.w_here.val() && (self.w_pos.q.val() < self.read_k.val());
+        self.c_fwd_dist.d.next = self.w_dist.q.val();
+        self.c_fwd_pos.d.next = self.w_pos.q.val();
+        self.m_fwd.d.next = self.c_fwd.q.val();
+        self.m_fwd_dist.d.next = self.c_fwd_dist.q.val();
+        self.m_fwd_pos.d.next = self.c_fwd_pos.q.val();
         for p in self._b_leaves..(self._b_leaves + 1) {
             for i in 0..self._b_inner {
                 // The larger of two; on a tie the lower entry (knn.rs: "the lowest
@@ -226,6 +249,15 @@ impl Logic for FoundMax {
         for r in self._m_root..(self._m_root + 1) {
             self.max.next = self.m_node[r].val();
             self.max_pos.next = self.m_node_ix[r].val();
+            // The forwarded entry against the root (its leaf read as zero).
+            if self.m_fwd.q.val()
+                && ((self.m_fwd_dist.q.val() > self.m_node[r].val())
+                    || ((self.m_fwd_dist.q.val() == self.m_node[r].val())
+                        && (self.m_fwd_pos.q.val() < self.m_node_ix[r].val())))
+            {
+                self.max.next = self.m_fwd_dist.q.val();
+                self.max_pos.next = self.m_fwd_pos.q.val();
+            }
         }
     }
 }
