@@ -18,9 +18,10 @@
 //! the list rule and the K entries' write-enable decode were one path, ending at
 //! the LUT-RAMs' write enables. The forwarded entry does not replace its leaf (a
 //! multiplexer on every bit of every leaf): its leaf reads as zero, like an entry
-//! past k, and the entry itself travels beside the tree as one more candidate,
-//! compared with the root at the end of stage M (on a tie the lower entry wins, as
-//! in the tree).
+//! past k, and the entry itself travels beside the tree as one more candidate.
+//! In stage M it is compared with each of M's leaves, beside the tree's two levels
+//! rather than after them (a third comparison in series): it is the maximum if it
+//! beats all of them, on a tie the lower entry winning, as in the tree.
 //!
 //! The tree is flat: leaves 0..P (P a power of two, at least 8), node `P + i`
 //! over nodes `2i` and `2i + 1`; each stage's winners are the next stage's leaves.
@@ -63,6 +64,8 @@ pub struct FoundMax {
     m_fwd: DFF<bool>,
     m_fwd_dist: DFF<Dist>,
     m_fwd_pos: DFF<Entry>,
+    /// The forwarded entry beats every leaf of M so far (so, at the end, the root).
+    m_fwd_wins: Signal<Local, bool>,
     b_node: Vec<Signal<Local, Dist>>,
     b_node_ix: Vec<Signal<Local, Entry>>,
     _b_leaves: usize,
@@ -124,6 +127,7 @@ impl FoundMax {
             m_fwd: Default::default(),
             m_fwd_dist: Default::default(),
             m_fwd_pos: Default::default(),
+            m_fwd_wins: Default::default(),
             b_node: many(p + p / 2),
             b_node_ix: many(p + p / 2),
             _b_leaves: p,
@@ -231,9 +235,14 @@ impl Logic for FoundMax {
         }
 
         // Stage M: the rest, and the root.
+        self.m_fwd_wins.next = self.m_fwd.q.val();
         for j in 0..self.m_leaf.len() {
             self.m_node[j].next = self.m_leaf[j].q.val();
             self.m_node_ix[j].next = self.m_leaf_ix[j].q.val();
+            self.m_fwd_wins.next = self.m_fwd_wins.val()
+                && ((self.m_fwd_dist.q.val() > self.m_leaf[j].q.val())
+                    || ((self.m_fwd_dist.q.val() == self.m_leaf[j].q.val())
+                        && (self.m_fwd_pos.q.val() < self.m_leaf_ix[j].q.val())));
         }
         for n in self._m_leaves..(self._m_leaves + 1) {
             for i in 0..self._m_inner {
@@ -249,12 +258,8 @@ impl Logic for FoundMax {
         for r in self._m_root..(self._m_root + 1) {
             self.max.next = self.m_node[r].val();
             self.max_pos.next = self.m_node_ix[r].val();
-            // The forwarded entry against the root (its leaf read as zero).
-            if self.m_fwd.q.val()
-                && ((self.m_fwd_dist.q.val() > self.m_node[r].val())
-                    || ((self.m_fwd_dist.q.val() == self.m_node[r].val())
-                        && (self.m_fwd_pos.q.val() < self.m_node_ix[r].val())))
-            {
+            // The forwarded entry, if it beats the root (its own leaf read as zero).
+            if self.m_fwd_wins.val() {
                 self.max.next = self.m_fwd_dist.q.val();
                 self.max_pos.next = self.m_fwd_pos.q.val();
             }
