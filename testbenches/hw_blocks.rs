@@ -25,6 +25,16 @@ fn axis_model(metric: Metric, q: u64, p: u64) -> u64 {
     }
 }
 
+/// A DistModule's query and photon coordinates.
+fn drive(uut: &mut DistModule, q: &[u64], p: &[u64]) {
+    uut.query_x.next = q[0].into();
+    uut.query_y.next = q[1].into();
+    uut.query_z.next = q[2].into();
+    uut.photon_x.next = p[0].into();
+    uut.photon_y.next = p[1].into();
+    uut.photon_z.next = p[2].into();
+}
+
 fn extremes(bits: u32) -> Vec<u64> {
     let m = (1u64 << bits) - 1;
     vec![0, 1, m / 2, m - 1, m]
@@ -49,12 +59,7 @@ fn axis_dist_extremes() {
                             let mut ps = [1u64, 2, 3];
                             qs[a] = q;
                             ps[a] = p;
-                            uut.query_x.next = qs[0].into();
-                            uut.query_y.next = qs[1].into();
-                            uut.query_z.next = qs[2].into();
-                            uut.photon_x.next = ps[0].into();
-                            uut.photon_y.next = ps[1].into();
-                            uut.photon_z.next = ps[2].into();
+                            drive(&mut uut, &qs, &ps);
                             uut.axis.next = axis.into();
                             if registered {
                                 clock_cycle(&mut uut, |u| &mut u.clock);
@@ -95,12 +100,7 @@ fn dist_extremes() {
                 let q: Vec<u64> = (0..3).map(|_| ex[r.gen_range(0..ex.len())]).collect();
                 let p: Vec<u64> = (0..3).map(|_| ex[r.gen_range(0..ex.len())]).collect();
                 let d: u64 = (0..3).map(|a| axis_model(metric, q[a], p[a])).sum();
-                uut.query_x.next = q[0].into();
-                uut.query_y.next = q[1].into();
-                uut.query_z.next = q[2].into();
-                uut.photon_x.next = p[0].into();
-                uut.photon_y.next = p[1].into();
-                uut.photon_z.next = p[2].into();
+                drive(&mut uut, &q, &p);
                 settle(&mut uut);
                 assert_eq!(uut.distance.val().to_u64(), d, "{metric} q={q:?} p={p:?}");
             }
