@@ -97,6 +97,10 @@ class CoreOptions:
     # Cornell-box map from this many emitted photons (on the exported core's grid,
     # `bench-core --core`), queried at the eye-ray hits of a CORNELL_SIZE image.
     cornell_photons: Optional[int] = None
+    # A gather radius (world units, `bench-core --radius`) and the distance bits the
+    # core is built for (`--radius-bits`: the fewest that answer that radius).
+    radius: Optional[float] = None
+    radius_bits: Optional[int] = None
 
     def cli(self):
         a = ["--k", str(self.k), "--bits", str(self.bits), "--address-bits", str(self.address_bits),
@@ -119,15 +123,18 @@ class CoreOptions:
             a += ["--result-streams", str(self.result_streams)]
         if self.bank_ports is not None:
             a += ["--bank-ports", self.bank_ports]
+        if self.radius_bits is not None:
+            a += ["--radius-bits", str(self.radius_bits)]
         return a
 
     def sim_cli(self, d):
         """bench-core's options for the row exported into `d`."""
         if self.cornell_photons is None:
             return self.cli()
+        radius = [] if self.radius is None else ["--radius", str(self.radius)]
         return ["--core", os.path.join(d, "photon_search_core.toml"), "--workload", "cornell",
                 "--cornell-photons", str(self.cornell_photons), "--cornell-size", CORNELL_SIZE,
-                "--cornell-spp", "1"]
+                "--cornell-spp", "1"] + radius
 
 
 @dataclass(frozen=True)
@@ -202,6 +209,17 @@ CONFIGS = [
     Config("banked D=6 (K=32, L2, 3x2x16 slots, B=16 split, R=1, Cornell 65 K photons)",
            replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=3, banks=16,
                    replicated_levels=10, bank_ports="split", cornell_photons=33500), headline=True),
+    # The same map gathered within a radius of 0.1 (a tenth of the box; pbrt-v2's
+    # photon map default), with a core built for it: 14-bit distances instead of the
+    # grid diagonal's 22, so narrower found lists, comparators and bounds.
+    Config("banked D=8, radius 0.1 (K=32, L2, 14-bit distances, 4x2x16 slots, B=16 split, R=2, Cornell 65 K photons)",
+           replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=4, banks=16,
+                   replicated_levels=10, result_streams=2, bank_ports="split",
+                   cornell_photons=33500, radius=0.1, radius_bits=14), headline=True),
+    Config("banked D=6, radius 0.1 (K=32, L2, 14-bit distances, 3x2x16 slots, B=16 split, R=1, Cornell 65 K photons)",
+           replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=3, banks=16,
+                   replicated_levels=10, bank_ports="split",
+                   cornell_photons=33500, radius=0.1, radius_bits=14), headline=True),
     # The default render's map (200,000 emitted photons, H = 19) on the XC6VSX475T as
     # `--device xc6vsx475t` plans it: D = 32 datapaths on 16 replicas of the top 10
     # levels, 128 banks with split ports, one result stream per four datapaths; enough

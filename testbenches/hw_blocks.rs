@@ -1,11 +1,13 @@
 //! Unit benches of the SearchModule's parts and the TreeModule: Dist (full and split axis) at
 //! the coordinate extremes in both metrics (no overflow), NextIndex against the
 //! traversal rule of knn.rs, TreeModule read-after-write on both ports, CellBound's
-//! far-cell distances against offsets summed afresh.
+//! far-cell distances against offsets summed afresh; distances narrower than the
+//! grid's diagonal (`CoreConfig::radius_bits`) saturating in Dist and FarCellDist.
 
 use photon_fpga::hw::block_ram::BlockRam;
 use photon_fpga::hw::cell_bound::CellBound;
 use photon_fpga::hw::dist_module::DistModule;
+use photon_fpga::hw::far_cell_dist::FarCellDist;
 use photon_fpga::hw::found_max::FoundMax;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::next_index::NextIndexModule;
@@ -115,6 +117,113 @@ fn dist_extremes() {
             settle(&mut uut);
             assert_eq!(uut.distance.val().to_u64(), metric.max_dist([bits; 3]));
         }
+    }
+}
+
+/// Distances narrower than the grid's diagonal: DistModule's full and split-axis
+/// distances are exact below the all-ones value and saturate at it above, in both
+/// metrics, registered or not (against the model `min(d, 2^b - 1)`).
+#[test]
+fn dist_saturates_at_narrow_widths() {
+    let mut r = crate::common::rng(31);
+    for metric in [Metric::L2, Metric::L1] {
+        for registered in [false, true] {
+            // Narrow enough that about half of the random distances saturate.
+            let (dist_bits, near) = match metric {
+                Metric::L2 => (14, 150i64),
+                Metric::L1 => (9, 300),
+            };
+            let sat = (1u64 << dist_bits) - 1;
+            let mut uut = DistModule::pipelined(metric, [10; 3], dist_bits, registered);
+            uut.connect_all();
+            check_all(&uut).unwrap();
+            let (mut below, mut above) = (0, 0);
+            for _ in 0..600 {
+                let q: Vec<u64> = (0..3).map(|_| r.gen_range(0..1024)).collect();
+                // Photons near the query, so that both sides of the width are hit.
+                let p: Vec<u64> = q
+                    .iter()
+                    .map(|&c| (c as i64 + r.gen_range(-near..=near)).clamp(0, 1023) as u64)
+                    .collect();
+                let axis = r.gen_range(0..3usize);
+                drive(&mut uut, &q, &p);
+                uut.axis.next = (axis as u64).into();
+                if registered {
+                    clock_cycle(&mut uut, |u| &mut u.clock);
+                }
+                settle(&mut uut);
+                let d: u64 = (0..3).map(|a| axis_model(metric, q[a], p[a])).sum();
+                let ad = axis_model(metric, q[axis], p[axis]);
+                if d < sat {
+                    below += 1;
+                } else {
+                    above += 1;
+                }
+                assert_eq!(
+                    uut.distance.val().to_u64(),
+                    d.min(sat),
+                    "{metric} {q:?} {p:?}"
+                );
+                assert_eq!(
+                    uut.axis_dist.val().to_u64(),
+                    ad.min(sat),
+                    "{metric} axis {axis}"
+                );
+            }
+            assert!(
+                below > 100 && above > 100,
+                "{metric}: {below} below, {above} above"
+            );
+        }
+    }
+}
+
+/// FarCellDist against `cell_dist - off[axis] + axis_dist` computed afresh, at full
+/// width and saturating at 12 bits (where an axis distance may itself be the
+/// saturated value).
+#[test]
+fn far_cell_dist_against_model() {
+    let mut r = crate::common::rng(33);
+    for saturate in [false, true] {
+        let bits = 12u32;
+        let sat = (1u64 << bits) - 1;
+        let mut uut = FarCellDist::new(bits, saturate);
+        uut.connect_all();
+        check_all(&uut).unwrap();
+        let mut saturated = 0;
+        for _ in 0..2000 {
+            // A cell entered within R: offsets summing to at most the saturated value.
+            let off: Vec<u64> = (0..3).map(|_| r.gen_range(0..=sat / 3)).collect();
+            let cell: u64 = off.iter().sum();
+            let axis = r.gen_range(0..4u64);
+            let a = if axis == 1 || axis == 2 {
+                axis as usize
+            } else {
+                0
+            };
+            let ad = if saturate && r.gen_bool(0.2) {
+                sat
+            } else {
+                off[a] + r.gen_range(0..=sat - cell)
+            };
+            uut.off_x.next = off[0].into();
+            uut.off_y.next = off[1].into();
+            uut.off_z.next = off[2].into();
+            uut.cell_dist.next = cell.into();
+            uut.axis.next = axis.into();
+            uut.axis_dist.next = ad.into();
+            settle(&mut uut);
+            let far = cell - off[a] + ad;
+            let want = if saturate { far.min(sat) } else { far & sat };
+            saturated += usize::from(far > sat);
+            assert_eq!(uut.axis_off.val().to_u64(), off[a], "axis {axis}");
+            assert_eq!(
+                uut.far_dist.val().to_u64(),
+                want,
+                "axis {axis} {off:?} {ad}"
+            );
+        }
+        assert!(!saturate || saturated > 100, "{saturated} saturated sums");
     }
 }
 
@@ -252,7 +361,7 @@ fn clock_cell(uut: &mut CellBound) {
 #[test]
 fn cell_bound_sums_the_offsets_of_the_cell() {
     let (levels, bits) = (9usize, 12u32);
-    let mut uut = CellBound::new(levels, bits);
+    let mut uut = CellBound::new(levels, bits, false);
     uut.connect_all();
     check_all(&uut).unwrap();
     let mut r = crate::common::rng(21);

@@ -364,6 +364,61 @@ fn rejects_what_it_cannot_do() {
     assert!(run_gather(&cfg, other_layout.image(), &[], &SimOptions::default()).is_err());
 }
 
+/// A core built for a largest radius (`radius_bits`, narrower than the grid's
+/// diagonal): most photons lie beyond its distances, which saturate, and still
+/// every port answers as the software search and brute force do, read for read,
+/// with radii up to the largest it takes (ties at the bound, 0, a photon's exact
+/// distance). A larger radius is refused.
+#[test]
+fn narrow_distances_answer_radii_below_saturation() {
+    let layout = PhotonLayout::new([8, 7, 6]);
+    for (seed, metric, bits) in [(41u64, Metric::L2, 12u32), (42, Metric::L1, 7)] {
+        let mut r = rng(seed);
+        let points = random_points(&mut r, 400, layout);
+        let tree = pack(&points, layout);
+        let base = small_core(&tree, 8, metric)
+            .to_builder()
+            .radius_bits(Some(bits))
+            .build()
+            .expect("config");
+        assert!(base.saturates() && base.dist_bits() == bits);
+        let top = base.max_radius();
+        let mut queries: Vec<HwQuery> = (0..40)
+            .map(|i| {
+                let coords = [0, 1, 2].map(|a| r.gen_range(0..=layout.coord_max(a)));
+                let p = points[r.gen_range(0..points.len())];
+                let radius = match i % 4 {
+                    0 => top,
+                    1 => metric.dist(p, coords).min(top),
+                    2 => 0,
+                    _ => r.gen_range(0..=top),
+                };
+                HwQuery {
+                    id: i,
+                    coords,
+                    radius,
+                    k: r.gen_range(1..=8),
+                }
+            })
+            .collect();
+        for (traversal, controller) in EVERY_PORT {
+            let cfg = variant(base, traversal, controller);
+            let (results, _) =
+                run_gather(&cfg, tree.image(), &queries, &SimOptions::default()).expect("sim");
+            check_results(&cfg, &tree, &points, &queries, &results);
+        }
+        // Most distances of the grid are beyond the width: saturation was exercised.
+        let beyond = points
+            .iter()
+            .filter(|&&p| metric.dist(p, queries[0].coords) > (1u64 << bits) - 1)
+            .count();
+        assert!(beyond > points.len() / 2, "{metric}: {beyond} beyond");
+        queries.truncate(1);
+        queries[0].radius = top + 1;
+        assert!(run_gather(&base, tree.image(), &queries, &SimOptions::default()).is_err());
+    }
+}
+
 #[test]
 fn vcd_trace_is_streamed() {
     let layout = PhotonLayout::new([5, 5, 5]);

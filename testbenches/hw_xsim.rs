@@ -14,7 +14,9 @@
 //! (a Cornell-box map and hard cases; under Verilator also random maps and a map
 //! reloaded after queries: Icarus replays the paper's core at tens of cycles a
 //! second, and the small configurations' reload runs in both), and
-//! barrel cores with found lists of K = 100 and 512 (heaps in BlockRAM). Icarus simulates the
+//! barrel cores with found lists of K = 100 and 512 (heaps in BlockRAM), and a banked
+//! core whose distances are narrower than its grid's diagonal (`radius_bits`:
+//! saturating distances, 16-bit comparisons). Icarus simulates the
 //! `export::glitch_free` rewrite of the export (the raw export loops forever in
 //! Icarus at the first result beat; see there). Without a simulator its tests are
 //! ignored (build.rs); under CI=true a missing simulator fails.
@@ -343,13 +345,17 @@ fn banked_cases() -> (CoreConfig, Vec<Case>) {
             ports: BankPorts::Split,
         }))
         .result_streams(2)
+        .radius_bits(Some(12))
         .build_for(tree.image())
         .unwrap();
     let mut qa = random_queries(&mut r, 24, layout, cfg.k, cfg.metric);
     qa.extend(hard_queries(&a, &cfg, 4));
     let mut qb = random_queries(&mut r, 12, layout, cfg.k, cfg.metric);
+    // Distances of 12 bits (the grid's diagonal needs 16): most photons lie beyond,
+    // saturated, and the radii go up to the largest the core answers.
     for (i, q) in qa.iter_mut().chain(qb.iter_mut()).enumerate() {
         q.id = i as u32;
+        q.radius = q.radius.min(cfg.max_radius());
     }
     let cases = vec![Case {
         name: "banked",

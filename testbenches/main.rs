@@ -4,6 +4,7 @@
 
 mod common;
 mod hw_array;
+mod hw_ascent;
 mod hw_axis;
 mod hw_bank_crossbar;
 mod hw_bank_map;

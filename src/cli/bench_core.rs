@@ -47,6 +47,12 @@ pub struct BenchCoreArgs {
     /// Eye samples per pixel of the `cornell` workload.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     cornell_spp: u32,
+    /// Gather radius of every query in world units (inclusive; the uniform
+    /// workload's world is its grid), as render's --radius; kiddo and the software
+    /// search are timed with it too. A core built with --radius-bits needs one it
+    /// answers [default: unbounded k nearest].
+    #[arg(long)]
+    radius: Option<f64>,
     /// Clock of the core in MHz, a finite number > 0 (e.g. a placed-and-routed fmax
     /// from synth/REPORT.md): prints the core's queries/s = reads/cycle × fmax /
     /// reads per query.
@@ -133,8 +139,28 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     };
     let (points, tree) = (&w.points, &w.tree);
     let n = tree.len();
-    let max = cfg.max_dist();
-    let queries = HwQuery::k_nearest(&cfg, &w.queries);
+    // Every query's initial radius: an inclusive bound on the grid (the search's
+    // and the core's), the grid's diagonal when unbounded.
+    let max = match args.radius {
+        Some(r) => {
+            limits::check_non_negative("--radius", r)?;
+            cfg.metric.radius_bound(r, w.step, cfg.max_dist())
+        }
+        None => cfg.max_dist(),
+    };
+    if max > cfg.max_radius() {
+        return Err(Error::new(format!(
+            "{} is beyond the core's {}-bit distances (radius_bits: radii up to {} on the \
+             grid); give a --radius it answers",
+            args.radius
+                .map_or("an unbounded gather (no --radius)".into(), |r| format!(
+                    "--radius {r} ({max} on the grid)"
+                )),
+            cfg.dist_bits(),
+            cfg.max_radius()
+        )));
+    }
+    let queries = HwQuery::within(&cfg, &w.queries, max);
     // The stream's cost per read as the software search counts it, for Q.
     let profile: ReadProfile = queries
         .iter()
@@ -213,7 +239,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         .map(|r| format!("{:.3}", *r as f64 / st.busy_cycles.max(1) as f64))
         .collect();
     println!(
-        "core: {} controller, T = {} tree(s), H = {}, K = {}, {}, {} metric, {}-bit distances, {} traversal, issue interval {}",
+        "core: {} controller, T = {} tree(s), H = {}, K = {}, {}, {} metric, {}-bit distances, {} traversal, issue interval {}; radius {} on the grid",
         cfg.controller,
         cfg.trees,
         cfg.address_bits,
@@ -222,7 +248,9 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         cfg.metric,
         cfg.dist_bits(),
         cfg.traversal,
-        cfg.issue_interval()
+        cfg.issue_interval(),
+        args.radius
+            .map_or("unbounded".to_string(), |r| format!("{max} ({r} world units)"))
     );
     println!(
         "{} photons, {} queries, {} cycles after the load ({} load cycles)",
@@ -343,9 +371,10 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     if args.cpu {
         let coords: Vec<[u32; 3]> = queries.iter().map(|q| q.coords).collect();
         let min = std::time::Duration::from_millis(200);
-        let cpu =
-            photon_fpga::host::map::cpu_ref::measure(points, tree, &coords, cfg.k, cfg.metric, min)
-                .map_err(Error::new)?;
+        let cpu = photon_fpga::host::map::cpu_ref::measure(
+            points, tree, &coords, cfg.k, cfg.metric, max, min,
+        )
+        .map_err(Error::new)?;
         println!(
             "cpu queries/s, 1 thread, same queries: kiddo {:.0}, software search {:.0}",
             cpu.kiddo, cpu.sw

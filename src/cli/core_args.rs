@@ -297,6 +297,12 @@ pub struct CoreArgs {
         conflicts_with = "core"
     )]
     metric: MetricArg,
+    /// Distance bits for the largest initial radius the core is to answer (radii
+    /// below 2^b − 1 in the metric on the grid; larger distances saturate):
+    /// narrower found lists and bounds for a scene that gathers within a radius
+    /// [default: the grid's diagonal, every radius].
+    #[arg(long, value_name = "B", conflicts_with = "core")]
+    radius_bits: Option<u32>,
     #[command(flatten)]
     pub opts: CoreOpts,
     #[command(flatten)]
@@ -325,7 +331,8 @@ impl CoreArgs {
             .layout(PhotonLayout::new([self.bits; 3]))
             .address_bits(self.address_bits)
             .k(self.k)
-            .metric(self.metric.into());
+            .metric(self.metric.into())
+            .radius_bits(self.radius_bits);
         self.opts.builder(base, Controller::Modules)
     }
 

@@ -110,11 +110,7 @@ impl GatherParams {
             return Err(Error::new("--k must be at least 1, got 0"));
         }
         if let Some(r) = self.radius {
-            if r.is_nan() || r < 0.0 || r.is_infinite() {
-                return Err(Error::new(format!(
-                    "--radius must be a finite number >= 0, got {r}"
-                )));
-            }
+            crate::host::limits::check_non_negative("--radius", r)?;
         }
         if photons == 0 {
             return Err(Error::new("the photon set is empty"));
@@ -314,6 +310,39 @@ impl QuantizedMap {
             radius_wide,
             params: params.clone(),
         })
+    }
+
+    /// The distance bits of a core built for this gather: `given`, else the fewest
+    /// that answer its radius exactly when it has one ("model only what the scene
+    /// needs": the found lists and bounds of a core shrink with the radius), else
+    /// the grid's diagonal (`None`).
+    pub fn core_radius_bits(&self, given: Option<u32>) -> Option<u32> {
+        let full = self.params.metric.dist_bits(self.quant.axis_bits());
+        given.or_else(|| {
+            self.params.radius?;
+            Some(CoreConfig::radius_bits_for(self.radius_bound)).filter(|&b| b < full)
+        })
+    }
+
+    /// Refuse a gather whose radius the core's distance bits cannot answer exactly
+    /// (a radius at or above the saturated distance, or none).
+    pub fn check_radius(&self, core: &CoreConfig, fixed: Option<&FixedCore>) -> Result<()> {
+        let Some(bits) = core.radius_bits else {
+            return Ok(());
+        };
+        if self.radius_bound <= core.max_radius() {
+            return Ok(());
+        }
+        let whose = fixed.map_or(String::new(), |f| format!(" of {}", f.file.display()));
+        let asked = match self.params.radius {
+            Some(r) => format!("--radius {r} is {} on this map's grid", self.radius_bound),
+            None => "an unbounded gather (no --radius)".to_string(),
+        };
+        Err(Error::new(format!(
+            "{asked}, beyond the core{whose}: radius_bits = {bits} answers radii up to {} \
+             (a larger --radius-bits, or a smaller --radius)",
+            core.max_radius()
+        )))
     }
 
     /// Where `q` falls on the grid, or why no backend of this map can answer it.

@@ -74,6 +74,17 @@ pub fn check_positive(flag: &str, v: f64) -> Result<()> {
     }
 }
 
+/// A float option that must be finite and not negative (e.g. `--radius`).
+pub fn check_non_negative(flag: &str, v: f64) -> Result<()> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err(Error::new(format!(
+            "{flag} must be a finite number >= 0, got {v}"
+        )))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -16,6 +16,9 @@ pub struct Workload {
     pub points: Vec<[u32; 3]>,
     pub tree: PackedTree,
     pub queries: Vec<[u32; 3]>,
+    /// World units per grid step (1 for a workload made on the grid): a gather
+    /// radius in world units becomes a bound on the grid with it.
+    pub step: f64,
 }
 
 /// `photons` points uniform on `layout`'s grid and `queries` uniform queries.
@@ -28,6 +31,7 @@ pub fn uniform(layout: PhotonLayout, photons: usize, queries: usize, seed: u64) 
         tree: PackedTree::from_tree(&KdTree::build(&points), layout),
         points,
         queries,
+        step: 1.0,
     }
 }
 
@@ -95,5 +99,6 @@ fn cornell_on(
         tree: PackedTree::from_tree(&KdTree::build(&points), quant.layout),
         points,
         queries,
+        step: quant.step,
     }
 }

@@ -31,8 +31,8 @@
 //!   the lists are max-heaps in BlockRAM instead ([`FoundHeap`]): the insertion
 //!   enters the heap in A, the new root leaves it in C, log2 K levels of one
 //!   comparison each, the same maximum and the same entry.
-//! * **D** — the ascent in one step (the path memory of `Traversal::Remember`,
-//!   searched at once): the deepest level above with a pending far child within
+//! * **D** — the ascent in one step ([`Ascent`]: the path memory of
+//!   `Traversal::Remember`, searched at once): the deepest level above with a pending far child within
 //!   R is where the search goes next; none: the search is over. Climbing one level
 //!   per cycle (as a QueryModule does) would cost a pipeline pass per level.
 //! * **E** — the far child's address; its cell's offsets are read (BlockRAM).
@@ -48,18 +48,20 @@
 //! Result read-out is the SearchPort's packet format, two photons a beat from two
 //! BlockRAMs written as photons enter the list ([`SlotReadout`]; [`ResultBeat`](crate::hw::stream::ResultBeat) says why two).
 
+use crate::hw::ascent::{Ascent, Climb};
 use crate::hw::bank_crossbar::{BankAnswerIn, BankRequester};
 use crate::hw::block_ram::{BlockRam, BramIndex, BramWord};
 use crate::hw::config::{
     bits_for, low_mask, Addr, CoreConfig, Dist, Entry, LevelMask, ModuleIndex, ModuleMask,
     ReadCount,
 };
+use crate::hw::far_cell_dist::FarCellDist;
 use crate::hw::found_heap::FoundHeap;
 use crate::hw::found_max::FoundMax;
 use crate::hw::found_rule::FoundRule;
 use crate::hw::free_pick::FreePick;
 use crate::hw::heap_stage::{HeapKey, HeapOp};
-use crate::hw::lut_ram::{LutRam, RamIndex};
+use crate::hw::lut_ram::RamIndex;
 use crate::hw::query_limits::QueryLimits;
 use crate::hw::read_issue::ReadIssue;
 use crate::hw::search_module::SearchModule;
@@ -68,15 +70,6 @@ use crate::hw::slot_store::{SlotEvent, SlotStore};
 use crate::hw::stream::PortIo;
 use crate::hw::traversal::Traversal;
 use rust_hdl::prelude::*;
-
-/// Where the search climbs from a node (stage D): the deepest level above it with
-/// a pending far child within R (`target`), if there is one (`found`; none: the
-/// query is done). It travels with the event through E and F.
-#[derive(Clone, Copy, Debug, PartialEq, Default, LogicStruct)]
-pub struct Climb {
-    pub target: RamIndex,
-    pub found: bool,
-}
 
 #[derive(LogicBlock)]
 pub struct BarrelPort<const W: usize> {
@@ -105,7 +98,6 @@ pub struct BarrelPort<const W: usize> {
     level_shift: Constant<BramIndex>,
     dist_shift: Constant<Bits<8>>,
     dist_mask_wide: Constant<BramWord>,
-    level_index: Vec<Constant<RamIndex>>,
     /// The slot state, one LUT-RAM entry per slot and field: read in A, written in F.
     store: SlotStore,
     /// The found distances and the comparator tree (stages B, C, M) for K <= 64
@@ -122,9 +114,8 @@ pub struct BarrelPort<const W: usize> {
     /// The heap operation of this event (stage A) and the root it left (stage M).
     a_heap_op: Signal<Local, HeapOp>,
     m_heap_max: Signal<Local, HeapKey>,
-    /// Each level's pruning bound, one LUT-RAM per level (all are compared at once
-    /// in D): written in B, read in D.
-    bound: Vec<LutRam>,
+    /// Each level's pruning bound (written in B) and the ascent over them (D).
+    ascent: Ascent,
     /// `Cell`: per (slot, level), the offsets inside the level's far cell: x | y,
     /// and z | the far cell's distance. Written in B, read in E.
     far_xy: BlockRam,
@@ -141,7 +132,8 @@ pub struct BarrelPort<const W: usize> {
     /// The found list's rule and a new query's radius and k.
     a_rule: FoundRule<Entry>,
     a_limits: QueryLimits,
-    b_axis_off: Signal<Local, Dist>,
+    /// The visited photon's far cell (`Cell`), from the slot's offsets.
+    far_cell: FarCellDist,
     a_level_bit: Signal<Local, LevelMask>,
     /// This level's pruning bound, and (`Cell`) its entry of the offsets BlockRAMs.
     b_bound: Signal<Local, Dist>,
@@ -156,11 +148,6 @@ pub struct BarrelPort<const W: usize> {
     m_ev: DFF<SlotEvent>,
     // Stage D: the ascent.
     d_ev: DFF<SlotEvent>,
-    /// Where the search climbs (found in D, used in E and F).
-    d_climb: Signal<Local, Climb>,
-    /// The event's pending bits (a signal: Verilog-2005 cannot index a bit of a
-    /// struct field's slice).
-    d_pending: Signal<Local, LevelMask>,
     // Stage E.
     e_ev: DFF<SlotEvent>,
     e_climb: DFF<Climb>,
@@ -211,9 +198,6 @@ impl<const W: usize> BarrelPort<W> {
             level_shift: Constant::new(BramIndex::from(level_bits as u64)),
             dist_shift: Constant::new(Bits::<8>::from(db as u64)),
             dist_mask_wide: Constant::new(BramWord::from(cfg.dist_mask())),
-            level_index: (0..levels)
-                .map(|i| Constant::new(RamIndex::from(i as u64)))
-                .collect(),
             store: SlotStore::new(cfg),
             found_max: FoundMax::new(&CoreConfig {
                 k: if heap { 1 } else { cfg.k },
@@ -229,7 +213,7 @@ impl<const W: usize> BarrelPort<W> {
             heap_mode: Constant::new(heap),
             a_heap_op: Default::default(),
             m_heap_max: Default::default(),
-            bound: (0..levels).map(|_| LutRam::new(q, db)).collect(),
+            ascent: Ascent::new(cfg),
             far_xy: BlockRam::new(far_index_bits, 2 * cell_bits),
             far_zd: BlockRam::new(far_index_bits, 2 * cell_bits),
             readout: SlotReadout::new(cfg),
@@ -242,7 +226,7 @@ impl<const W: usize> BarrelPort<W> {
             a_rule: FoundRule::new(cfg),
             a_limits: QueryLimits::new(cfg),
             a_level_bit: Default::default(),
-            b_axis_off: Default::default(),
+            far_cell: FarCellDist::for_config(cfg),
             b_bound: Default::default(),
             b_far_index: Default::default(),
             b_far_xy: Default::default(),
@@ -252,8 +236,6 @@ impl<const W: usize> BarrelPort<W> {
             c_ev: Default::default(),
             m_ev: Default::default(),
             d_ev: Default::default(),
-            d_climb: Default::default(),
-            d_pending: Default::default(),
             e_ev: Default::default(),
             e_climb: Default::default(),
             e_shift: Default::default(),
@@ -404,28 +386,21 @@ impl<const W: usize> Logic for BarrelPort<W> {
         // stage A, the state read, this sum and the BlockRAM's write would be one
         // path.) The ascent reads them two stages later, for
         // levels above this one, written by earlier events.
-        self.b_axis_off.next = self.b_ev.q.val().off_x;
-        if self.b_ev.q.val().axis == 1 {
-            self.b_axis_off.next = self.b_ev.q.val().off_y;
-        }
-        if self.b_ev.q.val().axis == 2 {
-            self.b_axis_off.next = self.b_ev.q.val().off_z;
-        }
+        self.far_cell.off_x.next = self.b_ev.q.val().off_x;
+        self.far_cell.off_y.next = self.b_ev.q.val().off_y;
+        self.far_cell.off_z.next = self.b_ev.q.val().off_z;
+        self.far_cell.cell_dist.next = self.b_ev.q.val().cell_dist;
+        self.far_cell.axis.next = self.b_ev.q.val().axis;
+        self.far_cell.axis_dist.next = self.b_ev.q.val().axis_dist;
+        self.b_bound.next = self.b_ev.q.val().axis_dist;
         if self.cell_mode.val() {
-            self.b_bound.next = ((self.b_ev.q.val().cell_dist - self.b_axis_off.val())
-                + self.b_ev.q.val().axis_dist)
-                & self.dist_mask.val();
-        } else {
-            self.b_bound.next = self.b_ev.q.val().axis_dist;
+            self.b_bound.next = self.far_cell.far_dist.val();
         }
-        for l in 0..self.bound.len() {
-            self.bound[l].clock.next = self.clock.val();
-            self.bound[l].write_enable.next =
-                self.b_ev.q.val().result && (self.b_ev.q.val().level == self.level_index[l].val());
-            self.bound[l].write_index.next = self.b_ev.q.val().slot;
-            self.bound[l].write_data.next = self.b_bound.val();
-            self.bound[l].read_index.next = self.d_ev.q.val().slot;
-        }
+        self.ascent.clock.next = self.clock.val();
+        self.ascent.write_enable.next = self.b_ev.q.val().result;
+        self.ascent.write_level.next = self.b_ev.q.val().level;
+        self.ascent.write_slot.next = self.b_ev.q.val().slot;
+        self.ascent.write_bound.next = self.b_bound.val();
         // (Only a level whose far child is pending is ever entered.)
         self.b_far_index.next = (bit_cast::<16, 8>(self.b_ev.q.val().slot)
             << self.level_shift.val())
@@ -481,33 +456,14 @@ impl<const W: usize> Logic for BarrelPort<W> {
                 bit_cast::<16, 32>((!self.m_heap_max.val()) & self.heap_entry_mask.val());
         }
 
-        // ---- Stage D: the ascent in one step. ----
-        // The software search climbs level by level with R fixed and enters the
-        // first pending far child within R: the deepest such level above this one.
-        self.d_pending.next = self.d_ev.q.val().pending;
-        self.d_climb.next.target = 0.into();
-        self.d_climb.next.found = false;
-        for l in 0..self.bound.len() {
-            if (self.level_index[l].val() < self.d_ev.q.val().level)
-                && self.d_pending.val().get_bit(l)
-            {
-                if self.d_ev.q.val().full {
-                    if (self.bound[l].read_data.val() & self.dist_mask.val())
-                        < self.d_ev.q.val().radius
-                    {
-                        self.d_climb.next.target = self.level_index[l].val();
-                        self.d_climb.next.found = true;
-                    }
-                } else if (self.bound[l].read_data.val() & self.dist_mask.val())
-                    <= self.d_ev.q.val().radius
-                {
-                    self.d_climb.next.target = self.level_index[l].val();
-                    self.d_climb.next.found = true;
-                }
-            }
-        }
+        // ---- Stage D: the ascent in one step ([`Ascent`]). ----
+        self.ascent.read_slot.next = self.d_ev.q.val().slot;
+        self.ascent.level.next = self.d_ev.q.val().level;
+        self.ascent.pending.next = self.d_ev.q.val().pending;
+        self.ascent.full.next = self.d_ev.q.val().full;
+        self.ascent.radius.next = self.d_ev.q.val().radius;
         self.e_ev.d.next = self.d_ev.q.val();
-        self.e_climb.d.next = self.d_climb.val();
+        self.e_climb.d.next = self.ascent.climb.val();
 
         // ---- Stage E: the far child's address; its cell's offsets are read. ----
         // The far child is the sibling of the path's node one level below the

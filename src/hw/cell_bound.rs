@@ -7,9 +7,10 @@
 //! * A down visit (`visit`) gives the photon's axis and axis distance; the far
 //!   child's cell is the current one with the offset along that axis replaced by
 //!   the axis distance (never smaller: the split lies inside the cell), so its
-//!   distance is `cell_dist - off[axis] + axis_dist` (`far_cell_dist`, which the
-//!   QueryModule remembers as the level's pruning bound). This block remembers the
-//!   rest of the level: the axis, the offset before and the axis distance.
+//!   distance is `cell_dist - off[axis] + axis_dist` (`far_cell_dist`, from a
+//!   [`FarCellDist`], which the QueryModule remembers as the level's pruning
+//!   bound). This block remembers the rest of the level: the axis, the offset
+//!   before and the axis distance.
 //! * An ascent step below the root (`step`) at the parent level either enters its
 //!   far child (`enter`: the offset along its axis becomes its axis distance and
 //!   the cell distance its bound, `enter_bound`) or passes it (the offset along its
@@ -26,6 +27,7 @@
 //! written, and its outputs unused.
 
 use crate::hw::config::Dist;
+use crate::hw::far_cell_dist::FarCellDist;
 use crate::hw::lut_ram::{LutRam, RamIndex};
 use rust_hdl::prelude::*;
 
@@ -58,14 +60,16 @@ pub struct CellBound {
     old_off: LutRam,
     far_off: LutRam,
     dist_mask: Constant<Dist>,
-    visit_off: Signal<Local, Dist>,
+    /// The visited photon's far cell from the current one.
+    far_cell: FarCellDist,
     step_axis: Signal<Local, Bits<2>>,
     step_off: Signal<Local, Dist>,
 }
 
 impl CellBound {
-    /// For a path memory of `levels` entries and distances of `dist_bits` bits.
-    pub fn new(levels: usize, dist_bits: u32) -> Self {
+    /// For a path memory of `levels` entries and distances of `dist_bits` bits,
+    /// saturating if `saturate`.
+    pub fn new(levels: usize, dist_bits: u32, saturate: bool) -> Self {
         CellBound {
             clock: Default::default(),
             load: Default::default(),
@@ -86,7 +90,7 @@ impl CellBound {
             old_off: LutRam::new(levels, dist_bits),
             far_off: LutRam::new(levels, dist_bits),
             dist_mask: Constant::new(Dist::from((1u64 << dist_bits) - 1)),
-            visit_off: Default::default(),
+            far_cell: FarCellDist::new(dist_bits, saturate),
             step_axis: Default::default(),
             step_off: Default::default(),
         }
@@ -100,16 +104,13 @@ impl Logic for CellBound {
         clock!(self, clock, level_axis, old_off, far_off);
 
         // A down visit: the offset along the photon's axis, and its far cell.
-        self.visit_off.next = self.off_x.q.val();
-        if self.axis.val() == 1 {
-            self.visit_off.next = self.off_y.q.val();
-        }
-        if self.axis.val() == 2 {
-            self.visit_off.next = self.off_z.q.val();
-        }
-        self.far_cell_dist.next = ((self.cell_dist.q.val() - self.visit_off.val())
-            + self.axis_dist.val())
-            & self.dist_mask.val();
+        self.far_cell.off_x.next = self.off_x.q.val();
+        self.far_cell.off_y.next = self.off_y.q.val();
+        self.far_cell.off_z.next = self.off_z.q.val();
+        self.far_cell.cell_dist.next = self.cell_dist.q.val();
+        self.far_cell.axis.next = self.axis.val();
+        self.far_cell.axis_dist.next = self.axis_dist.val();
+        self.far_cell_dist.next = self.far_cell.far_dist.val();
         self.level_axis.write_enable.next = self.visit.val();
         self.old_off.write_enable.next = self.visit.val();
         self.far_off.write_enable.next = self.visit.val();
@@ -117,7 +118,7 @@ impl Logic for CellBound {
         self.old_off.write_index.next = self.write_index.val();
         self.far_off.write_index.next = self.write_index.val();
         self.level_axis.write_data.next = bit_cast::<32, 2>(self.axis.val());
-        self.old_off.write_data.next = self.visit_off.val() & self.dist_mask.val();
+        self.old_off.write_data.next = self.far_cell.axis_off.val() & self.dist_mask.val();
         self.far_off.write_data.next = self.axis_dist.val() & self.dist_mask.val();
 
         // An ascent step: the parent level's offset, entered or restored.

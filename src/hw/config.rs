@@ -177,16 +177,19 @@ pub struct CoreConfig {
     /// datapaths at k = 32 and nearly a read a cycle each fill one stream from D = 8
     /// on (docs/HARDWARE.md).
     pub result_streams: usize,
+    /// `None`: distances are as wide as the grid's diagonal in the metric. `Some(b)`:
+    /// the core is built for initial radii below `2^b − 1` (a scene's largest gather
+    /// radius, "model only what the scene needs"): distances, bounds and found lists
+    /// are `b` bits wide, and a distance that does not fit saturates at `2^b − 1`.
+    /// Every comparison the search makes is against R, which never exceeds the
+    /// initial radius, so a saturated distance is rejected and a saturated bound
+    /// prunes exactly as the true one would (docs/HARDWARE.md, "Distance width").
+    pub radius_bits: Option<u32>,
 }
 
 pub use crate::hw::bank_config::{Banking, MAX_BANK_BITS};
 
 impl CoreConfig {
-    /// Bits of a distance in this metric and layout.
-    pub fn dist_bits(&self) -> u32 {
-        self.metric.dist_bits(self.layout.bits)
-    }
-
     /// Largest distance two photons of this layout can have.
     pub fn max_dist(&self) -> u64 {
         self.metric.max_dist(self.layout.bits)
@@ -332,12 +335,22 @@ impl CoreConfig {
                 self.layout.word_bits()
             )));
         }
-        if self.dist_bits() > MAX_DIST_BITS {
+        if let Some(r) = self.radius_bits {
+            if r == 0 || r > self.full_dist_bits() {
+                return Err(HwError::Config(format!(
+                    "radius_bits = {r} unsupported: 1..={} ({} metric on coordinate widths \
+                     {b:?})",
+                    self.full_dist_bits(),
+                    self.metric
+                )));
+            }
+        }
+        if self.full_dist_bits() > MAX_DIST_BITS {
             return Err(HwError::Config(format!(
                 "metric = {} on coordinate widths {b:?}: distances need {} bits, the \
                  datapath has {MAX_DIST_BITS}",
                 self.metric,
-                self.dist_bits()
+                self.full_dist_bits()
             )));
         }
         if self.address_bits == 0 || self.address_bits > MAX_ADDRESS_BITS {
@@ -473,87 +486,3 @@ macro_rules! dispatch_widths {
     }};
 }
 pub use dispatch_widths;
-
-/// The width masks of the datapath's registers, one formula each, shared by both
-/// controllers (QueryModule / SearchPort and BarrelPort / SlotStore / SlotReadout):
-/// every register is loaded through the mask of the bits its configuration needs,
-/// so synthesis drops the bits above (a flip-flop whose input is constant zero).
-impl CoreConfig {
-    /// A distance in this metric ([`CoreConfig::dist_bits`]).
-    pub fn dist_mask(&self) -> u64 {
-        low_mask(self.dist_bits())
-    }
-
-    /// A heap address (H bits).
-    pub fn addr_mask(&self) -> u64 {
-        low_mask(self.address_bits)
-    }
-
-    /// A found-list count or k (0..=K).
-    pub fn count_mask(&self) -> u64 {
-        low_mask(self.count_bits())
-    }
-
-    /// A query's photon-read count ([`CoreConfig::visited_bits`]).
-    pub fn visited_mask(&self) -> u64 {
-        low_mask(self.visited_bits())
-    }
-
-    /// Bits of a found-list entry index (0..K).
-    pub fn entry_bits(&self) -> u32 {
-        bits_for(self.k.saturating_sub(1) as u64)
-    }
-
-    /// A found-list entry index (0..K).
-    pub fn entry_mask(&self) -> u64 {
-        low_mask(self.entry_bits())
-    }
-
-    /// Whether a barrel port keeps its found lists as heaps (K above
-    /// [`FOUND_TREE_MAX_K`]).
-    pub fn uses_found_heap(&self) -> bool {
-        self.controller == Controller::Barrel && self.k > FOUND_TREE_MAX_K
-    }
-
-    /// Levels of a found heap: `2^levels − 1 >= K` nodes.
-    pub fn heap_levels(&self) -> usize {
-        bits_for(self.k as u64) as usize
-    }
-
-    /// Bits of a found heap's key: the distance over the entry index, so that keys
-    /// are unique and the largest key is the farthest photon in the lowest entry
-    /// among ties (the list rule of knn.rs and of `FoundMax`).
-    pub fn heap_key_bits(&self) -> u32 {
-        self.dist_bits() + self.entry_bits()
-    }
-
-    /// One bit per found-list slot (the K slots of a one-hot slot mask).
-    pub fn slot_mask(&self) -> u64 {
-        low_mask(self.k as u32)
-    }
-
-    /// One bit per query of a port: its QueryModules or its barrel slots.
-    pub fn port_queries_mask(&self) -> u64 {
-        low_mask(self.queries_per_port as u32)
-    }
-
-    /// Bits of a tree level's index (0..H): the root is level 0, a leaf at most H − 1.
-    pub fn level_index_bits(&self) -> u32 {
-        bits_for(self.address_bits.saturating_sub(1) as u64)
-    }
-
-    /// A tree level's index (0..H).
-    pub fn level_index_mask(&self) -> u64 {
-        low_mask(self.level_index_bits())
-    }
-
-    /// A one-hot tree level: one bit per level (H).
-    pub fn level_onehot_mask(&self) -> u64 {
-        low_mask(self.address_bits)
-    }
-
-    /// The levels that can have a pending far child ([`CoreConfig::path_levels`]).
-    pub fn pending_mask(&self) -> u64 {
-        low_mask(self.path_levels() as u32)
-    }
-}

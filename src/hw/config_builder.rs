@@ -33,6 +33,7 @@ pub struct CoreBuilder {
     banking: Option<(u32, Option<u32>)>,
     bank_ports: Option<BankPorts>,
     result_streams: usize,
+    radius_bits: Option<u32>,
 }
 
 impl Default for CoreBuilder {
@@ -53,6 +54,7 @@ impl Default for CoreBuilder {
             banking: None,
             bank_ports: None,
             result_streams: 1,
+            radius_bits: None,
         }
     }
 }
@@ -114,6 +116,16 @@ impl CoreBuilder {
             ..self
         }
     }
+
+    /// Distance bits for a scene's largest initial radius
+    /// ([`CoreConfig::radius_bits`]; `None`: the grid's diagonal).
+    pub fn radius_bits(self, radius_bits: Option<u32>) -> Self {
+        CoreBuilder {
+            radius_bits,
+            ..self
+        }
+    }
+
     /// Result streams R (a divisor of the datapaths; more than one needs banks or a
     /// single tree).
     pub fn result_streams(self, result_streams: usize) -> Self {
@@ -162,6 +174,11 @@ impl CoreBuilder {
     /// The controller chosen (the default one unless `controller` was called).
     pub fn chosen_controller(&self) -> Controller {
         self.controller
+    }
+
+    /// The distance bits given for a largest radius, if they were.
+    pub fn given_radius_bits(&self) -> Option<u32> {
+        self.radius_bits
     }
 
     /// The bank-port mode given, if one was (else [`BankPorts::default`], and a
@@ -222,6 +239,7 @@ impl CoreBuilder {
                 ports: self.bank_ports.unwrap_or_default(),
             }),
             result_streams: self.result_streams,
+            radius_bits: self.radius_bits,
         };
         cfg.queries_per_port = match self.given_queries_per_port() {
             Some(q) => q,
@@ -258,6 +276,7 @@ impl From<CoreConfig> for CoreBuilder {
             banking: None,
             bank_ports: None,
             result_streams: cfg.result_streams,
+            radius_bits: cfg.radius_bits,
         }
         .queries_per_port(cfg.queries_per_port)
         .banking(cfg.banking)

@@ -90,6 +90,10 @@ pub struct CoreFile {
     /// Result streams R (absent: one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub result_streams: Option<usize>,
+    /// Distance bits for the largest initial radius the core answers (radii below
+    /// 2^b − 1; larger distances saturate). Absent: the grid's diagonal.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius_bits: Option<u32>,
 }
 
 impl From<&CoreConfig> for CoreFile {
@@ -114,6 +118,7 @@ impl From<&CoreConfig> for CoreFile {
             replicated_levels: c.banking.map(|b| b.replicated_levels),
             bank_ports: c.banking.map(|b| b.ports.into()),
             result_streams: (c.result_streams != 1).then_some(c.result_streams),
+            radius_bits: c.radius_bits,
         }
     }
 }
@@ -143,7 +148,8 @@ impl CoreFile {
             .trees(self.trees)
             .traversal(self.traversal.into())
             .controller(controller)
-            .result_streams(self.result_streams.unwrap_or(1));
+            .result_streams(self.result_streams.unwrap_or(1))
+            .radius_bits(self.radius_bits);
         if let Some(q) = self.modules_per_port {
             b = b.modules_per_port(q);
         }

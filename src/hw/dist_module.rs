@@ -9,6 +9,11 @@
 //! SearchModule's next stage, on the registered distance, so this stage ends after
 //! one carry chain.
 //!
+//! Distances wider than the configured bits saturate at the all-ones value (both
+//! the full and the split-axis one): a core built for a scene's largest radius
+//! (`CoreConfig::radius_bits`) keeps only the bits below it, and a saturated
+//! distance is still above every radius the search compares it with.
+//!
 //! `registered`: the three axis differences (with their signs and the split axis)
 //! are registered before the squares and the sum, and the inputs come a cycle
 //! early (the SearchModule feeds them from the BlockRAM's word as it arrives,
@@ -46,6 +51,11 @@ pub struct DistModule {
     mask_z: Constant<Coord>,
     dist_mask: Constant<Dist>,
     axis_mask: Constant<Dist>,
+    /// The distance bits are fewer than the grid's diagonal needs: saturate.
+    saturate: Constant<bool>,
+    /// The sum and the split axis's term before saturation.
+    sum: Signal<Local, Dist>,
+    axis_term: Signal<Local, Dist>,
     /// Per axis (bit 0 = x): the query is at or above the photon (the difference's sign).
     ge: Signal<Local, Bits<3>>,
     delta_x: Signal<Local, Coord>,
@@ -108,6 +118,9 @@ impl DistModule {
             mask_z: coord(2),
             dist_mask: Constant::new(Dist::from(low_mask(dist_bits))),
             axis_mask: Constant::new(Dist::from(low_mask(axis_bits))),
+            saturate: Constant::new(dist_bits < metric.dist_bits(coord_bits)),
+            sum: Default::default(),
+            axis_term: Default::default(),
             ge: Default::default(),
             query_x: Default::default(),
             query_y: Default::default(),
@@ -188,19 +201,28 @@ impl Logic for DistModule {
             self.term_y.next = bit_cast::<32, 16>(self.used_y.val());
             self.term_z.next = bit_cast::<32, 16>(self.used_z.val());
         }
-        // CoreConfig::validate guarantees the sum fits the distance width.
-        self.distance.next =
-            (self.term_x.val() + self.term_y.val() + self.term_z.val()) & self.dist_mask.val();
+        // CoreConfig::validate guarantees the sum fits the datapath's 32 bits.
+        self.sum.next = self.term_x.val() + self.term_y.val() + self.term_z.val();
         // The split axis's term and sign (AxisDistModule, §4.3).
-        self.axis_dist.next = self.term_z.val() & self.axis_mask.val();
+        self.axis_term.next = self.term_z.val() & self.axis_mask.val();
         self.near_right.next = self.used_ge.val().get_bit(2);
         if self.used_axis.val() == 0 {
-            self.axis_dist.next = self.term_x.val() & self.axis_mask.val();
+            self.axis_term.next = self.term_x.val() & self.axis_mask.val();
             self.near_right.next = self.used_ge.val().get_bit(0);
         }
         if self.used_axis.val() == 1 {
-            self.axis_dist.next = self.term_y.val() & self.axis_mask.val();
+            self.axis_term.next = self.term_y.val() & self.axis_mask.val();
             self.near_right.next = self.used_ge.val().get_bit(1);
+        }
+        self.distance.next = self.sum.val() & self.dist_mask.val();
+        self.axis_dist.next = self.axis_term.val() & self.dist_mask.val();
+        if self.saturate.val() {
+            if (self.sum.val() & !self.dist_mask.val()).any() {
+                self.distance.next = self.dist_mask.val();
+            }
+            if (self.axis_term.val() & !self.dist_mask.val()).any() {
+                self.axis_dist.next = self.dist_mask.val();
+            }
         }
     }
 }

@@ -48,6 +48,12 @@ pub struct FoundMax {
     pub max: Signal<Out, Dist>,
     pub max_pos: Signal<Out, Entry>,
     dist_mask: Constant<Dist>,
+    /// The distances fit 16 bits: each comparison is made on the low 16. The
+    /// datapath's values are 32 bits with the bits above masked off, and yosys
+    /// (0.23) keeps a comparison as wide as its operands: a 32-bit carry chain
+    /// where 16 bits would do. (A 24-bit class measured larger than the masked
+    /// 32-bit comparison once mapped, so wider distances keep that.)
+    cmp16: Constant<bool>,
     entry_index: Vec<Constant<Entry>>,
     /// One LUT-RAM per entry (padded to P with never-written ones).
     found_dist: Vec<LutRam>,
@@ -66,6 +72,13 @@ pub struct FoundMax {
     m_fwd_pos: DFF<Entry>,
     /// The forwarded entry beats every leaf of M so far (so, at the end, the root).
     m_fwd_wins: Signal<Local, bool>,
+    /// Each comparison's result: the right node is larger (per tree node), the
+    /// forwarded entry is larger than or equal to M's leaf.
+    b_gt: Vec<Signal<Local, bool>>,
+    c_gt: Vec<Signal<Local, bool>>,
+    m_gt: Vec<Signal<Local, bool>>,
+    m_fwd_gt: Vec<Signal<Local, bool>>,
+    m_fwd_eq: Vec<Signal<Local, bool>>,
     b_node: Vec<Signal<Local, Dist>>,
     b_node_ix: Vec<Signal<Local, Entry>>,
     _b_leaves: usize,
@@ -104,6 +117,7 @@ impl FoundMax {
             max: Default::default(),
             max_pos: Default::default(),
             dist_mask: Constant::new(Dist::from(cfg.dist_mask())),
+            cmp16: Constant::new(db <= 16),
             entry_index: (0..p)
                 .map(|i| Constant::new(Entry::from(i as u64)))
                 .collect(),
@@ -128,6 +142,11 @@ impl FoundMax {
             m_fwd_dist: Default::default(),
             m_fwd_pos: Default::default(),
             m_fwd_wins: Default::default(),
+            b_gt: many(p / 2),
+            c_gt: many(p / 4 + p / 8),
+            m_gt: many(p / 8 - 1),
+            m_fwd_gt: many(p / 8),
+            m_fwd_eq: many(p / 8),
             b_node: many(p + p / 2),
             b_node_ix: many(p + p / 2),
             _b_leaves: p,
@@ -182,20 +201,25 @@ impl Logic for FoundMax {
             self.b_node_ix[i].next = self.entry_index[i].val();
         }
         self.c_fwd.d.next = self.w_here.val() && (self.w_pos.q.val() < self.read_k.val());
-        self.c_fwd_dist.d.next = self.w_dist.q.val();
+        self.c_fwd_dist.d.next = self.w_dist.q.val() & self.dist_mask.val();
         self.c_fwd_pos.d.next = self.w_pos.q.val();
         self.m_fwd.d.next = self.c_fwd.q.val();
-        self.m_fwd_dist.d.next = self.c_fwd_dist.q.val();
+        self.m_fwd_dist.d.next = self.c_fwd_dist.q.val() & self.dist_mask.val();
         self.m_fwd_pos.d.next = self.c_fwd_pos.q.val();
         for p in self._b_leaves..(self._b_leaves + 1) {
             for i in 0..self._b_inner {
                 // The larger of two; on a tie the lower entry (knn.rs: "the lowest
                 // list slot among ties").
-                if self.b_node[2 * i + 1].val() > self.b_node[2 * i].val() {
-                    self.b_node[p + i].next = self.b_node[2 * i + 1].val();
+                self.b_gt[i].next = self.b_node[2 * i + 1].val() > self.b_node[2 * i].val();
+                if self.cmp16.val() {
+                    self.b_gt[i].next = self.b_node[2 * i + 1].val().get_bits::<16>(0)
+                        > self.b_node[2 * i].val().get_bits::<16>(0);
+                }
+                if self.b_gt[i].val() {
+                    self.b_node[p + i].next = self.b_node[2 * i + 1].val() & self.dist_mask.val();
                     self.b_node_ix[p + i].next = self.b_node_ix[2 * i + 1].val();
                 } else {
-                    self.b_node[p + i].next = self.b_node[2 * i].val();
+                    self.b_node[p + i].next = self.b_node[2 * i].val() & self.dist_mask.val();
                     self.b_node_ix[p + i].next = self.b_node_ix[2 * i].val();
                 }
             }
@@ -204,23 +228,28 @@ impl Logic for FoundMax {
             for j in 0..self.c_leaf.len() {
                 self.c_leaf[j].clock.next = self.clock.val();
                 self.c_leaf_ix[j].clock.next = self.clock.val();
-                self.c_leaf[j].d.next = self.b_node[p + j].val();
+                self.c_leaf[j].d.next = self.b_node[p + j].val() & self.dist_mask.val();
                 self.c_leaf_ix[j].d.next = self.b_node_ix[p + j].val();
             }
         }
 
         // Stage C: two more levels.
         for j in 0..self.c_leaf.len() {
-            self.c_node[j].next = self.c_leaf[j].q.val();
+            self.c_node[j].next = self.c_leaf[j].q.val() & self.dist_mask.val();
             self.c_node_ix[j].next = self.c_leaf_ix[j].q.val();
         }
         for n in self._c_leaves..(self._c_leaves + 1) {
             for i in 0..self._c_inner {
-                if self.c_node[2 * i + 1].val() > self.c_node[2 * i].val() {
-                    self.c_node[n + i].next = self.c_node[2 * i + 1].val();
+                self.c_gt[i].next = self.c_node[2 * i + 1].val() > self.c_node[2 * i].val();
+                if self.cmp16.val() {
+                    self.c_gt[i].next = self.c_node[2 * i + 1].val().get_bits::<16>(0)
+                        > self.c_node[2 * i].val().get_bits::<16>(0);
+                }
+                if self.c_gt[i].val() {
+                    self.c_node[n + i].next = self.c_node[2 * i + 1].val() & self.dist_mask.val();
                     self.c_node_ix[n + i].next = self.c_node_ix[2 * i + 1].val();
                 } else {
-                    self.c_node[n + i].next = self.c_node[2 * i].val();
+                    self.c_node[n + i].next = self.c_node[2 * i].val() & self.dist_mask.val();
                     self.c_node_ix[n + i].next = self.c_node_ix[2 * i].val();
                 }
             }
@@ -229,7 +258,7 @@ impl Logic for FoundMax {
             for j in 0..self.m_leaf.len() {
                 self.m_leaf[j].clock.next = self.clock.val();
                 self.m_leaf_ix[j].clock.next = self.clock.val();
-                self.m_leaf[j].d.next = self.c_node[p + j].val();
+                self.m_leaf[j].d.next = self.c_node[p + j].val() & self.dist_mask.val();
                 self.m_leaf_ix[j].d.next = self.c_node_ix[p + j].val();
             }
         }
@@ -237,20 +266,33 @@ impl Logic for FoundMax {
         // Stage M: the rest, and the root.
         self.m_fwd_wins.next = self.m_fwd.q.val();
         for j in 0..self.m_leaf.len() {
-            self.m_node[j].next = self.m_leaf[j].q.val();
+            self.m_node[j].next = self.m_leaf[j].q.val() & self.dist_mask.val();
             self.m_node_ix[j].next = self.m_leaf_ix[j].q.val();
+            self.m_fwd_gt[j].next = self.m_fwd_dist.q.val() > self.m_leaf[j].q.val();
+            self.m_fwd_eq[j].next = self.m_fwd_dist.q.val() == self.m_leaf[j].q.val();
+            if self.cmp16.val() {
+                self.m_fwd_gt[j].next = self.m_fwd_dist.q.val().get_bits::<16>(0)
+                    > self.m_leaf[j].q.val().get_bits::<16>(0);
+                self.m_fwd_eq[j].next = self.m_fwd_dist.q.val().get_bits::<16>(0)
+                    == self.m_leaf[j].q.val().get_bits::<16>(0);
+            }
             self.m_fwd_wins.next = self.m_fwd_wins.val()
-                && ((self.m_fwd_dist.q.val() > self.m_leaf[j].q.val())
-                    || ((self.m_fwd_dist.q.val() == self.m_leaf[j].q.val())
+                && (self.m_fwd_gt[j].val()
+                    || (self.m_fwd_eq[j].val()
                         && (self.m_fwd_pos.q.val() < self.m_leaf_ix[j].q.val())));
         }
         for n in self._m_leaves..(self._m_leaves + 1) {
             for i in 0..self._m_inner {
-                if self.m_node[2 * i + 1].val() > self.m_node[2 * i].val() {
-                    self.m_node[n + i].next = self.m_node[2 * i + 1].val();
+                self.m_gt[i].next = self.m_node[2 * i + 1].val() > self.m_node[2 * i].val();
+                if self.cmp16.val() {
+                    self.m_gt[i].next = self.m_node[2 * i + 1].val().get_bits::<16>(0)
+                        > self.m_node[2 * i].val().get_bits::<16>(0);
+                }
+                if self.m_gt[i].val() {
+                    self.m_node[n + i].next = self.m_node[2 * i + 1].val() & self.dist_mask.val();
                     self.m_node_ix[n + i].next = self.m_node_ix[2 * i + 1].val();
                 } else {
-                    self.m_node[n + i].next = self.m_node[2 * i].val();
+                    self.m_node[n + i].next = self.m_node[2 * i].val() & self.dist_mask.val();
                     self.m_node_ix[n + i].next = self.m_node_ix[2 * i].val();
                 }
             }

@@ -48,7 +48,9 @@
 //!         ├── FoundMax (found_max.rs)            K ≤ 64: found distances, comparator tree, §4.4
 //!         ├── FoundHeap (found_heap.rs)          K > 64: per-slot max-heaps in BlockRAM
 //!         │   └── HeapStage × levels + 1 (heap_stage.rs)  one level of insert / replace
-//!         ├── LutRam × levels, BlockRam × 2 (block_ram.rs)  pruning bounds, far cells
+//!         ├── FarCellDist                        the far-cell bound, as in CellBound
+//!         ├── Ascent (ascent.rs)                 pruning bounds (LutRam × levels), stage D
+//!         ├── BlockRam × 2 (block_ram.rs)        far cells' offsets
 //!         └── SlotReadout (slot_readout.rs)      found photons, ids, headers (BlockRAM,
 //!                                            LUT-RAM) and its read-out sequencer
 //! ```
@@ -73,6 +75,7 @@
 //! banks and result streams) are in [`config`] and [`bank_config`].
 
 pub mod array;
+pub mod ascent;
 pub mod bank_config;
 pub mod bank_crossbar;
 pub mod bank_map;
@@ -82,6 +85,7 @@ pub mod block_ram;
 pub mod cell_bound;
 pub mod config;
 pub mod config_builder;
+pub mod config_widths;
 pub mod controller;
 pub mod controller_port;
 pub mod core;
@@ -90,6 +94,7 @@ pub mod dispatcher;
 pub mod dist_module;
 pub mod enum_mirror;
 pub mod error;
+pub mod far_cell_dist;
 pub mod found_heap;
 pub mod found_max;
 pub mod found_rule;

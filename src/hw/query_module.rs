@@ -238,7 +238,7 @@ impl<const S: usize> QueryModule<S> {
             ascending: Default::default(),
             path: LutRam::new(cfg.path_levels().max(1), cfg.dist_bits()),
             path_up: LutRam::new(cfg.path_levels().max(1), cfg.dist_bits()),
-            cell_state: CellBound::new(cell_levels, cell_bits),
+            cell_state: CellBound::new(cell_levels, cell_bits, cfg.saturates()),
             found: LutRam::new(cfg.k, cfg.address_bits),
             found_dist: LutRam::new(cfg.k, cfg.dist_bits()),
             insert_index: PriorityEncoder::one_hot(cfg.k),

@@ -52,6 +52,7 @@ fn the_file_round_trips_every_option() {
             .pipelined(false)
             .build()
             .unwrap(),
+        b().metric(Metric::L2).radius_bits(Some(9)).build().unwrap(),
     ];
     for cfg in cores {
         let text = to_toml(&cfg);
@@ -275,6 +276,116 @@ fn the_fixed_core_answers_small_maps_like_sw() {
     assert!(
         core.contains("barrel controller") && core.contains("H = 11, K = 5"),
         "{core}"
+    );
+}
+
+/// A core built for a largest radius (`--radius-bits 8`: squared-L2 radii up to
+/// 254 on its grid) answers a gather within a radius it holds like sw, and refuses
+/// by name, exit 2, a larger radius or none (gather and bench-core).
+#[test]
+fn a_core_for_a_radius_answers_it_and_refuses_more() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = export_core(
+        dir.path(),
+        "core",
+        &[
+            "--controller",
+            "barrel",
+            "--traversal",
+            "cell",
+            "--k",
+            "5",
+            "--bits",
+            "7",
+            "--address-bits",
+            "11",
+            "--metric",
+            "l2",
+            "--radius-bits",
+            "8",
+        ],
+    );
+    let f = file.display().to_string();
+    let mut r = rand_pcg::Pcg64Mcg::seed_from_u64(12);
+    let mut pts = |n| -> Vec<[f64; 3]> {
+        (0..n)
+            .map(|_| [0, 1, 2].map(|a| r.gen_range(0.0..[4.0, 2.0, 1.0][a])))
+            .collect()
+    };
+    let p = write(dir.path(), "p.csv", &points_csv(&pts(300), false));
+    let q = write(dir.path(), "q.csv", &points_csv(&pts(40), false));
+    let (p, q) = (p.display().to_string(), q.display().to_string());
+    let mut files = vec![];
+    for backend in ["sw", "rtl"] {
+        let out = dir.path().join(format!("{backend}.csv"));
+        let args = [
+            "--photons",
+            &p,
+            "--queries",
+            &q,
+            "--core",
+            &f,
+            "--radius",
+            "0.3",
+            "--backend",
+            backend,
+        ];
+        files.push(gather_lines(&args, &out));
+    }
+    assert_eq!(files[0], files[1], "rtl and sw differ within the radius");
+    // Some queries find fewer than k within the radius, some all k.
+    let per_query = |i: usize| {
+        files[0]
+            .iter()
+            .filter(|l| l.starts_with(&format!("{i},")))
+            .count()
+    };
+    let counts: Vec<usize> = (0..40).map(per_query).collect();
+    assert!(
+        counts.iter().any(|&c| c < 5) && counts.contains(&5),
+        "{counts:?}"
+    );
+    let out = dir.path().join("g.csv").display().to_string();
+    let gather = |extra: &[&str]| {
+        cmdline(
+            &[
+                "gather",
+                "--photons",
+                &p,
+                "--queries",
+                &q,
+                "--core",
+                &f,
+                "--out",
+                &out,
+            ],
+            extra,
+        )
+    };
+    refused(
+        dir.path(),
+        &gather(&["--backend", "rtl", "--radius", "1.0"]),
+        &format!("beyond the core of {f}: radius_bits = 8 answers radii up to 254"),
+    );
+    refused(
+        dir.path(),
+        &gather(&["--backend", "rtl"]),
+        "an unbounded gather (no --radius), beyond the core",
+    );
+    refused(
+        dir.path(),
+        &strings(&[
+            "bench-core",
+            "--core",
+            &f,
+            "--workload",
+            "cornell",
+            "--cornell-photons",
+            "200",
+            "--cornell-size",
+            "6x6",
+        ]),
+        "an unbounded gather (no --radius) is beyond the core's 8-bit distances",
     );
 }
 

@@ -36,8 +36,10 @@ impl RtlBackend {
             .k(params.k)
             .metric(params.metric)
             .traversal(params.traversal)
+            .radius_bits(map.core_radius_bits(params.core.given_radius_bits()))
             .build_for(map.tree.image())?,
         };
+        map.check_radius(&config, params.fixed.as_ref())?;
         Ok(RtlBackend {
             map,
             config,

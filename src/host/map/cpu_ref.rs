@@ -40,27 +40,39 @@ fn rate(queries: usize, min: Duration, mut f: impl FnMut()) -> f64 {
     (runs * queries as u64) as f64 / t0.elapsed().as_secs_f64()
 }
 
-/// kiddo's k nearest distances of `q`, nearest first (f32: exact for integer
-/// coordinates while every distance stays below 2^24).
+/// kiddo's k nearest distances of `q` within `radius` (inclusive; `None`:
+/// unbounded), nearest first (f32: exact for integer coordinates while every
+/// distance stays below 2^24).
 fn kiddo_dists(
     tree: &ImmutableKdTree<f32, 3>,
     q: &[f32; 3],
     k: NonZero<usize>,
     m: Metric,
+    radius: Option<f32>,
 ) -> Vec<f32> {
-    let found = match m {
-        Metric::L2 => tree
+    let found = match (m, radius) {
+        (Metric::L2, None) => tree
             .query(q)
             .nearest_n::<SquaredEuclidean<f32>>(k)
             .execute(),
-        Metric::L1 => tree.query(q).nearest_n::<Manhattan<f32>>(k).execute(),
+        (Metric::L2, Some(r)) => tree
+            .query(q)
+            .nearest_n::<SquaredEuclidean<f32>>(k)
+            .within(r)
+            .execute(),
+        (Metric::L1, None) => tree.query(q).nearest_n::<Manhattan<f32>>(k).execute(),
+        (Metric::L1, Some(r)) => tree
+            .query(q)
+            .nearest_n::<Manhattan<f32>>(k)
+            .within(r)
+            .execute(),
     };
     found.into_iter().map(|n| n.distance).collect()
 }
 
 /// Time kiddo and the software search on `points` (the grid coordinates `tree` was
-/// built from) for unbounded k-NN `queries`: the best of five interleaved rounds of
-/// at least `min` each. Where f32 is
+/// built from) for k-NN `queries` within the inclusive bound `radius` (unbounded at
+/// the grid's diagonal): the best of five interleaved rounds of at least `min` each. Where f32 is
 /// exact (every distance < 2^24), kiddo's distances are first checked against the
 /// software search's, so both are known to do the same job.
 pub fn measure(
@@ -69,8 +81,11 @@ pub fn measure(
     queries: &[[u32; 3]],
     k: usize,
     metric: Metric,
+    radius: u64,
     min: Duration,
 ) -> Result<CpuRates, String> {
+    // kiddo's bound: none at the grid's diagonal (every photon is within it).
+    let kiddo_radius = (radius < metric.max_dist(tree.layout.bits)).then_some(radius as f32);
     let fpoints: Vec<[f32; 3]> = points.iter().map(|p| p.map(|c| c as f32)).collect();
     let kd = ImmutableKdTree::<f32, 3>::new_from_slice(&fpoints)
         .map_err(|e| format!("kiddo: cannot build the tree: {e:?}"))?;
@@ -78,8 +93,8 @@ pub fn measure(
     let nz = NonZero::new(k).ok_or("k must be at least 1")?;
     if metric.max_dist(tree.layout.bits) < 1 << 24 {
         for (q, f) in queries.iter().zip(&fq).take(200) {
-            let sw = knn::search(tree, *q, k, u64::MAX, metric).sorted_dists();
-            let kd: Vec<u64> = kiddo_dists(&kd, f, nz, metric)
+            let sw = knn::search(tree, *q, k, radius, metric).sorted_dists();
+            let kd: Vec<u64> = kiddo_dists(&kd, f, nz, metric, kiddo_radius)
                 .into_iter()
                 .map(|d| d as u64)
                 .collect();
@@ -97,12 +112,12 @@ pub fn measure(
         kiddo_all = kiddo_all.max(rate(queries.len(), min, || {
             use rayon::prelude::*;
             fq.par_iter().for_each(|q| {
-                black_box(kiddo_dists(&kd, q, nz, metric));
+                black_box(kiddo_dists(&kd, q, nz, metric, kiddo_radius));
             });
         }));
         kiddo = kiddo.max(rate(queries.len(), min, || {
             for q in &fq {
-                black_box(kiddo_dists(&kd, q, nz, metric));
+                black_box(kiddo_dists(&kd, q, nz, metric, kiddo_radius));
             }
         }));
         sw = sw.max(rate(queries.len(), min, || {
@@ -111,7 +126,7 @@ pub fn measure(
                     tree,
                     q,
                     k,
-                    u64::MAX,
+                    radius,
                     metric,
                     Traversal::default(),
                 ));

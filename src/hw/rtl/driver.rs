@@ -32,14 +32,19 @@ impl HwQuery {
     /// Each of `points` as a query for `cfg`'s K nearest photons with no radius
     /// bound (the largest distance of `cfg`'s grid), numbered in order.
     pub fn k_nearest(cfg: &CoreConfig, points: &[[u32; 3]]) -> Vec<HwQuery> {
-        let max = cfg.max_dist();
+        Self::within(cfg, points, cfg.max_dist())
+    }
+
+    /// The `cfg.k` nearest photons of each point within the inclusive bound
+    /// `radius` on the grid, ids 0, 1, ...
+    pub fn within(cfg: &CoreConfig, points: &[[u32; 3]], radius: u64) -> Vec<HwQuery> {
         points
             .iter()
             .enumerate()
             .map(|(i, &coords)| HwQuery {
                 id: i as u32,
                 coords,
-                radius: max,
+                radius,
                 k: cfg.k as u32,
             })
             .collect()
@@ -349,6 +354,16 @@ impl<D: Dut> Driver<D> {
                     return Err(protocol(format!(
                         "query {}: k = {} outside 1..={} (the core's K)",
                         q.id, q.k, cfg.k
+                    )));
+                }
+                if q.radius > cfg.max_radius() {
+                    return Err(protocol(format!(
+                        "query {}: radius {} is beyond the core's {}-bit distances (radius_bits: \
+                         radii up to {})",
+                        q.id,
+                        q.radius,
+                        cfg.dist_bits(),
+                        cfg.max_radius()
                     )));
                 }
                 for a in 0..3 {
