@@ -219,7 +219,7 @@ CONFIGS = [
     Config("banked D=6, radius 0.1 (K=32, L2, 14-bit distances, 3x2x16 slots, B=16 split, R=1, Cornell 65 K photons)",
            replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=3, banks=16,
                    replicated_levels=10, bank_ports="split",
-                   cornell_photons=33500, radius=0.1, radius_bits=14), headline=True),
+                   cornell_photons=33500, radius=0.1, radius_bits=14)),
     # The default render's map (200,000 emitted photons, H = 19) on the XC6VSX475T as
     # `--device xc6vsx475t` plans it: D = 32 datapaths on 16 replicas of the top 10
     # levels, 128 banks with split ports, one result stream per four datapaths; enough

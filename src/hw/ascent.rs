@@ -111,13 +111,16 @@ impl Logic for Ascent {
             }
             // The deepest pending level above the node whose far child is within R
             // (the loop runs from the root down, the last match wins).
-            if (self.level_index[l].val() < self.level.val())
-                && self.pending.val().get_bit(l)
-                && ((self.full.val() && self.below[l].val())
-                    || (!self.full.val() && self.at_most[l].val()))
-            {
-                self.climb.next.target = self.level_index[l].val();
-                self.climb.next.found = true;
+            if (self.level_index[l].val() < self.level.val()) && self.pending.val().get_bit(l) {
+                if self.full.val() {
+                    if self.below[l].val() {
+                        self.climb.next.target = self.level_index[l].val();
+                        self.climb.next.found = true;
+                    }
+                } else if self.at_most[l].val() {
+                    self.climb.next.target = self.level_index[l].val();
+                    self.climb.next.found = true;
+                }
             }
         }
     }
