@@ -204,6 +204,49 @@ fn one_model_renders_maps_of_every_size_like_sw() {
     assert_eq!(entries.len(), 1, "one model for both maps: {entries:?}");
 }
 
+/// Random photons and queries in a 4 x 2 x 1 box as CSV files in `dir` (their
+/// paths), from `seed`.
+fn box_points(dir: &Path, photons: usize, queries: usize, seed: u64) -> (String, String) {
+    let mut r = rand_pcg::Pcg64Mcg::seed_from_u64(seed);
+    let mut pts = |n| -> Vec<[f64; 3]> {
+        (0..n)
+            .map(|_| [0, 1, 2].map(|a| r.gen_range(0.0..[4.0, 2.0, 1.0][a])))
+            .collect()
+    };
+    let p = write(dir, "p.csv", &points_csv(&pts(photons), false));
+    let q = write(dir, "q.csv", &points_csv(&pts(queries), false));
+    (p.display().to_string(), q.display().to_string())
+}
+
+/// `gather --core FILE` of `photons` and `queries` with `--backend sw` and `rtl`
+/// (and `extra` options): each output's lines.
+fn sw_and_rtl(
+    dir: &Path,
+    file: &str,
+    photons: &str,
+    queries: &str,
+    extra: &[&str],
+) -> [Vec<String>; 2] {
+    ["sw", "rtl"].map(|backend| {
+        let out = dir.join(format!("{backend}.csv"));
+        let args = [
+            &[
+                "--photons",
+                photons,
+                "--queries",
+                queries,
+                "--core",
+                file,
+                "--backend",
+                backend,
+            ][..],
+            extra,
+        ]
+        .concat();
+        gather_lines(&args, &out)
+    })
+}
+
 /// The fixed core under rust-hdl's own simulation: `gather --core FILE --backend
 /// rtl` on a map far smaller than the core's H (40 photons in a 2^11-word tree)
 /// writes the very file sw does on the same core, k the file's K; bench-core runs
@@ -227,36 +270,8 @@ fn the_fixed_core_answers_small_maps_like_sw() {
         ],
     );
     let file = file.display().to_string();
-    let mut r = rand_pcg::Pcg64Mcg::seed_from_u64(11);
-    let mut pts = |n| -> Vec<[f64; 3]> {
-        (0..n)
-            .map(|_| {
-                [
-                    r.gen_range(0.0..4.0),
-                    r.gen_range(0.0..2.0),
-                    r.gen_range(0.0..1.0),
-                ]
-            })
-            .collect()
-    };
-    let p = write(dir.path(), "p.csv", &points_csv(&pts(40), false));
-    let q = write(dir.path(), "q.csv", &points_csv(&pts(25), false));
-    let (p, q) = (p.display().to_string(), q.display().to_string());
-    let mut files = vec![];
-    for backend in ["sw", "rtl"] {
-        let out = dir.path().join(format!("{backend}.csv"));
-        let args = [
-            "--photons",
-            &p,
-            "--queries",
-            &q,
-            "--core",
-            &file,
-            "--backend",
-            backend,
-        ];
-        files.push(gather_lines(&args, &out));
-    }
+    let (p, q) = box_points(dir.path(), 40, 25, 11);
+    let files = sw_and_rtl(dir.path(), &file, &p, &q, &[]);
     assert_eq!(files[0], files[1], "rtl and sw differ on the file's core");
     assert_eq!(files[0].len(), 1 + 25 * 5, "k defaults to the file's K");
     let bench = stdout_of(&strings(&[
@@ -288,50 +303,14 @@ fn a_core_for_a_radius_answers_it_and_refuses_more() {
     let file = export_core(
         dir.path(),
         "core",
-        &[
-            "--controller",
-            "barrel",
-            "--traversal",
-            "cell",
-            "--k",
-            "5",
-            "--bits",
-            "7",
-            "--address-bits",
-            "11",
-            "--metric",
-            "l2",
-            "--radius-bits",
-            "8",
-        ],
+        &"--controller barrel --traversal cell --k 5 --bits 7 --address-bits 11 --metric l2 \
+          --radius-bits 8"
+            .split_whitespace()
+            .collect::<Vec<_>>(),
     );
     let f = file.display().to_string();
-    let mut r = rand_pcg::Pcg64Mcg::seed_from_u64(12);
-    let mut pts = |n| -> Vec<[f64; 3]> {
-        (0..n)
-            .map(|_| [0, 1, 2].map(|a| r.gen_range(0.0..[4.0, 2.0, 1.0][a])))
-            .collect()
-    };
-    let p = write(dir.path(), "p.csv", &points_csv(&pts(300), false));
-    let q = write(dir.path(), "q.csv", &points_csv(&pts(40), false));
-    let (p, q) = (p.display().to_string(), q.display().to_string());
-    let mut files = vec![];
-    for backend in ["sw", "rtl"] {
-        let out = dir.path().join(format!("{backend}.csv"));
-        let args = [
-            "--photons",
-            &p,
-            "--queries",
-            &q,
-            "--core",
-            &f,
-            "--radius",
-            "0.3",
-            "--backend",
-            backend,
-        ];
-        files.push(gather_lines(&args, &out));
-    }
+    let (p, q) = box_points(dir.path(), 300, 40, 12);
+    let files = sw_and_rtl(dir.path(), &f, &p, &q, &["--radius", "0.3"]);
     assert_eq!(files[0], files[1], "rtl and sw differ within the radius");
     // Some queries find fewer than k within the radius, some all k.
     let per_query = |i: usize| {
