@@ -203,6 +203,9 @@ pub struct SynthOptions {
     pub controller: Controller,
     pub trees: usize,
     pub pipelined: bool,
+    /// Distance bits for a largest radius (`--radius-bits`), if the core has them.
+    #[serde(default)]
+    pub radius_bits: Option<u32>,
 }
 
 /// The value of `all` whose name (its `Display`, the CLI's spelling) is the string
@@ -281,8 +284,9 @@ impl SynthResults {
     }
 
     /// The single-core rows with results whose core runs the study's search: the
-    /// same traversal and controller, pipelined (the variants kept for before/after
-    /// timing are not swept). A core's clock and area depend on these options, so a
+    /// same traversal and controller, pipelined, distances as wide as the grid's
+    /// diagonal (the study's gathers are unbounded; the variants kept for
+    /// before/after timing are not swept). A core's clock and area depend on these options, so a
     /// row of another traversal or controller would misstate them.
     pub fn study_rows(&self, traversal: Traversal, controller: Controller) -> Vec<ReportRow> {
         self.rows
@@ -292,6 +296,7 @@ impl SynthResults {
                 r.status.is_none()
                     && o.trees == 1
                     && o.pipelined
+                    && o.radius_bits.is_none()
                     && o.traversal == traversal
                     && o.controller == controller
             })
