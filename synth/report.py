@@ -1041,7 +1041,8 @@ def banked_section(res):
          "barrel datapaths each (D = 2T), R result streams (docs/HARDWARE.md), inside the registered I/O "
          "shell. Map: the Cornell box from the row's emitted photons, on the exported core's grid "
          f"(`bench-core --core`); queries: an even sample of {res.method.sim_queries:,} of the eye-ray hits of a "
-         f"{CORNELL_SIZE} image, k = K, every answer checked against the software search (*simulated*, "
+         f"{CORNELL_SIZE} image, k = K (within the radius a row names, world units: core, software search "
+         "and kiddo alike), every answer checked against the software search (*simulated*, "
          "Verilator). Queries/s = reads/cycle x placed-and-routed fmax / reads per query; kiddo timed by the "
          "same bench-core run on the same map and queries.\n",
          "| configuration | D | B | ports | L | R | emitted photons | crossbar xc6v LUTs | LUT4s | DP16KD | "
@@ -1214,8 +1215,8 @@ def render_headline(res):
           "kiddo timed by the same run on the same queries; [paper] Table 2 and §5; [stale] measured on an "
           "earlier export than today's (`synth/run.sh ROW` measures it again). Arrays: T cores, one map "
           "copy each (`--trees T`)." + (" Banked rows (one map over B BlockRAM banks, `--banks`; "
-          "docs/HARDWARE.md): an even sample of a 256x256 image's eye-ray hits as queries, k = 32, every "
-          "answer checked, kiddo on the same map and queries." if headline_banked(res) else "")]
+          "docs/HARDWARE.md): an even sample of a 256x256 image's eye-ray hits as queries, k = 32 (within "
+          "the radius a row names), every answer checked, kiddo on the same map and queries." if headline_banked(res) else "")]
     if fits:
         best = max(fits, key=lambda rd: rd[1].queries_per_s)
         L.append("")
@@ -1240,7 +1241,8 @@ def headline_banked(res):
          "|---|---:|---|---:|---:|---:|---:|---:|"]
     for r in rows:
         o, x, e, s, k = r.options, r.xc6v, r.ecp5, r.sim, r.kiddo
-        name = f"D = {2 * o.trees}, B = {o.banks}{' [stale]' if r.stale else ''}"
+        within = f", within {o.radius} ({o.radius_bits}-bit distances)" if o.radius is not None else ""
+        name = f"D = {2 * o.trees}, B = {o.banks}{within}{' [stale]' if r.stale else ''}"
         photons = f"{s.photons:,}" if s.photons else f"from {o.cornell_photons:,} emitted"
         fit = next((d for d in r.device_fit if d.device == "XC6VSX475T"), None)
         u = (e.used or {}) if e else {}
