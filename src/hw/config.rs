@@ -179,11 +179,12 @@ pub struct CoreConfig {
     pub result_streams: usize,
     /// `None`: distances are as wide as the grid's diagonal in the metric. `Some(b)`:
     /// the core is built for initial radii below `2^b − 1` (a scene's largest gather
-    /// radius, "model only what the scene needs"): distances, bounds and found lists
-    /// are `b` bits wide, and a distance that does not fit saturates at `2^b − 1`.
-    /// Every comparison the search makes is against R, which never exceeds the
-    /// initial radius, so a saturated distance is rejected and a saturated bound
-    /// prunes exactly as the true one would (docs/HARDWARE.md, "Distance width").
+    /// radius, "model only what the scene needs"): found lists, bounds and stored
+    /// distances are `b` bits wide, and a bound that does not fit saturates at
+    /// `2^b − 1`. Every comparison the search makes is against R, which never
+    /// exceeds the initial radius, so a saturated bound prunes exactly as the true
+    /// one would, and the in-range test sees the whole distance (docs/HARDWARE.md,
+    /// "Distance width").
     pub radius_bits: Option<u32>,
 }
 

@@ -9,10 +9,15 @@
 //! SearchModule's next stage, on the registered distance, so this stage ends after
 //! one carry chain.
 //!
-//! Distances wider than the configured bits saturate at the all-ones value (both
-//! the full and the split-axis one): a core built for a scene's largest radius
-//! (`CoreConfig::radius_bits`) keeps only the bits below it, and a saturated
-//! distance is still above every radius the search compares it with.
+//! A core built for a scene's largest radius (`CoreConfig::radius_bits`) keeps
+//! distances in fewer bits than the grid's diagonal needs. The split-axis distance
+//! is stored (the level's pruning bound, the far cell's offsets), so a larger one
+//! saturates at the all-ones value, still above every radius it is compared with.
+//! The full distance is not saturated: it leaves as wide as the grid's diagonal,
+//! the in-range test (the SearchModule's next stage) is exact on it, and only a
+//! photon in range, whose distance fits, is stored. (Saturating it put an OR over
+//! its upper bits and a multiplexer behind the three-term sum, on the critical
+//! path of a banked core.)
 //!
 //! `registered`: the three axis differences (with their signs and the split axis)
 //! are registered before the squares and the sum, and the inputs come a cycle
@@ -50,8 +55,11 @@ pub struct DistModule {
     mask_y: Constant<Coord>,
     mask_z: Constant<Coord>,
     dist_mask: Constant<Dist>,
+    /// The full distance's bits: the grid's diagonal in the metric.
+    full_mask: Constant<Dist>,
     axis_mask: Constant<Dist>,
-    /// The distance bits are fewer than the grid's diagonal needs: saturate.
+    /// The distance bits are fewer than the grid's diagonal needs: the split-axis
+    /// distance saturates.
     saturate: Constant<bool>,
     /// The sum and the split axis's term before saturation.
     sum: Signal<Local, Dist>,
@@ -117,6 +125,7 @@ impl DistModule {
             mask_y: coord(1),
             mask_z: coord(2),
             dist_mask: Constant::new(Dist::from(low_mask(dist_bits))),
+            full_mask: Constant::new(Dist::from(low_mask(metric.dist_bits(coord_bits)))),
             axis_mask: Constant::new(Dist::from(low_mask(axis_bits))),
             saturate: Constant::new(dist_bits < metric.dist_bits(coord_bits)),
             sum: Default::default(),
@@ -214,15 +223,10 @@ impl Logic for DistModule {
             self.axis_term.next = self.term_y.val() & self.axis_mask.val();
             self.near_right.next = self.used_ge.val().get_bit(1);
         }
-        self.distance.next = self.sum.val() & self.dist_mask.val();
+        self.distance.next = self.sum.val() & self.full_mask.val();
         self.axis_dist.next = self.axis_term.val() & self.dist_mask.val();
-        if self.saturate.val() {
-            if (self.sum.val() & !self.dist_mask.val()).any() {
-                self.distance.next = self.dist_mask.val();
-            }
-            if (self.axis_term.val() & !self.dist_mask.val()).any() {
-                self.axis_dist.next = self.dist_mask.val();
-            }
+        if self.saturate.val() && (self.axis_term.val() & !self.dist_mask.val()).any() {
+            self.axis_dist.next = self.dist_mask.val();
         }
     }
 }
