@@ -681,6 +681,9 @@ def sim(d, opts, files, cache_only, queries=None):
     None, why) if it failed."""
     hit, stamp = cached(d, "sim", files)
     log = os.path.join(d, "bench.log")
+    # The stamp covers the Verilog only: a log of another query count is not this run.
+    ran = re.search(r"^\d+ photons, (\d+) queries", open(log).read(), re.M) if os.path.exists(log) else None
+    hit = hit and ran is not None and int(ran.group(1)) == (queries or SIM_QUERIES)
     if not hit:
         if cache_only:
             return None, None, None
