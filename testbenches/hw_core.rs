@@ -415,7 +415,16 @@ fn narrow_distances_answer_radii_below_saturation() {
         assert!(beyond > points.len() / 2, "{metric}: {beyond} beyond");
         queries.truncate(1);
         queries[0].radius = top + 1;
-        assert!(run_gather(&base, tree.image(), &queries, &SimOptions::default()).is_err());
+        let refused = run_gather(&base, tree.image(), &queries, &SimOptions::default())
+            .expect_err("a radius above the saturated distance")
+            .to_string();
+        // The largest radius below the saturated distance 2^bits − 1.
+        let limit = format!("answers radii up to {} on the grid", (1u64 << bits) - 2);
+        assert!(
+            refused.contains(&format!("radius {} is beyond", top + 1)),
+            "{refused}"
+        );
+        assert!(refused.contains(&limit), "{refused}");
     }
 }
 

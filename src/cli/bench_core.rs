@@ -150,14 +150,12 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     };
     if max > cfg.max_radius() {
         return Err(Error::new(format!(
-            "{} is beyond the core's {}-bit distances (radius_bits: radii up to {} on the \
-             grid); give a --radius it answers",
+            "{} is beyond the core: {}; give a --radius it answers",
             args.radius
                 .map_or("an unbounded gather (no --radius)".into(), |r| format!(
                     "--radius {r} ({max} on the grid)"
                 )),
-            cfg.dist_bits(),
-            cfg.max_radius()
+            cfg.radius_limit()
         )));
     }
     let queries = HwQuery::within(&cfg, &w.queries, max);

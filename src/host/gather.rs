@@ -327,9 +327,6 @@ impl QuantizedMap {
     /// Refuse a gather whose radius the core's distance bits cannot answer exactly
     /// (a radius at or above the saturated distance, or none).
     pub fn check_radius(&self, core: &CoreConfig, fixed: Option<&FixedCore>) -> Result<()> {
-        let Some(bits) = core.radius_bits else {
-            return Ok(());
-        };
         if self.radius_bound <= core.max_radius() {
             return Ok(());
         }
@@ -339,9 +336,9 @@ impl QuantizedMap {
             None => "an unbounded gather (no --radius)".to_string(),
         };
         Err(Error::new(format!(
-            "{asked}, beyond the core{whose}: radius_bits = {bits} answers radii up to {} \
-             (a larger --radius-bits, or a smaller --radius)",
-            core.max_radius()
+            "{asked}, beyond the core{whose}: {} (a larger --radius-bits, or a smaller \
+             --radius)",
+            core.radius_limit()
         )))
     }
 

@@ -31,6 +31,18 @@ impl CoreConfig {
         }
     }
 
+    /// The limit [`CoreConfig::max_radius`] sets, in the words every refusal of a
+    /// larger radius uses (host, bench and driver alike).
+    pub fn radius_limit(&self) -> String {
+        match self.radius_bits {
+            Some(b) => format!(
+                "radius_bits = {b} answers radii up to {} on the grid",
+                self.max_radius()
+            ),
+            None => "every radius".to_string(),
+        }
+    }
+
     /// Distances are narrower than the grid's diagonal, so they saturate.
     pub fn saturates(&self) -> bool {
         self.dist_bits() < self.full_dist_bits()

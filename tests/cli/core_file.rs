@@ -364,7 +364,7 @@ fn a_core_for_a_radius_answers_it_and_refuses_more() {
             "--cornell-size",
             "6x6",
         ]),
-        "an unbounded gather (no --radius) is beyond the core's 8-bit distances",
+        "an unbounded gather (no --radius) is beyond the core: radius_bits = 8 answers radii up to 254",
     );
 }
 

@@ -358,12 +358,10 @@ impl<D: Dut> Driver<D> {
                 }
                 if q.radius > cfg.max_radius() {
                     return Err(protocol(format!(
-                        "query {}: radius {} is beyond the core's {}-bit distances (radius_bits: \
-                         radii up to {})",
+                        "query {}: radius {} is beyond the core: {}",
                         q.id,
                         q.radius,
-                        cfg.dist_bits(),
-                        cfg.max_radius()
+                        cfg.radius_limit()
                     )));
                 }
                 for a in 0..3 {
