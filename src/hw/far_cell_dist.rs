@@ -33,7 +33,19 @@ pub struct FarCellDist {
     dist_mask: Constant<Dist>,
     saturate: Constant<bool>,
     sum: Signal<Local, Dist>,
+    /// Saturating distances of at most [`NARROW_BITS`] bits: the saturation test
+    /// on the sum taken at 16 bits (one mask and one sum, else none). Debian yosys
+    /// keeps a sum of 32-bit operands 32 bits wide, so the test would be an OR
+    /// over every bit above the distance's behind a 32-bit carry chain; at 16 bits
+    /// it is one LUT behind a chain half as long. The output is written into every
+    /// level's bound and the far-cell offsets in the same cycle.
+    narrow_mask: Vec<Constant<Bits<16>>>,
+    narrow_sum: Vec<Signal<Local, Bits<16>>>,
 }
+
+/// The widest saturating distance the 16-bit sum holds: `cell_dist − off + axis_dist`
+/// of `b`-bit terms is below `2^(b + 1)`.
+pub const NARROW_BITS: u32 = 15;
 
 impl FarCellDist {
     /// For `dist_bits`-bit distances, saturating if `saturate`.
@@ -50,6 +62,12 @@ impl FarCellDist {
             dist_mask: Constant::new(Dist::from(low_mask(dist_bits))),
             saturate: Constant::new(saturate),
             sum: Default::default(),
+            narrow_mask: (0..(saturate && dist_bits <= NARROW_BITS) as usize)
+                .map(|_| Constant::new(Bits::<16>::from(low_mask(dist_bits))))
+                .collect(),
+            narrow_sum: (0..(saturate && dist_bits <= NARROW_BITS) as usize)
+                .map(|_| Default::default())
+                .collect(),
         }
     }
 
@@ -73,6 +91,17 @@ impl Logic for FarCellDist {
         self.far_dist.next = self.sum.val() & self.dist_mask.val();
         if self.saturate.val() && (self.sum.val() & !self.dist_mask.val()).any() {
             self.far_dist.next = self.dist_mask.val();
+        }
+        for i in 0..self.narrow_sum.len() {
+            self.narrow_sum[i].next = (bit_cast::<16, 32>(self.cell_dist.val())
+                - bit_cast::<16, 32>(self.axis_off.val()))
+                + bit_cast::<16, 32>(self.axis_dist.val());
+            // The low bits are the wide sum's (synthesis trims its unused upper
+            // bits); only the test for saturation reads the narrow sum's top.
+            self.far_dist.next = self.sum.val() & self.dist_mask.val();
+            if (self.narrow_sum[i].val() & !self.narrow_mask[i].val()).any() {
+                self.far_dist.next = self.dist_mask.val();
+            }
         }
     }
 }
