@@ -46,10 +46,12 @@ pub struct BenchBanksArgs {
     /// Queries of the conflict curve: an even sample of the image's [default: all].
     #[arg(long)]
     pub queries: Option<usize>,
-    /// Emitted photons of each map of the map-size sweep (empty: no sweep).
+    /// Emitted photons of each map of the map-size sweep (`--map-photons` with no
+    /// value: no sweep).
     #[arg(
         long,
         value_delimiter = ',',
+        num_args = 0..,
         default_value = "500,2000,8000,32000,128000,512000"
     )]
     pub map_photons: Vec<usize>,

@@ -99,6 +99,31 @@ fn bench_banks_reports_the_software_searchs_reads() {
     assert_eq!(rows.iter().filter(|r| r[0] == "map_size").count(), 1);
 }
 
+/// `--map-photons` with no value runs the conflict curve alone.
+#[test]
+fn bench_banks_without_a_map_sweep() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = TINY.to_vec();
+    let at = args.iter().position(|&a| a == "--map-photons").unwrap();
+    args.remove(at + 1);
+    bin()
+        .args(args)
+        .args(["native", "--out"])
+        .arg(dir.path())
+        .assert()
+        .success();
+    let csv = std::fs::read_to_string(dir.path().join("banked_core.csv")).unwrap();
+    let sweeps: Vec<&str> = csv
+        .lines()
+        .skip(1)
+        .filter_map(|l| l.split(',').next())
+        .collect();
+    assert!(
+        !sweeps.is_empty() && sweeps.iter().all(|&s| s == "conflicts"),
+        "{csv}"
+    );
+}
+
 #[test]
 fn bench_banks_refuses_bad_input_by_name() {
     let dir = tempfile::tempdir().unwrap();
