@@ -222,3 +222,14 @@ fn no_source_file_is_longer_than_600_lines() {
         long.join("\n")
     );
 }
+
+/// README.md stays a page a user reads (what it is, the commands, the design on
+/// one page, the headline results); design notes and measurements live in docs/.
+#[test]
+fn the_readme_is_at_most_300_lines() {
+    let n = std::fs::read_to_string(root().join("README.md"))
+        .unwrap()
+        .lines()
+        .count();
+    assert!(n <= 300, "README.md: {n} lines");
+}
