@@ -50,6 +50,7 @@ pub const NARROW_BITS: u32 = 15;
 impl FarCellDist {
     /// For `dist_bits`-bit distances, saturating if `saturate`.
     pub fn new(dist_bits: u32, saturate: bool) -> Self {
+        let narrow = (saturate && dist_bits <= NARROW_BITS) as usize;
         FarCellDist {
             off_x: Default::default(),
             off_y: Default::default(),
@@ -62,12 +63,10 @@ impl FarCellDist {
             dist_mask: Constant::new(Dist::from(low_mask(dist_bits))),
             saturate: Constant::new(saturate),
             sum: Default::default(),
-            narrow_mask: (0..(saturate && dist_bits <= NARROW_BITS) as usize)
+            narrow_mask: (0..narrow)
                 .map(|_| Constant::new(Bits::<16>::from(low_mask(dist_bits))))
                 .collect(),
-            narrow_sum: (0..(saturate && dist_bits <= NARROW_BITS) as usize)
-                .map(|_| Default::default())
-                .collect(),
+            narrow_sum: (0..narrow).map(|_| Default::default()).collect(),
         }
     }
 

@@ -286,8 +286,8 @@ impl SynthResults {
     /// The single-core rows with results whose core runs the study's search: the
     /// same traversal and controller, pipelined, distances as wide as the grid's
     /// diagonal (the study's gathers are unbounded; the variants kept for
-    /// before/after timing are not swept). A core's clock and area depend on these options, so a
-    /// row of another traversal or controller would misstate them.
+    /// before/after timing are not swept). A core's clock and area depend on these
+    /// options, so a row of another traversal or controller would misstate them.
     pub fn study_rows(&self, traversal: Traversal, controller: Controller) -> Vec<ReportRow> {
         self.rows
             .iter()
