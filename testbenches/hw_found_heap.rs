@@ -169,15 +169,19 @@ fn found_heap_verilog_is_clean() {
     lint_top(dir.path());
 }
 
-/// `o` as the hexadecimal of the exported `op` port (the `LogicStruct`'s bits).
+/// `o` as the hexadecimal of the exported `op` port (the `LogicStruct`'s bits),
+/// most significant nibble first.
 fn op_hex(o: HeapOp) -> String {
-    assert_eq!(HeapOp::BITS, 260);
-    let b: Bits<260> = o.into();
-    let mut hex = format!("{:01x}", b.get_bits::<4>(256).to_u64());
-    for i in (0..4).rev() {
-        hex += &format!("{:016x}", b.get_bits::<64>(64 * i).to_u64());
-    }
-    hex
+    let b: Bits<{ HeapOp::BITS }> = o.into();
+    (0..HeapOp::BITS.div_ceil(4))
+        .rev()
+        .map(|n| {
+            let nibble = (0..4)
+                .filter(|&i| 4 * n + i < HeapOp::BITS && b.get_bit(4 * n + i))
+                .fold(0, |v, i| v | 1 << i);
+            format!("{nibble:x}")
+        })
+        .collect()
 }
 
 /// The exported Verilog under Icarus, fed the rust-hdl run's inputs cycle by cycle,
@@ -231,12 +235,12 @@ fn found_heap_verilog_matches_the_simulation_cycle_for_cycle() {
     let tb = format!(
         "module tb;
 reg clock = 0;
-reg [259:0] op;
+reg [{msb}:0] op;
 wire max_valid;
 wire [7:0] max_slot;
 wire [31:0] max;
 top dut(.clock(clock), .op(op), .max_valid(max_valid), .max_slot(max_slot), .max(max));
-reg [259:0] stim[0:{last}];
+reg [{msb}:0] stim[0:{last}];
 integer i;
 initial begin
   $readmemh(\"stim.hex\", stim);
@@ -250,7 +254,8 @@ initial begin
 end
 endmodule
 ",
-        last = n - 1
+        last = n - 1,
+        msb = HeapOp::BITS - 1
     );
     std::fs::write(dir.path().join("tb.v"), tb).unwrap();
     let ok = |out: std::process::Output, what: &str| {

@@ -49,9 +49,12 @@ pub struct FoundHeap {
     levels: Vec<BlockRam>,
     stages: Vec<HeapStage>,
     regs: Vec<DFF<HeapOp>>,
-    /// Loop constants: bit numbers for the depth of an insert's position.
+    /// Loop constants: bit numbers for the depth of an insert's position, and the
+    /// shifts that put the bit below a leading one at the top of the path.
     bit_number: Vec<Constant<Bits<8>>>,
+    path_shift: Vec<Constant<Bits<8>>>,
     depth: Signal<Local, Bits<8>>,
+    path: Signal<Local, HeapPos>,
     /// `op.size` (a signal: Verilog-2005 cannot index a bit of a struct field's
     /// slice).
     size: Signal<Local, HeapPos>,
@@ -76,7 +79,11 @@ impl FoundHeap {
             stages: (0..=levels).map(|s| HeapStage::new(s, levels)).collect(),
             regs: (0..=levels).map(|_| Default::default()).collect(),
             bit_number: (0..16).map(|b| Constant::new((b as u64).into())).collect(),
+            path_shift: (0..16)
+                .map(|b| Constant::new((16 - b as u64).into()))
+                .collect(),
             depth: Default::default(),
+            path: Default::default(),
             size: Default::default(),
             no_data: Constant::new(0u64.into()),
         }
@@ -92,12 +99,15 @@ impl Logic for FoundHeap {
         for l in 0..self.levels.len() {
             self.levels[l].clock.next = self.clock.val();
         }
-        // An insert's path: the position's bits below its leading one, from the top.
+        // An insert's path: the position's bits below its leading one, from the top
+        // (one shifter here, not one per stage).
         self.depth.next = 0.into();
+        self.path.next = 0.into();
         self.size.next = self.op.val().size;
-        for b in 0..self.bit_number.len() {
+        for b in 1..self.bit_number.len() {
             if self.size.val().get_bit(b) {
                 self.depth.next = self.bit_number[b].val();
+                self.path.next = self.size.val() << self.path_shift[b].val();
             }
         }
         self.regs[0].d.next = self.op.val();
@@ -105,6 +115,7 @@ impl Logic for FoundHeap {
         self.regs[0].d.next.write = false;
         self.regs[0].d.next.node = 1.into();
         self.regs[0].d.next.shift = self.depth.val();
+        self.regs[0].d.next.path = self.path.val();
         // Stage 0 reads the root's pair; stage s reads level s + 1, writes level
         // s − 1.
         self.levels[0].read_index.next = bit_cast::<16, 8>(self.op.val().slot);

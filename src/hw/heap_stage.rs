@@ -19,9 +19,16 @@
 //!
 //! In stage `s` an operation holds the pair read from level `s` (issued by stage
 //! `s − 1`), issues the read of level `s + 1` (the children of its node) and writes
-//! level `s − 1` (an insert the pair it decided in stage `s − 1`; a replace the pair
-//! of its parent, decided now). Every level is read by one stage and written by one
-//! stage, so operations of different slots follow each other every cycle.
+//! level `s − 1`. Every level is read by one stage and written by one stage, so
+//! operations of different slots follow each other every cycle.
+//!
+//! Why the write is always one stage late, for both operations: the pair an
+//! operation writes is always the level `s − 1` pair it read in stage `s − 1`
+//! (carried in [`HeapOp::pair`]) with one half changed — an insert's to the key it
+//! kept there, a replace's to what settles on its node, known only once its
+//! children are compared here. So the stage carries one pair and one kept key,
+//! and the write's mux is shared: the pipeline registers and the muxes, not the
+//! comparators, are most of a stage's logic.
 
 use crate::hw::block_ram::{BramIndex, BramWord};
 use rust_hdl::prelude::*;
@@ -38,7 +45,8 @@ pub struct HeapOp {
     pub valid: bool,
     /// Replace the root (else insert).
     pub replace: bool,
-    /// The operation has settled: it passes the remaining stages without effect.
+    /// The operation has settled: it passes the remaining stages without effect
+    /// (an insert still writes what it kept in the stage before).
     pub done: bool,
     pub slot: Bits<8>,
     /// The key carried down.
@@ -47,16 +55,19 @@ pub struct HeapOp {
     pub size: HeapPos,
     /// Insert: levels left to the position to fill (0: this stage's node).
     pub shift: Bits<8>,
+    /// Insert: the rest of the path to the position, the next step (0 left, 1
+    /// right) in the top bit.
+    pub path: HeapPos,
     /// Insert: this stage's node. Replace: the node whose children this stage
     /// holds (the node the carried key sits on).
     pub node: HeapPos,
-    /// Insert: the new root (from stage 0 on).
-    pub root: HeapKey,
-    /// Insert: the pair decided in the previous stage, written by this one.
+    /// Insert: the previous stage decided a write (its node keeps `kept`).
     pub write: bool,
-    pub write_index: BramIndex,
-    pub write_pair: BramWord,
-    /// Replace: the pair read by the previous stage (the one holding `node`).
+    /// Insert: the key the previous stage kept at its node (after stage 0: the
+    /// new root).
+    pub kept: HeapKey,
+    /// The level `s − 1` pair the previous stage read, written back by this stage
+    /// with one half changed.
     pub pair: BramWord,
 }
 
@@ -74,28 +85,27 @@ pub struct HeapStage {
     pub write_enable: Signal<Out, bool>,
     pub write_index: Signal<Out, BramIndex>,
     pub write_data: Signal<Out, BramWord>,
-    /// The slot's new root, valid in stage 1 (insert: from stage 0; replace: now).
+    /// The slot's new root, valid in stage 1 (insert: kept by stage 0; replace:
+    /// what settles on the root now).
     pub max: Signal<Out, HeapKey>,
-    /// This stage's level, and whether it exists (a replace's children are there).
-    level: Constant<Bits<8>>,
+    /// Whether this is stage 0 (it holds the root's pair and writes nothing), and
+    /// whether this stage's level exists (a replace's children are there).
+    first: Constant<bool>,
     has_children: Constant<bool>,
-    /// Where a node's pair is: slot << shift | (n >> 1) & mask, for this level
-    /// (`own_*`, an insert's node) and the one above (`parent_*`, a replace's);
-    /// a node's children's pair: slot << level | n & child_mask.
-    own_shift: Constant<Bits<8>>,
-    own_mask: Constant<HeapPos>,
+    /// Where a node's pair is: slot << shift | (n >> 1) & mask, for the level above
+    /// (`parent_*`, the pair this stage writes); a node's children's pair: slot <<
+    /// level | n & child_mask.
+    level: Constant<Bits<8>>,
     parent_shift: Constant<Bits<8>>,
     parent_mask: Constant<HeapPos>,
     child_mask: Constant<HeapPos>,
     low_half: Constant<BramWord>,
     high_half: Constant<BramWord>,
-    /// `op.node` (a signal: Verilog-2005 cannot index a bit of a struct field's
-    /// slice).
+    /// The node whose half of `op.pair` this stage writes (a signal:
+    /// Verilog-2005 cannot index a bit of a struct field's slice), and `op.node`.
+    written: Signal<Local, HeapPos>,
     node: Signal<Local, HeapPos>,
-    node_pair: Signal<Local, BramIndex>,
-    parent_pair: Signal<Local, BramIndex>,
-    cur: Signal<Local, HeapKey>,
-    kept: Signal<Local, HeapKey>,
+    path: Signal<Local, HeapPos>,
     left: Signal<Local, HeapKey>,
     right: Signal<Local, HeapKey>,
     /// The right child is the larger (and exists); each child exceeds the
@@ -105,9 +115,19 @@ pub struct HeapStage {
     right_above: Signal<Local, bool>,
     bigger_above: Signal<Local, bool>,
     bigger: Signal<Local, HeapKey>,
-    bigger_pos: Signal<Local, HeapPos>,
-    moves_up: Signal<Local, bool>,
+    /// Insert: the carried key exceeds this node's (it stays, the node's goes on).
+    key_above: Signal<Local, bool>,
+    kept: Signal<Local, HeapKey>,
+    /// Replace: what settles on `op.node` (the larger child moving up, or the key).
     settled: Signal<Local, HeapKey>,
+    /// The value written into the written node's half.
+    value: Signal<Local, HeapKey>,
+    moves_up: Signal<Local, bool>,
+    /// Insert: this node's key; the operation is still on its way down.
+    cur: Signal<Local, HeapKey>,
+    walks: Signal<Local, bool>,
+    /// The node the operation moves to, and whose children's pair is read next.
+    next_node: Signal<Local, HeapPos>,
     child: Signal<Local, HeapPos>,
 }
 
@@ -133,20 +153,17 @@ impl HeapStage {
             write_index: Default::default(),
             write_data: Default::default(),
             max: Default::default(),
-            level: Constant::new((level as u64).into()),
+            first: Constant::new(level == 0),
             has_children: Constant::new(level < levels),
-            own_shift: Constant::new((level.saturating_sub(1) as u64).into()),
-            own_mask: Constant::new(pair_mask(level).into()),
+            level: Constant::new((level as u64).into()),
             parent_shift: Constant::new((level.saturating_sub(2) as u64).into()),
             parent_mask: Constant::new(pair_mask(level.saturating_sub(1)).into()),
             child_mask: Constant::new(pair_mask(level + 1).into()),
             low_half: Constant::new(0xFFFF_FFFFu64.into()),
             high_half: Constant::new(0xFFFF_FFFF_0000_0000u64.into()),
+            written: Default::default(),
             node: Default::default(),
-            node_pair: Default::default(),
-            parent_pair: Default::default(),
-            cur: Default::default(),
-            kept: Default::default(),
+            path: Default::default(),
             left: Default::default(),
             right: Default::default(),
             right_wins: Default::default(),
@@ -154,9 +171,14 @@ impl HeapStage {
             right_above: Default::default(),
             bigger_above: Default::default(),
             bigger: Default::default(),
-            bigger_pos: Default::default(),
-            moves_up: Default::default(),
+            key_above: Default::default(),
+            kept: Default::default(),
             settled: Default::default(),
+            value: Default::default(),
+            moves_up: Default::default(),
+            cur: Default::default(),
+            walks: Default::default(),
+            next_node: Default::default(),
             child: Default::default(),
         }
     }
@@ -165,100 +187,97 @@ impl HeapStage {
 impl Logic for HeapStage {
     #[hdl_gen]
     fn update(&mut self) {
-        self.out_op.next = self.op.val();
-        self.out_op.next.write = false;
-        self.write_enable.next = false;
-        self.write_index.next = self.op.val().write_index;
-        self.write_data.next = self.op.val().write_pair;
-        self.max.next = self.op.val().root;
         self.node.next = self.op.val().node;
-        self.node_pair.next = (bit_cast::<16, 8>(self.op.val().slot) << self.own_shift.val())
-            | ((self.op.val().node >> 1) & self.own_mask.val());
-        self.parent_pair.next = (bit_cast::<16, 8>(self.op.val().slot) << self.parent_shift.val())
-            | ((self.op.val().node >> 1) & self.parent_mask.val());
-        // The key of this stage's node (insert) in the pair read for it.
+        self.path.next = self.op.val().path;
         self.left.next = bit_cast::<32, 64>(self.data.val());
         self.right.next = bit_cast::<32, 64>(self.data.val() >> 32);
+        // Insert: this node's key, its half of the pair.
+        self.cur.next = self.left.val();
         if self.node.val().get_bit(0) {
             self.cur.next = self.right.val();
-        } else {
-            self.cur.next = self.left.val();
         }
-        // The larger child (replace): the pair read is the node's two children.
         // The three comparisons side by side, then selected: the larger child
         // against the carried key would be a second comparison behind the first,
-        // between the level's BlockRAM read and the next level's address and this
-        // level's write.
+        // between the level's BlockRAM read and the next level's address.
         self.right_wins.next = (((self.op.val().node << 1) | 1) <= self.op.val().size)
             && (self.right.val() > self.left.val());
         self.left_above.next = self.left.val() > self.op.val().key;
         self.right_above.next = self.right.val() > self.op.val().key;
         self.bigger.next = self.left.val();
-        self.bigger_pos.next = self.op.val().node << 1;
         self.bigger_above.next = self.left_above.val();
         if self.right_wins.val() {
             self.bigger.next = self.right.val();
-            self.bigger_pos.next = (self.op.val().node << 1) | 1;
             self.bigger_above.next = self.right_above.val();
         }
+        // Replace: the larger child moves up if it exceeds the key, else the key
+        // settles here.
         self.moves_up.next = self.has_children.val()
             && ((self.op.val().node << 1) <= self.op.val().size)
             && self.bigger_above.val();
-        self.kept.next = self.op.val().key;
         self.settled.next = self.op.val().key;
-        self.child.next = self.op.val().node;
-        if self.op.val().valid && (!self.op.val().done) && self.op.val().replace {
-            // Stage 0 only issues the read of the root's children.
-            if self.level.val() != 0 {
-                if self.moves_up.val() {
-                    self.settled.next = self.bigger.val();
-                }
-                // The parent's pair (read by the previous stage) with the parent's
-                // half set to what settles there.
-                self.write_enable.next = true;
-                self.write_index.next = self.parent_pair.val();
-                if self.node.val().get_bit(0) {
-                    self.write_data.next = (self.op.val().pair & self.low_half.val())
-                        | (bit_cast::<64, 32>(self.settled.val()) << 32);
-                } else {
-                    self.write_data.next = (self.op.val().pair & self.high_half.val())
-                        | bit_cast::<64, 32>(self.settled.val());
-                }
-                self.max.next = self.settled.val();
-                self.out_op.next.done = !self.moves_up.val();
-                self.out_op.next.node = self.bigger_pos.val();
-                self.child.next = self.bigger_pos.val();
-            }
-            self.out_op.next.pair = self.data.val();
+        if self.moves_up.val() {
+            self.settled.next = self.bigger.val();
         }
-        if self.op.val().valid && (!self.op.val().replace) {
-            // Insert: the write this operation decided in the previous stage.
-            self.write_enable.next = self.op.val().write;
+        // Insert: the larger of the node's key and the carried key stays, the
+        // smaller goes on down (the same comparisons: keys of one list are
+        // distinct, and of two equal keys either may stay).
+        self.key_above.next = !self.left_above.val();
+        if self.node.val().get_bit(0) {
+            self.key_above.next = !self.right_above.val();
+        }
+        self.walks.next = !self.op.val().replace && (self.op.val().shift != 0);
+        self.kept.next = self.op.val().key;
+        if self.walks.val() && !self.key_above.val() {
+            self.kept.next = self.cur.val();
+        }
+        // The write of level s − 1: the pair read there, one half changed.
+        self.written.next = self.op.val().node;
+        self.value.next = self.settled.val();
+        if !self.op.val().replace {
+            self.written.next = self.op.val().node >> 1;
+            self.value.next = self.op.val().kept;
+        }
+        self.write_index.next = (bit_cast::<16, 8>(self.op.val().slot) << self.parent_shift.val())
+            | ((self.written.val() >> 1) & self.parent_mask.val());
+        self.write_data.next =
+            (self.op.val().pair & self.high_half.val()) | bit_cast::<64, 32>(self.value.val());
+        if self.written.val().get_bit(0) {
+            self.write_data.next = (self.op.val().pair & self.low_half.val())
+                | (bit_cast::<64, 32>(self.value.val()) << 32);
+        }
+        self.max.next = self.value.val();
+        // The step down: the larger child (replace) or the path's next bit (insert).
+        self.next_node.next = self.op.val().node << 1;
+        if (self.op.val().replace && self.right_wins.val())
+            || (!self.op.val().replace && self.path.val().get_bit(15))
+        {
+            self.next_node.next = (self.op.val().node << 1) | 1;
+        }
+        self.out_op.next = self.op.val();
+        self.out_op.next.write = false;
+        self.out_op.next.pair = self.data.val();
+        if self.walks.val() && self.key_above.val() {
+            self.out_op.next.key = self.cur.val();
+        }
+        self.write_enable.next = false;
+        self.child.next = self.op.val().node;
+        if self.op.val().valid && self.op.val().replace && !self.op.val().done && !self.first.val()
+        {
+            // Stage 0 only issues the read of the root's children.
+            self.write_enable.next = true;
+            self.out_op.next.done = !self.moves_up.val();
+            self.out_op.next.node = self.next_node.val();
+            self.child.next = self.next_node.val();
+        }
+        if self.op.val().valid && !self.op.val().replace {
+            self.write_enable.next = self.op.val().write && !self.first.val();
             if !self.op.val().done {
-                // The larger key stays on the path, the smaller goes on down.
-                if self.op.val().shift == 0 {
-                    self.out_op.next.done = true;
-                } else if self.op.val().key > self.cur.val() {
-                    self.out_op.next.key = self.cur.val();
-                } else {
-                    self.kept.next = self.cur.val();
-                }
-                if self.level.val() == 0 {
-                    self.out_op.next.root = self.kept.val();
-                }
-                // Written by the next stage: this node's pair with its half set.
+                self.out_op.next.done = self.op.val().shift == 0;
                 self.out_op.next.write = true;
-                self.out_op.next.write_index = self.node_pair.val();
-                if self.node.val().get_bit(0) {
-                    self.out_op.next.write_pair = (self.data.val() & self.low_half.val())
-                        | (bit_cast::<64, 32>(self.kept.val()) << 32);
-                } else {
-                    self.out_op.next.write_pair = (self.data.val() & self.high_half.val())
-                        | bit_cast::<64, 32>(self.kept.val());
-                }
+                self.out_op.next.kept = self.kept.val();
                 self.out_op.next.shift = self.op.val().shift - 1;
-                self.out_op.next.node = (self.op.val().node << 1)
-                    | ((self.op.val().size >> (self.op.val().shift - 1)) & 1);
+                self.out_op.next.path = self.op.val().path << 1;
+                self.out_op.next.node = self.next_node.val();
             }
         }
         // The next level's pair: the children of `child` (the next stage's pair).
