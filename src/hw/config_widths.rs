@@ -90,6 +90,13 @@ impl CoreConfig {
         self.controller == Controller::Barrel && self.k > FOUND_TREE_MAX_K
     }
 
+    /// Whether result entries carry their distances. A heap core's read-out keeps
+    /// addresses only (its heaps hold the distances; `SlotReadout` says why) and
+    /// sends zero; the driver fills each in from the map it loaded.
+    pub fn sends_distances(&self) -> bool {
+        !self.uses_found_heap()
+    }
+
     /// Levels of a found heap: `2^levels − 1 >= K` nodes.
     pub fn heap_levels(&self) -> usize {
         bits_for(self.k as u64) as usize

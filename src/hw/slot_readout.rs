@@ -14,6 +14,13 @@
 //! cycle after it is offered (its entry comes from the slot state's asynchronous
 //! read in the port's stage A; the BlockRAMs' write port is then not the end of
 //! that path); its packet leaves cycles later, after the search's last stage.
+//!
+//! With found heaps (K above the comparator tree's) the BlockRAMs keep addresses
+//! only and the entries' distances go out as zero: the heap's keys already hold
+//! every distance, and storing them twice would double the read-out's BlockRAM
+//! (16 slots × 512 entries × 22 bits per datapath). The host has the map and the
+//! query, so the driver computes each entry's distance from its address
+//! ([`CoreConfig::sends_distances`]).
 
 use crate::hw::block_ram::{BlockRam, BramIndex, BramWord};
 use crate::hw::config::{
@@ -95,7 +102,11 @@ pub struct SlotReadout {
 impl SlotReadout {
     pub fn new(cfg: &CoreConfig) -> Self {
         let q = cfg.queries_per_port;
-        let db = cfg.dist_bits();
+        let db = if cfg.sends_distances() {
+            cfg.dist_bits()
+        } else {
+            0
+        };
         let slot_bits = bits_for(q.saturating_sub(1) as u64);
         let pair_bits = bits_for((cfg.k.saturating_sub(1) / 2) as u64);
         SlotReadout {

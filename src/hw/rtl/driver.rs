@@ -14,6 +14,7 @@
 use crate::hw::config::{CoreConfig, MAX_RESULT_STREAMS};
 use crate::hw::error::HwError;
 use crate::hw::photon_word::TreeImage;
+use crate::hw::rtl::entry_distances::HeldMap;
 use crate::hw::stream::{QueryBeat, ResultBeat};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
@@ -224,6 +225,10 @@ pub struct Driver<D: Dut> {
     cycle: u64,
     stats: StatsObserver,
     observers: Vec<Box<dyn Observer>>,
+    /// The map the core holds (the last one loaded), kept where result entries
+    /// come without distances (`CoreConfig::sends_distances`): the driver computes
+    /// them from it.
+    map: HeldMap,
 }
 
 /// Where the host is within a run.
@@ -263,6 +268,7 @@ impl<D: Dut> Driver<D> {
             cycle: 0,
             stats: StatsObserver::default(),
             observers,
+            map: HeldMap::default(),
         };
         d.reset()?;
         Ok(d)
@@ -506,6 +512,20 @@ impl<D: Dut> Driver<D> {
                         "no progress for {patience} cycles at cycle {} ({} of {total} results)",
                         self.cycle, host.received
                     )));
+                }
+            }
+        }
+        // A heap core's entries: distances from the map each job ran on.
+        for (job, res) in jobs.iter().zip(&mut results) {
+            if cfg.sends_distances() {
+                break;
+            }
+            if let Some(t) = job.load {
+                self.map.load(t);
+            }
+            for (q, r) in job.queries.iter().zip(res.iter_mut()) {
+                if let Some(r) = r {
+                    self.map.fill(cfg.metric, q.id, q.coords, &mut r.found)?;
                 }
             }
         }

@@ -5,6 +5,7 @@
 
 pub mod axis_top;
 pub mod driver;
+pub mod entry_distances;
 pub mod export;
 pub mod model_cache;
 pub mod native;
