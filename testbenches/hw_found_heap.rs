@@ -169,6 +169,50 @@ fn found_heap_verilog_is_clean() {
     lint_top(dir.path());
 }
 
+/// The levels of fewer than 512 pairs are distributed RAM: yosys maps a 9-level heap
+/// of 16 slots to the DP16KD of levels 6–8 alone, each level's 64-bit pairs two
+/// DP16KD wide and 512 deep (levels 0–5, 16 to 256 pairs, go to LUT-RAM).
+#[test]
+fn found_heap_upper_levels_take_no_blockram() {
+    let (levels, slot_bits) = (9usize, 4u32);
+    let mut uut = FoundHeap::new(levels, slot_bits);
+    uut.connect_all();
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("top.v"), generate_verilog(&uut)).unwrap();
+    crate::common::require("yosys");
+    let out = Command::new("yosys")
+        .current_dir(dir.path())
+        .args(["-q", "-p", "read_verilog top.v; synth_ecp5 -top top -noflatten -run begin:map_luts; tee -o stat.txt stat"])
+        .output()
+        .expect("yosys");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stat = std::fs::read_to_string(dir.path().join("stat.txt")).unwrap();
+    // The totals of the design hierarchy (the last count of each cell type).
+    let count = |cell: &str| -> usize {
+        stat.lines()
+            .filter_map(|l| {
+                l.trim()
+                    .strip_prefix(cell)
+                    .map(|n| n.trim().parse().unwrap_or(0))
+            })
+            .last()
+            .unwrap_or(0)
+    };
+    // Level l (l >= 1) holds 2^(l-1) pairs per slot.
+    let want: usize = (1..levels)
+        .map(|l| 1usize << (slot_bits as usize + l - 1))
+        .filter(|&pairs| pairs >= 512)
+        .map(|pairs| 2 * pairs / 512)
+        .sum();
+    assert_eq!(want, 2 + 4 + 8);
+    assert_eq!(count("DP16KD"), want, "{stat}");
+    assert!(count("TRELLIS_DPR16X4") > 0, "{stat}");
+}
+
 /// `o` as the hexadecimal of the exported `op` port (the `LogicStruct`'s bits),
 /// most significant nibble first.
 fn op_hex(o: HeapOp) -> String {

@@ -32,6 +32,8 @@ pub struct BlockRam {
     pub read_data: Signal<Out, BramWord>,
     _mem: Vec<u64>,
     _width: u32,
+    /// Asks synthesis for distributed (LUT) RAM: the same registered read.
+    _distributed: bool,
 }
 
 impl BlockRam {
@@ -47,6 +49,17 @@ impl BlockRam {
             read_data: Default::default(),
             _mem: vec![0; 1 << index_bits],
             _width: width,
+            _distributed: false,
+        }
+    }
+
+    /// [`BlockRam::new`] held in distributed RAM (LUT-RAM and the read register):
+    /// for a memory that would fill a small part of the BlockRAMs its width takes
+    /// (`FoundHeap`'s upper levels), where BlockRAMs are what the device runs out of.
+    pub fn distributed(index_bits: u32, width: u32) -> Self {
+        BlockRam {
+            _distributed: true,
+            ..Self::new(index_bits, width)
         }
     }
 
@@ -83,11 +96,16 @@ impl Logic for BlockRam {
     fn hdl(&self) -> Verilog {
         let w = self._width;
         let a = self.index_bits();
+        let (kind, style) = if self._distributed {
+            ("Distributed RAM", " (* ram_style = \"distributed\" *)")
+        } else {
+            ("BlockRAM", "")
+        };
         Verilog::Custom(format!(
             "\
-// {entries} entries of {w} bits: BlockRAM, registered read. No entry is read and
+// {entries} entries of {w} bits: {kind}, registered read. No entry is read and
 // written in the same cycle: no collision logic.
-(* no_rw_check *)
+(* no_rw_check *){style}
 reg [{wm}:0] mem[0:{last}];
 integer init_index;
 initial for (init_index = 0; init_index < {entries}; init_index = init_index + 1) mem[init_index] = 0;

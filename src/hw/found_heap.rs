@@ -31,6 +31,16 @@ use crate::hw::block_ram::{BlockRam, BramWord};
 use crate::hw::heap_stage::{HeapKey, HeapOp, HeapPos, HeapStage};
 use rust_hdl::prelude::*;
 
+/// Levels of fewer than `2^DISTRIBUTED_BELOW_BITS` pairs are distributed RAM.
+///
+/// Why: a pair is 64 bits, two DP16KD (ECP5) or a RAMB36 (Virtex-6) wide, and a
+/// BlockRAM is 512 words deep at that width, so a level of 64 pairs (16 slots,
+/// level 3) takes two DP16KD to hold 4 Kbit. With 16 slots levels 3–5 would take
+/// six DP16KD for 28 Kbit, a fifth of a datapath's BlockRAMs, where BlockRAM is what
+/// a device of many K = 500 datapaths runs out of first; in LUT-RAM they cost
+/// about a thousand LUTs.
+pub const DISTRIBUTED_BELOW_BITS: u32 = 9;
+
 /// The fewest cycles between two operations of one slot.
 pub const MIN_SPACING: usize = 3;
 
@@ -74,7 +84,14 @@ impl FoundHeap {
             max_slot: Default::default(),
             max: Default::default(),
             levels: (0..levels)
-                .map(|l| BlockRam::new(slot_bits + (l.max(1) as u32 - 1), 64))
+                .map(|l| {
+                    let bits = slot_bits + (l.max(1) as u32 - 1);
+                    if bits < DISTRIBUTED_BELOW_BITS {
+                        BlockRam::distributed(bits, 64)
+                    } else {
+                        BlockRam::new(bits, 64)
+                    }
+                })
                 .collect(),
             stages: (0..=levels).map(|s| HeapStage::new(s, levels)).collect(),
             regs: (0..=levels).map(|_| Default::default()).collect(),
