@@ -194,12 +194,12 @@ fn found_heap_upper_levels_take_no_blockram() {
     // The totals of the design hierarchy (the last count of each cell type).
     let count = |cell: &str| -> usize {
         stat.lines()
-            .filter_map(|l| {
+            .rev()
+            .find_map(|l| {
                 l.trim()
                     .strip_prefix(cell)
                     .map(|n| n.trim().parse().unwrap_or(0))
             })
-            .last()
             .unwrap_or(0)
     };
     // Level l (l >= 1) holds 2^(l-1) pairs per slot.
