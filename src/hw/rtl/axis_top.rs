@@ -191,10 +191,10 @@ fn meaning(stream: &str, field: &str) -> &'static str {
         (_, "count") => "header: photons found",
         (_, "visited") => "header: photons read",
         (_, "address") => "entry: heap address of a photon",
-        (_, "distance") => "entry: its distance",
+        (_, "distance") => "entry: its distance (0 from a K > 64 core: the host computes it)",
         (_, "pair") => "entry: address2/distance2 hold a second photon",
         (_, "address2") => "entry: second photon's heap address",
-        (_, "distance2") => "entry: its distance",
+        (_, "distance2") => "entry: its distance (as distance)",
         _ => "",
     }
 }
