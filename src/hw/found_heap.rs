@@ -1,5 +1,6 @@
 //! FoundHeap: the found lists of a barrel datapath's query slots as one binary
-//! max-heap per slot in BlockRAM, for found lists of hundreds of photons.
+//! max-heap per slot in BlockRAM (its small levels in LUT-RAM), for found lists of
+//! hundreds of photons.
 //!
 //! Why a heap: the search needs the farthest found photon at all times (paper
 //! §4.4: R, the pruning radius, and the entry a nearer photon replaces). The
@@ -38,8 +39,9 @@ use rust_hdl::prelude::*;
 /// level 3) takes two DP16KD to hold 4 Kbit, an eighth of them. With 16 slots
 /// levels 3 and 4 would take four DP16KD, where BlockRAM is what a device of many
 /// K = 500 datapaths runs out of first. LUT-RAM is no bargain either: on the ECP5
-/// a 16 × 4-bit DPR16X4 takes a slice's four LUT4 sites, so a level of 256 pairs
-/// would cost about 1,300 LUT4s to save two DP16KD; it stays in BlockRAM.
+/// a 16 × 4-bit DPR16X4 takes a slice's four LUT4 sites, so from 256 pairs on a
+/// level would cost more LUTs than a full device can spare for its two DP16KD; it
+/// stays in BlockRAM.
 pub const DISTRIBUTED_BELOW_BITS: u32 = 8;
 
 /// The fewest cycles between two operations of one slot.
