@@ -516,10 +516,8 @@ impl<D: Dut> Driver<D> {
             }
         }
         // A heap core's entries: distances from the map each job ran on.
-        for (job, res) in jobs.iter().zip(&mut results) {
-            if cfg.sends_distances() {
-                break;
-            }
+        let heap_core = !cfg.sends_distances();
+        for (job, res) in jobs.iter().zip(&mut results).filter(|_| heap_core) {
             if let Some(t) = job.load {
                 self.map.load(t);
             }
