@@ -32,10 +32,19 @@ fn op(replace: bool, slot: usize, key: u64, size: usize) -> HeapOp {
 }
 
 /// One run: `k`-entry lists in a heap of `levels` levels, `steps` cycles, operations
-/// from the first `slots` slots, each slot's `spacing` cycles apart at least.
-fn run_spaced(levels: usize, k: usize, steps: usize, seed: u64, spacing: usize, slots: usize) {
+/// from the first `slots` slots, each slot's `spacing` cycles apart at least (`None`:
+/// the heap's own minimum).
+fn run_spaced(
+    levels: usize,
+    k: usize,
+    steps: usize,
+    seed: u64,
+    spacing: Option<usize>,
+    slots: usize,
+) {
     assert!(k < 1 << levels);
     let mut uut = FoundHeap::new(levels, 4);
+    let spacing = spacing.unwrap_or(uut.min_spacing());
     uut.connect_all();
     check_all(&uut).unwrap();
     let mut r = rng(seed);
@@ -131,21 +140,27 @@ fn run_spaced(levels: usize, k: usize, steps: usize, seed: u64, spacing: usize, 
 
 /// [`run_spaced`] at the block's minimum spacing, from all 16 slots.
 fn run(levels: usize, k: usize, steps: usize, seed: u64) {
-    run_spaced(levels, k, steps, seed, MIN_SPACING, 16);
+    run_spaced(levels, k, steps, seed, None, 16);
 }
 
-/// Operations of one slot back to back at the minimum spacing (three slots in
-/// turn), and a spacing one shorter must break the heap (the rule is tight).
+/// Operations of one slot back to back at the heap's minimum spacing (three slots
+/// in turn), and a spacing one shorter must break the heap (the rule is tight): with
+/// LUT-RAM levels only (3 levels: 3 cycles), one registered BlockRAM level (6: 4)
+/// and two in a row (7 and 10: 5, the bound for every heap).
 #[test]
 fn the_minimum_spacing_is_enough_and_tight() {
-    for (levels, k) in [(3, 7), (6, 50), (10, 600)] {
-        run_spaced(levels, k, 6000, 48, MIN_SPACING, 3);
+    let spacing = |levels| FoundHeap::new(levels, 4).min_spacing();
+    assert_eq!([3, 6, 7, 10].map(spacing), [3, 4, MIN_SPACING, MIN_SPACING]);
+    for (levels, k) in [(3, 7), (6, 50), (7, 100), (10, 600)] {
+        run_spaced(levels, k, 6000, 48, None, 3);
+        let short = std::panic::catch_unwind(|| {
+            run_spaced(levels, k, 6000, 49, Some(spacing(levels) - 1), 1)
+        });
+        assert!(
+            short.is_err(),
+            "levels {levels}: one slot's operations closer than the rule still worked"
+        );
     }
-    let short = std::panic::catch_unwind(|| run_spaced(6, 50, 6000, 49, MIN_SPACING - 1, 1));
-    assert!(
-        short.is_err(),
-        "one slot's operations closer than the rule still worked"
-    );
 }
 
 #[test]
@@ -233,13 +248,14 @@ fn op_hex(o: HeapOp) -> String {
 /// start undefined in Verilog, are flushed by idle cycles).
 #[test]
 fn found_heap_verilog_matches_the_simulation_cycle_for_cycle() {
-    let levels = 6;
+    // Levels 5 and 6 registered, a pair in a row.
+    let levels = 7;
     let mut uut = FoundHeap::new(levels, 4);
     uut.connect_all();
     check_all(&uut).unwrap();
     let verilog = photon_fpga::hw::rtl::export::glitch_free(&generate_verilog(&uut)).unwrap();
     let mut r = rng(47);
-    let (k, spacing, flush) = (40usize, MIN_SPACING, levels + 4);
+    let (k, spacing, flush) = (70usize, uut.min_spacing(), 2 * levels + 4);
     let mut sizes = [0usize; 16];
     let mut last = [-100i64; 16];
     let mut stim = vec![];

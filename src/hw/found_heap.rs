@@ -19,14 +19,24 @@
 //! children), read by one stage and written by the next. The new root — the slot's
 //! new R — comes out of stage 1, two cycles after the operation enters.
 //!
+//! Why the BlockRAM levels take two cycles: a DP16KD's read data comes out late in
+//! the cycle (ECP5 BlockRAMs have no output register yosys maps to), and a level's
+//! compare and the write of the level above would follow it in the same cycle, the
+//! longest path of a heap core. So from level 2 on a level in BlockRAM has its read
+//! registered once more (beside the BlockRAM, in the fabric) and its stage runs a
+//! cycle later; the LUT-RAM levels and the root's pair stay one cycle each, so the
+//! new root still comes out two cycles after the operation enters.
+//!
 //! The one rule for the user: two operations of one slot enter at least
-//! [`MIN_SPACING`] cycles apart, whatever the depth. An operation entering in cycle
-//! `t` reads level `l` in cycle `t + l` and writes it in cycle `t + l + 2`, so
-//! operations of one slot follow each other down the levels as a wavefront, each
-//! reading a level after the one before wrote it. The barrel datapath meets it by
-//! construction: a slot has one event in flight and comes back every slot loop
-//! (eleven cycles). Operations of different slots never share an entry (the slot is
-//! the high part of every address).
+//! [`MIN_SPACING`] cycles apart ([`FoundHeap::min_spacing`] for one heap). With
+//! `d_l` the cycles from the read of level `l` to its stage (1, or 2 registered),
+//! an operation writes level `l` `d_l + d_(l+1)` cycles after it read it (one
+//! stage later, a level down), so the next operation of the slot must read it
+//! later than that: the operations of one slot follow each other down the levels
+//! as a wavefront. The barrel datapath meets it by construction: a slot has one
+//! event in flight and comes back every slot loop (eleven cycles). Operations of
+//! different slots never share an entry (the slot is the high part of every
+//! address).
 
 use crate::hw::block_ram::{BlockRam, BramWord};
 use crate::hw::heap_stage::{HeapKey, HeapOp, HeapPos, HeapStage};
@@ -44,8 +54,13 @@ use rust_hdl::prelude::*;
 /// stays in BlockRAM.
 pub const DISTRIBUTED_BELOW_BITS: u32 = 8;
 
-/// The fewest cycles between two operations of one slot.
-pub const MIN_SPACING: usize = 3;
+/// The fewest cycles between two operations of one slot, for every heap (two
+/// registered levels in a row; [`FoundHeap::min_spacing`]).
+pub const MIN_SPACING: usize = 5;
+
+/// The first level whose BlockRAM read is registered again: the root's pair and
+/// level 1 answer in one cycle, so that the new root keeps its latency.
+const FIRST_REGISTERED_LEVEL: usize = 2;
 
 #[derive(LogicBlock)]
 pub struct FoundHeap {
@@ -62,6 +77,12 @@ pub struct FoundHeap {
     levels: Vec<BlockRam>,
     stages: Vec<HeapStage>,
     regs: Vec<DFF<HeapOp>>,
+    /// Per level: its read is registered again (a BlockRAM level from
+    /// [`FIRST_REGISTERED_LEVEL`] on), the register, and the operation's register
+    /// beside it (unused levels' registers have no load and vanish in synthesis).
+    registered: Vec<Constant<bool>>,
+    data_regs: Vec<DFF<BramWord>>,
+    op_delay: Vec<DFF<HeapOp>>,
     /// Loop constants: bit numbers for the depth of an insert's position, and the
     /// shifts that put the bit below a leading one at the top of the path.
     bit_number: Vec<Constant<Bits<8>>>,
@@ -80,6 +101,7 @@ impl FoundHeap {
     pub fn new(levels: usize, slot_bits: u32) -> Self {
         assert!((1..=13).contains(&levels) && (1..=8).contains(&slot_bits));
         assert!(slot_bits as usize + levels - 1 <= 16);
+        let in_blockram = |l: usize| slot_bits + (l.max(1) as u32 - 1) >= DISTRIBUTED_BELOW_BITS;
         FoundHeap {
             clock: Default::default(),
             op: Default::default(),
@@ -89,13 +111,18 @@ impl FoundHeap {
             levels: (0..levels)
                 .map(|l| {
                     let bits = slot_bits + (l.max(1) as u32 - 1);
-                    if bits < DISTRIBUTED_BELOW_BITS {
-                        BlockRam::distributed(bits, 64)
-                    } else {
+                    if in_blockram(l) {
                         BlockRam::new(bits, 64)
+                    } else {
+                        BlockRam::distributed(bits, 64)
                     }
                 })
                 .collect(),
+            registered: (0..levels)
+                .map(|l| Constant::new(in_blockram(l) && l >= FIRST_REGISTERED_LEVEL))
+                .collect(),
+            data_regs: (0..levels).map(|_| Default::default()).collect(),
+            op_delay: (0..levels).map(|_| Default::default()).collect(),
             stages: (0..=levels).map(|s| HeapStage::new(s, levels)).collect(),
             regs: (0..=levels).map(|_| Default::default()).collect(),
             bit_number: (0..16).map(|b| Constant::new((b as u64).into())).collect(),
@@ -107,6 +134,24 @@ impl FoundHeap {
             size: Default::default(),
             no_data: Constant::new(0u64.into()),
         }
+    }
+
+    /// The fewest cycles between two operations of one slot in this heap: one
+    /// more than the most cycles, over the levels, from a level's read to the
+    /// write of it one stage later (the last level is written by a stage that
+    /// reads nothing, one cycle after its own).
+    pub fn min_spacing(&self) -> usize {
+        let d = |l: usize| {
+            if self.registered.get(l).is_some_and(|r| r.val()) {
+                2
+            } else {
+                1
+            }
+        };
+        (0..self.levels.len())
+            .map(|l| d(l) + d(l + 1) + 1)
+            .max()
+            .unwrap()
     }
 }
 
@@ -145,7 +190,16 @@ impl Logic for FoundHeap {
             self.stages[s].data.next = self.no_data.val();
         }
         for s in 0..self.levels.len() {
+            self.data_regs[s].clock.next = self.clock.val();
+            self.op_delay[s].clock.next = self.clock.val();
+            self.data_regs[s].d.next = self.levels[s].read_data.val();
+            self.op_delay[s].d.next = self.regs[s].q.val();
             self.stages[s].data.next = self.levels[s].read_data.val();
+            if self.registered[s].val() {
+                // The level's read a cycle later, and the operation with it.
+                self.stages[s].op.next = self.op_delay[s].q.val();
+                self.stages[s].data.next = self.data_regs[s].q.val();
+            }
         }
         for s in 1..self.stages.len() {
             self.regs[s].d.next = self.stages[s - 1].out_op.val();
