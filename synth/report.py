@@ -1221,8 +1221,10 @@ def render_headline(res):
         q = f.get("queries_per_s")
         v = f.get("vs_kiddo")
         name = f"{r.name} [stale]" if r.stale else r.name
+        # A row re-run step by step has its simulation before its clock: no rates yet.
+        rates = (f"{q.value / 1e6:,.2f} M | " if q else "| ") + (f"{v.value:.2f}x |" if v else "|")
         L.append(f"| {name} | {area} | {clock} | {s.reads_per_cycle:.3f} | {s.reads_per_query:.1f} | "
-                 f"{q.value / 1e6:,.2f} M | {v.value:.2f}x |" if s else f"| {name} | {area} | {clock} | | | | |")
+                 f"{rates}" if s else f"| {name} | {area} | {clock} | | | | |")
     fits = [(r, d) for r in res.rows if r.headline and r.options.banks is None
             for d in r.device_fit if d.device == "XC6VSX475T"]
     L += headline_banked(res)

@@ -550,3 +550,35 @@ fn report_and_readme_are_the_render_of_results_json() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// A row re-run step by step is rendered between its steps: simulated, not yet
+/// placed. README's table then shows its reads and no rates (it used to stop the
+/// run with an exception).
+#[test]
+fn a_simulated_row_without_a_clock_renders_without_rates() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let script = "import sys; sys.path.insert(0, 'synth'); import report as R
+res = R.load_results()
+r = next(r for r in res.rows if r.headline and r.options.banks is None and r.sim)
+r.ecp5 = None
+R.derive(r)
+line = next(l for l in R.render_headline(res).splitlines() if l.startswith(f'| {r.name} '))
+print(line)";
+    let out = std::process::Command::new("python3")
+        .args(["-c", script])
+        .current_dir(root)
+        .output()
+        .unwrap_or_else(|e| panic!("python3 is needed to check synth/report.py: {e}"));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let line = String::from_utf8_lossy(&out.stdout);
+    let cells: Vec<&str> = line.trim().split('|').map(str::trim).collect();
+    // | name | area | clock | reads/cycle | reads/query | queries/s | vs kiddo |
+    assert_eq!(cells.len(), 9, "{line}");
+    assert_eq!(cells[3], "–", "{line}");
+    assert!(cells[4].parse::<f64>().is_ok(), "{line}");
+    assert_eq!((cells[6], cells[7]), ("", ""), "{line}");
+}
