@@ -531,18 +531,21 @@ fn committed_study_used_these_results() {
     assert!(checked > 0);
 }
 
+/// python3 with `args` in the repository. python3 is one of the test tools (as
+/// yosys and verilator are): missing, this fails rather than skips.
+fn python3(args: &[&str]) -> std::process::Output {
+    std::process::Command::new("python3")
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap_or_else(|e| panic!("python3 is needed to check synth/report.py: {e}"))
+}
+
 /// REPORT.md and README.md's results table are the render of synth/results.json
 /// (`synth/report.py render --check`), so neither can drift from the data.
 #[test]
 fn report_and_readme_are_the_render_of_results_json() {
-    let root = env!("CARGO_MANIFEST_DIR");
-    // python3 is one of the test tools (as yosys and verilator are): missing, this
-    // fails rather than skips.
-    let out = std::process::Command::new("python3")
-        .args(["synth/report.py", "render", "--check"])
-        .current_dir(root)
-        .output()
-        .unwrap_or_else(|e| panic!("python3 is needed to check synth/REPORT.md: {e}"));
+    let out = python3(&["synth/report.py", "render", "--check"]);
     assert!(
         out.status.success(),
         "{}{}",
@@ -556,7 +559,6 @@ fn report_and_readme_are_the_render_of_results_json() {
 /// run with an exception).
 #[test]
 fn a_simulated_row_without_a_clock_renders_without_rates() {
-    let root = env!("CARGO_MANIFEST_DIR");
     let script = "import sys; sys.path.insert(0, 'synth'); import report as R
 res = R.load_results()
 r = next(r for r in res.rows if r.headline and r.options.banks is None and r.sim)
@@ -564,11 +566,7 @@ r.ecp5 = None
 R.derive(r)
 line = next(l for l in R.render_headline(res).splitlines() if l.startswith(f'| {r.name} '))
 print(line)";
-    let out = std::process::Command::new("python3")
-        .args(["-c", script])
-        .current_dir(root)
-        .output()
-        .unwrap_or_else(|e| panic!("python3 is needed to check synth/report.py: {e}"));
+    let out = python3(&["-c", script]);
     assert!(
         out.status.success(),
         "{}",
