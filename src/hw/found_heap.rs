@@ -101,7 +101,9 @@ impl FoundHeap {
     pub fn new(levels: usize, slot_bits: u32) -> Self {
         assert!((1..=13).contains(&levels) && (1..=8).contains(&slot_bits));
         assert!(slot_bits as usize + levels - 1 <= 16);
-        let in_blockram = |l: usize| slot_bits + (l.max(1) as u32 - 1) >= DISTRIBUTED_BELOW_BITS;
+        // Level l's pair-index bits (the root's pair and level 1: one pair a slot).
+        let bits = |l: usize| slot_bits + (l.max(1) as u32 - 1);
+        let in_blockram = |l: usize| bits(l) >= DISTRIBUTED_BELOW_BITS;
         FoundHeap {
             clock: Default::default(),
             op: Default::default(),
@@ -110,11 +112,10 @@ impl FoundHeap {
             max: Default::default(),
             levels: (0..levels)
                 .map(|l| {
-                    let bits = slot_bits + (l.max(1) as u32 - 1);
                     if in_blockram(l) {
-                        BlockRam::new(bits, 64)
+                        BlockRam::new(bits(l), 64)
                     } else {
-                        BlockRam::distributed(bits, 64)
+                        BlockRam::distributed(bits(l), 64)
                     }
                 })
                 .collect(),

@@ -516,14 +516,15 @@ impl<D: Dut> Driver<D> {
             }
         }
         // A heap core's entries: distances from the map each job ran on.
-        let heap_core = !cfg.sends_distances();
-        for (job, res) in jobs.iter().zip(&mut results).filter(|_| heap_core) {
-            if let Some(t) = job.load {
-                self.map.load(t);
-            }
-            for (q, r) in job.queries.iter().zip(res.iter_mut()) {
-                if let Some(r) = r {
-                    self.map.fill(cfg.metric, q.id, q.coords, &mut r.found)?;
+        if !cfg.sends_distances() {
+            for (job, res) in jobs.iter().zip(&mut results) {
+                if let Some(t) = job.load {
+                    self.map.load(t);
+                }
+                for (q, r) in job.queries.iter().zip(res.iter_mut()) {
+                    if let Some(r) = r {
+                        self.map.fill(cfg.metric, q.id, q.coords, &mut r.found)?;
+                    }
                 }
             }
         }
