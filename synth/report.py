@@ -21,6 +21,8 @@ from typing import Optional
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.path.join(ROOT, "target", "release", "photon-fpga")
+# The lab binary (lab/): bench-core, the measurements behind every row.
+LAB = os.path.join(ROOT, "target", "release", "photon-fpga-lab")
 BUILD = os.path.join(ROOT, "synth", "build")
 RESULTS = os.path.join(ROOT, "synth", "results.json")
 REPORT = os.path.join(ROOT, "synth", "REPORT.md")
@@ -66,8 +68,8 @@ PAPER_MHZ = 215.0  # the paper's clock on that device; assumed here, no open too
 
 SYNTHESISED = "synthesised (yosys synth_xilinx -family xc6v -flatten)"
 PLACED = "placed-and-routed (yowasp nextpnr-ecp5 --85k --package CABGA381)"
-SIMULATED = "simulated (photon-fpga bench-core --engine verilator)"
-MEASURED = "measured on the CPU (photon-fpga bench-core --cpu, the same run)"
+SIMULATED = "simulated (photon-fpga-lab bench-core --engine verilator)"
+MEASURED = "measured on the CPU (photon-fpga-lab bench-core --cpu, the same run)"
 ASSUMED = "assumed"
 PAPER_SRC = "the paper (Table 2, §5)"
 
@@ -704,7 +706,7 @@ def sim(d, opts, files, cache_only, queries=None):
         if cache_only:
             return None, None, None
         # The exported Verilog under Verilator: thousands of queries in seconds.
-        rc, out = run([BIN, "bench-core", *opts, "--queries", str(queries or SIM_QUERIES), "--cpu",
+        rc, out = run([LAB, "bench-core", *opts, "--queries", str(queries or SIM_QUERIES), "--cpu",
                        "--engine", "verilator"], log)
         if rc != 0:
             return None, None, out.strip().splitlines()[-1]
@@ -940,14 +942,14 @@ def render_report(res):
          f"Rendered by `synth/report.py render` from `synth/results.json` (written by `synth/run.sh`; "
          f"results of {res.generated}). Every number's provenance is in its record there. Resources "
          "(*synthesised*): Debian yosys `synth_xilinx -family xc6v -flatten` of the bare top (T = 1: the core; "
-         "T > 1: the `PhotonSearchArray` of T cores, `src/hw/array.rs`). LUTs count LUT1–LUT6 and yosys's INV "
+         "T > 1: the `PhotonSearchArray` of T cores, `src/hw/top/array.rs`). LUTs count LUT1–LUT6 and yosys's INV "
          "cells (an inverter is a LUT1 on a Virtex-6). Slices are an *estimate* (max(LUTs/4, FFs/8), a lower "
          "bound; only ISE's packer gives the real number). fmax (*placed and routed*): yowasp nextpnr-ecp5 "
-         "`--85k --package CABGA381`, the top inside the registered I/O shell of `src/hw/rtl/shell.rs`, seeds "
+         "`--85k --package CABGA381`, the top inside the registered I/O shell of `src/hw/export/shell.rs`, seeds "
          f"{m.seeds} for the first row and seed {m.seeds[0]} for the other cores, the seeds in turn until one "
          f"routes for arrays (all of them with `PHOTON_FPGA_EVERY_SEED=1`; best, and all); router1, except `--router router2` for arrays of {m.router2_trees} "
          "trees and more (not for barrel arrays). Reads/cycle (*simulated*): all 2T ports, from the Verilator "
-         "simulation of the exported top (`photon-fpga bench-core --engine verilator`, cycle-exact with the "
+         "simulation of the exported top (`photon-fpga-lab bench-core --engine verilator`, cycle-exact with the "
          f"rust-hdl simulation), {m.sim_queries:,} random queries on a full random 1023-photon map, whole run "
          "including fill and drain. Photons/s = reads/cycle x best ECP5 fmax. Queries/s (simulated x placed "
          "and routed) = reads/cycle x best ECP5 fmax / reads per query, beside kiddo (`ImmutableKdTree<f32, 3>`, "

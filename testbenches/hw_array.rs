@@ -1,14 +1,14 @@
-//! PhotonSearchArray (T replicated trees, src/hw/array.rs): every result equals the
+//! PhotonSearchArray (T replicated trees, src/hw/top/array.rs): every result equals the
 //! software search and brute force whichever tree answered, under random stalls on
 //! every stream, across map reloads; queries spread over all trees; the reads per
 //! cycle scale with T.
 
 use crate::common::*;
-use photon_fpga::hw::config::CoreConfig;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::rtl::driver::{HwQuery, SimStats};
-use photon_fpga::hw::rtl::native::{run_gather, CoreSim, SimOptions};
+use photon_fpga::hw::config::core_config::CoreConfig;
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
+use photon_fpga::hw::sim::driver::{HwQuery, SimStats};
+use photon_fpga::hw::sim::native::{run_gather, CoreSim, SimOptions};
 
 fn array_config(
     layout: PhotonLayout,

@@ -5,12 +5,12 @@
 //! bounds written per slot and level, ties at R on purpose.
 
 use crate::common::{clock_cycle, rng, settle};
-use photon_fpga::hw::ascent::Ascent;
-use photon_fpga::hw::config::CoreConfig;
-use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::traversal::Traversal;
+use photon_fpga::hw::barrel::ascent::Ascent;
+use photon_fpga::hw::config::controller::Controller;
+use photon_fpga::hw::config::core_config::CoreConfig;
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
+use photon_fpga::hw::config::traversal::Traversal;
 use rand::Rng;
 use rust_hdl::prelude::*;
 

@@ -5,13 +5,13 @@
 //! the cocotb bench (testbenches/cocotb).
 
 use crate::common::{require, run_tool};
-use photon_fpga::hw::config::CoreConfig;
-use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::rtl::axis_top::{axis_top, layout_table, StreamLayout};
-use photon_fpga::hw::rtl::export::export_verilog;
-use photon_fpga::hw::stream::{QueryBeat, ResultBeat};
-use photon_fpga::hw::traversal::Traversal;
+use photon_fpga::hw::config::controller::Controller;
+use photon_fpga::hw::config::core_config::CoreConfig;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
+use photon_fpga::hw::config::traversal::Traversal;
+use photon_fpga::hw::export::axis_top::{axis_top, layout_table, StreamLayout};
+use photon_fpga::hw::export::verilog::export_verilog;
+use photon_fpga::hw::top::stream::{QueryBeat, ResultBeat};
 use rust_hdl::prelude::*;
 use std::process::Command;
 

@@ -11,11 +11,11 @@
 //! arrives that was not asked for. The exported Verilog passes yosys, Verilator
 //! lint and Icarus, and replays a recorded run cycle for cycle in both simulators.
 
+use crate::common::xsim::{compare, Recorder, XsimRun};
+use crate::common::xsim_tb::{self, Simulator};
 use crate::common::{clock_cycle, lint_top, rng, settle};
-use photon_fpga::hw::bank_crossbar::{BankCrossbar, BankPort, BankPorts};
-use photon_fpga::hw::rtl::export::export_block;
-use photon_fpga::hw::rtl::xsim::{compare, Recorder, XsimRun};
-use photon_fpga::hw::rtl::xsim_tb::{self, Simulator};
+use photon_fpga::hw::export::verilog::export_block;
+use photon_fpga::hw::store::bank_crossbar::{BankCrossbar, BankPort, BankPorts};
 use rand::Rng;
 use rust_hdl::prelude::*;
 use std::collections::VecDeque;

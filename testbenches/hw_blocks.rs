@@ -4,15 +4,15 @@
 //! far-cell distances against offsets summed afresh; distances narrower than the
 //! grid's diagonal (`CoreConfig::radius_bits`) saturating in Dist and FarCellDist.
 
-use photon_fpga::hw::block_ram::BlockRam;
-use photon_fpga::hw::cell_bound::CellBound;
-use photon_fpga::hw::dist_module::DistModule;
-use photon_fpga::hw::far_cell_dist::FarCellDist;
-use photon_fpga::hw::found_max::FoundMax;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::next_index::NextIndexModule;
-use photon_fpga::hw::port_arbiter::PortArbiter;
-use photon_fpga::hw::tree_module::TreeModule;
+use photon_fpga::hw::barrel::found_max::FoundMax;
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::datapath::cell_bound::CellBound;
+use photon_fpga::hw::datapath::dist_module::DistModule;
+use photon_fpga::hw::datapath::far_cell_dist::FarCellDist;
+use photon_fpga::hw::datapath::next_index::NextIndexModule;
+use photon_fpga::hw::primitives::block_ram::BlockRam;
+use photon_fpga::hw::primitives::port_arbiter::PortArbiter;
+use photon_fpga::hw::store::tree_module::TreeModule;
 use rand::Rng;
 use rust_hdl::prelude::*;
 
@@ -476,7 +476,7 @@ fn block_ram_against_model() {
 /// read every cycle.
 #[test]
 fn found_max_is_the_lowest_maximum() {
-    use photon_fpga::hw::config::CoreConfig;
+    use photon_fpga::hw::config::core_config::CoreConfig;
     for (k, seed) in [(1usize, 61u64), (3, 62), (10, 63), (33, 64), (64, 65)] {
         let cfg = CoreConfig::builder()
             .k(k)

@@ -1,11 +1,11 @@
 //! CoreConfig: the paper's core, what `for_map` derives from a map, and the limits.
 
 use crate::common::*;
-use photon_fpga::hw::config::{CoreConfig, BARREL_SLOTS, MAX_K_MODULES, PORTS};
-use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::traversal::Traversal;
+use photon_fpga::hw::config::controller::Controller;
+use photon_fpga::hw::config::core_config::{CoreConfig, BARREL_SLOTS, MAX_K_MODULES, PORTS};
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
+use photon_fpga::hw::config::traversal::Traversal;
 
 #[test]
 fn paper_core() {
@@ -103,7 +103,9 @@ fn limits_are_errors_not_panics() {
 /// built, naming the option and its value; Q is named after the controller.
 #[test]
 fn the_builder_refuses_bad_combinations_by_name() {
-    let err = |b: photon_fpga::hw::config_builder::CoreBuilder| b.build().unwrap_err().to_string();
+    let err = |b: photon_fpga::hw::config::config_builder::CoreBuilder| {
+        b.build().unwrap_err().to_string()
+    };
     let barrel = CoreConfig::builder().controller(Controller::Barrel);
     let e = err(barrel.traversal(Traversal::Reread));
     assert!(

@@ -3,13 +3,13 @@
 //! cases, random stalls on every stream, two maps loaded one after the other.
 
 use crate::common::*;
-use photon_fpga::hw::config::{CoreConfig, BARREL_SLOTS};
-use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::rtl::driver::HwQuery;
-use photon_fpga::hw::rtl::native::{run_gather, CoreSim, SimOptions};
-use photon_fpga::hw::traversal::Traversal;
+use photon_fpga::hw::config::controller::Controller;
+use photon_fpga::hw::config::core_config::{CoreConfig, BARREL_SLOTS};
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
+use photon_fpga::hw::config::traversal::Traversal;
+use photon_fpga::hw::sim::driver::HwQuery;
+use photon_fpga::hw::sim::native::{run_gather, CoreSim, SimOptions};
 use rand::Rng;
 
 /// Every (traversal, controller) a port can be built with.

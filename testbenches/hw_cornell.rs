@@ -8,10 +8,10 @@ use photon_fpga::host::map::knn::{brute_force, search_with};
 use photon_fpga::host::render::photons::trace_photons;
 use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::render::{self, eye_queries, RenderSettings};
-use photon_fpga::hw::config::CoreConfig;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::rtl::driver::HwQuery;
-use photon_fpga::hw::rtl::native::{run_gather, SimOptions};
+use photon_fpga::hw::config::core_config::CoreConfig;
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::sim::driver::HwQuery;
+use photon_fpga::hw::sim::native::{run_gather, SimOptions};
 
 #[test]
 fn cornell_box_maps_match_the_software_search() {

@@ -8,13 +8,13 @@
 
 use crate::common::*;
 use crate::hw_core::hard_queries;
-use photon_fpga::hw::config::{CoreConfig, FOUND_TREE_MAX_K, MAX_K, MAX_K_MODULES};
-use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::rtl::driver::HwQuery;
-use photon_fpga::hw::rtl::native::{run_gather, CoreSim, SimOptions};
-use photon_fpga::hw::traversal::Traversal;
+use photon_fpga::hw::config::controller::Controller;
+use photon_fpga::hw::config::core_config::{CoreConfig, FOUND_TREE_MAX_K, MAX_K, MAX_K_MODULES};
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
+use photon_fpga::hw::config::traversal::Traversal;
+use photon_fpga::hw::sim::driver::HwQuery;
+use photon_fpga::hw::sim::native::{run_gather, CoreSim, SimOptions};
 
 /// The barrel core for `tree` with found lists of `k`.
 fn barrel(

@@ -7,8 +7,8 @@
 //! to 1, 7, 63 and 1023), full and partly filled lists. The exported Verilog is
 //! checked by yosys, Verilator lint and Icarus.
 
-use photon_fpga::hw::found_heap::{FoundHeap, MIN_SPACING};
-use photon_fpga::hw::heap_stage::HeapOp;
+use photon_fpga::hw::barrel::found_heap::{FoundHeap, MIN_SPACING};
+use photon_fpga::hw::barrel::heap_stage::HeapOp;
 use rand::Rng;
 use rust_hdl::prelude::*;
 use std::collections::VecDeque;
@@ -253,7 +253,7 @@ fn found_heap_verilog_matches_the_simulation_cycle_for_cycle() {
     let mut uut = FoundHeap::new(levels, 4);
     uut.connect_all();
     check_all(&uut).unwrap();
-    let verilog = photon_fpga::hw::rtl::export::glitch_free(&generate_verilog(&uut)).unwrap();
+    let verilog = photon_fpga::hw::export::verilog::glitch_free(&generate_verilog(&uut)).unwrap();
     let mut r = rng(47);
     let (k, spacing, flush) = (70usize, uut.min_spacing(), 2 * levels + 4);
     let mut sizes = [0usize; 16];

@@ -2,8 +2,8 @@
 //! count, k and full flag (and random entry names), where the photon goes and
 //! whether the list fills or needs a new maximum.
 
-use photon_fpga::hw::config::CoreConfig;
-use photon_fpga::hw::found_rule::FoundRule;
+use photon_fpga::hw::config::core_config::CoreConfig;
+use photon_fpga::hw::datapath::found_rule::FoundRule;
 use rand::Rng;
 use rust_hdl::prelude::*;
 

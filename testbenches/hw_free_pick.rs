@@ -3,7 +3,7 @@
 //! valid) must be the lowest of the previous cycle's free entries less the one
 //! taken then, and `still_free` that set.
 
-use photon_fpga::hw::free_pick::FreePick;
+use photon_fpga::hw::primitives::free_pick::FreePick;
 use rand::Rng;
 use rust_hdl::prelude::*;
 

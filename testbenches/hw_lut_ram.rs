@@ -5,7 +5,7 @@
 //! is asynchronous (the old entry before the edge, the new one after it) and an
 //! index of the power-of-two memory past `depth` reads zero.
 
-use photon_fpga::hw::lut_ram::LutRam;
+use photon_fpga::hw::primitives::lut_ram::LutRam;
 use rand::Rng;
 use rust_hdl::prelude::*;
 

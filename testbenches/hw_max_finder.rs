@@ -2,7 +2,7 @@
 //! equal lists, ties (the lowest slot wins), one cycle per distance bit plus the
 //! priming cycle that gathers the first row.
 
-use photon_fpga::hw::max_finder::MaxFinder;
+use photon_fpga::hw::modules::max_finder::MaxFinder;
 use rand::Rng;
 use rust_hdl::prelude::*;
 

@@ -2,8 +2,8 @@
 //! inputs (a power of two or rounded up to one), random inputs; and its exported
 //! Verilog, linted and run in Icarus against the same model for every index.
 
-use photon_fpga::hw::mux_trees::MuxTrees;
-use photon_fpga::hw::rtl::export::export_block;
+use photon_fpga::hw::export::verilog::export_block;
+use photon_fpga::hw::primitives::mux_trees::MuxTrees;
 use rand::Rng;
 use rust_hdl::prelude::*;
 

@@ -7,14 +7,14 @@
 //! traversals, both metrics.
 
 use crate::common::*;
-use photon_fpga::hw::config::{CoreConfig, BARREL_SLOTS};
-use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::controller_port::ControllerPort;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::rtl::driver::HwResult;
-use photon_fpga::hw::stream::QueryBeat;
-use photon_fpga::hw::traversal::Traversal;
+use photon_fpga::hw::config::controller::Controller;
+use photon_fpga::hw::config::core_config::{CoreConfig, BARREL_SLOTS};
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
+use photon_fpga::hw::config::traversal::Traversal;
+use photon_fpga::hw::sim::driver::HwResult;
+use photon_fpga::hw::top::controller_port::ControllerPort;
+use photon_fpga::hw::top::stream::QueryBeat;
 use rand::Rng;
 use rust_hdl::prelude::*;
 use std::collections::HashMap;

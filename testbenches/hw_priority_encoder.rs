@@ -2,7 +2,7 @@
 //! (dense, sparse, empty, full, the top bit alone) for 32- and 64-bit masks of
 //! several widths, and the one-hot mode's index of random one-hot masks.
 
-use photon_fpga::hw::priority_encoder::PriorityEncoder;
+use photon_fpga::hw::primitives::priority_encoder::PriorityEncoder;
 use rand::Rng;
 use rust_hdl::prelude::*;
 

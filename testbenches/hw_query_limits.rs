@@ -3,11 +3,11 @@
 //! within it), a smaller one is kept, k is kept in count bits; for both metrics and
 //! several layouts, at the edges and at random.
 
-use photon_fpga::hw::config::CoreConfig;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::query_limits::QueryLimits;
-use photon_fpga::hw::stream::QueryBeat;
+use photon_fpga::hw::config::core_config::CoreConfig;
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
+use photon_fpga::hw::datapath::query_limits::QueryLimits;
+use photon_fpga::hw::top::stream::QueryBeat;
 use rand::Rng;
 use rust_hdl::prelude::*;
 

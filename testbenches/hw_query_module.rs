@@ -13,12 +13,12 @@
 
 use photon_fpga::host::map::kdtree::PackedTree;
 use photon_fpga::host::map::knn::{self, NodeSource};
-use photon_fpga::hw::config::CoreConfig;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::query_module::QueryModule;
-use photon_fpga::hw::stream::{QueryBeat, ReadRequest, ReadResult};
-use photon_fpga::hw::traversal::Traversal;
+use photon_fpga::hw::config::core_config::CoreConfig;
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
+use photon_fpga::hw::config::traversal::Traversal;
+use photon_fpga::hw::modules::query_module::QueryModule;
+use photon_fpga::hw::top::stream::{QueryBeat, ReadRequest, ReadResult};
 use rand::Rng;
 use rand_pcg::Pcg64;
 use rust_hdl::prelude::*;

@@ -6,8 +6,8 @@
 //! a beat, `last` on the final beat; every finished query is read out exactly
 //! once, and a new selection is the lowest finished query.
 
-use photon_fpga::hw::config::CoreConfig;
-use photon_fpga::hw::result_readout::ResultReadout;
+use photon_fpga::hw::config::core_config::CoreConfig;
+use photon_fpga::hw::modules::result_readout::ResultReadout;
 use rand::Rng;
 use rust_hdl::prelude::*;
 

@@ -4,8 +4,8 @@
 //! duplicate), the AXI-stream rule (a presented beat stays put until taken), full
 //! throughput with no stalls, and that registered outputs change only at clock edges.
 
-use photon_fpga::hw::register_slice::ResultRegister;
-use photon_fpga::hw::stream::ResultBeat;
+use photon_fpga::hw::primitives::register_slice::ResultRegister;
+use photon_fpga::hw::top::stream::ResultBeat;
 use rand::Rng;
 use rust_hdl::prelude::*;
 

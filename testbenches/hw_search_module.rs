@@ -19,11 +19,11 @@
 //! while the far child exists.
 
 use photon_fpga::host::map::kdtree::PackedTree;
-use photon_fpga::hw::config::CoreConfig;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::search_module::SearchModule;
-use photon_fpga::hw::stream::{QueryBeat, ReadRequest, ReadResult};
+use photon_fpga::hw::config::core_config::CoreConfig;
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
+use photon_fpga::hw::datapath::search_module::SearchModule;
+use photon_fpga::hw::top::stream::{QueryBeat, ReadRequest, ReadResult};
 use rand::Rng;
 use rust_hdl::prelude::*;
 use std::collections::VecDeque;

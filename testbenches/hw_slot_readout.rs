@@ -9,11 +9,11 @@
 //! the slot (one-hot) once per packet, no later than the cycle its last beat leaves,
 //! after which the slot's memories may be written again without changing the packet.
 
-use photon_fpga::hw::config::{low_mask, CoreConfig, BARREL_SLOTS};
-use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::slot_readout::SlotReadout;
-use photon_fpga::hw::stream::ResultBeat;
+use photon_fpga::hw::barrel::slot_readout::SlotReadout;
+use photon_fpga::hw::config::controller::Controller;
+use photon_fpga::hw::config::core_config::{low_mask, CoreConfig, BARREL_SLOTS};
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::top::stream::ResultBeat;
 use rand::seq::SliceRandom;
 use rand::Rng;
 use rust_hdl::prelude::*;

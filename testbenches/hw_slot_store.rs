@@ -8,11 +8,11 @@
 //! the event-only fields read zero, and without `Cell` the offsets are not kept
 //! (zero).
 
-use photon_fpga::hw::config::{bits_for, low_mask, CoreConfig, BARREL_SLOTS};
-use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::slot_store::{SlotEvent, SlotStore};
-use photon_fpga::hw::traversal::Traversal;
+use photon_fpga::hw::barrel::slot_store::{SlotEvent, SlotStore};
+use photon_fpga::hw::config::controller::Controller;
+use photon_fpga::hw::config::core_config::{bits_for, low_mask, CoreConfig, BARREL_SLOTS};
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::traversal::Traversal;
 use rand::Rng;
 use rand_pcg::Pcg64;
 use rust_hdl::prelude::*;

@@ -6,13 +6,13 @@
 //! stream handshakes at the same times as the native trace.
 
 use crate::common::*;
-use photon_fpga::hw::config::CoreConfig;
-use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::rtl::driver::HwQuery;
-use photon_fpga::hw::rtl::native::{run_gather, Engine, SimOptions};
-use photon_fpga::hw::traversal::Traversal;
+use photon_fpga::hw::config::controller::Controller;
+use photon_fpga::hw::config::core_config::CoreConfig;
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
+use photon_fpga::hw::config::traversal::Traversal;
+use photon_fpga::hw::sim::driver::HwQuery;
+use photon_fpga::hw::sim::native::{run_gather, Engine, SimOptions};
 
 fn both(cfg: &CoreConfig, points: &[[u32; 3]], queries: &[HwQuery], stall_seed: Option<u64>) {
     let tree = pack(points, cfg.layout);

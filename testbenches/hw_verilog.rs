@@ -3,14 +3,14 @@
 //! tools the tests are ignored (build.rs), and under CI=true a missing tool fails.
 
 use crate::common::{lint_top, require, run_tool, small_config};
-use photon_fpga::hw::config::CoreConfig;
-use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::port_arbiter::PortArbiter;
-use photon_fpga::hw::rtl::export::{export_block, export_verilog, glitch_free};
-use photon_fpga::hw::rtl::ports::Port;
-use photon_fpga::hw::traversal::Traversal;
+use photon_fpga::hw::config::controller::Controller;
+use photon_fpga::hw::config::core_config::CoreConfig;
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
+use photon_fpga::hw::config::traversal::Traversal;
+use photon_fpga::hw::export::ports::Port;
+use photon_fpga::hw::export::verilog::{export_block, export_verilog, glitch_free};
+use photon_fpga::hw::primitives::port_arbiter::PortArbiter;
 use std::process::Command;
 
 /// The tests below run only where build.rs found the tools (or under CI=true).
@@ -78,7 +78,7 @@ fn barrel_core_verilog_is_clean() {
 #[test]
 #[cfg_attr(not(has_yosys), ignore = "needs yosys")]
 fn tree_module_infers_block_ram() {
-    use photon_fpga::hw::tree_module::TreeModule;
+    use photon_fpga::hw::store::tree_module::TreeModule;
     use rust_hdl::prelude::*;
     let mut uut = TreeModule::<32>::new(10, 32);
     uut.connect_all();

@@ -22,22 +22,22 @@
 //! ignored (build.rs); under CI=true a missing simulator fails.
 //! `PHOTON_FPGA_XSIM_DIR=dir` keeps every file (plus a hand-replay directory per case).
 
+use crate::common::xsim::{self, XsimMap, XsimRun};
+use crate::common::xsim_tb::{self, Simulator};
 use crate::common::*;
 use photon_fpga::host::gather::{GatherParams, QuantizedMap};
 use photon_fpga::host::map::kdtree::PackedTree;
 use photon_fpga::host::render::photons::trace_photons;
 use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::render::{self, eye_queries, RenderSettings};
-use photon_fpga::hw::bank_crossbar::BankPorts;
-use photon_fpga::hw::config::{Banking, CoreConfig};
-use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::rtl::driver::HwQuery;
-use photon_fpga::hw::rtl::export::export_verilog;
-use photon_fpga::hw::rtl::xsim::{self, XsimMap, XsimRun};
-use photon_fpga::hw::rtl::xsim_tb::{self, Simulator};
-use photon_fpga::hw::traversal::Traversal;
+use photon_fpga::hw::config::controller::Controller;
+use photon_fpga::hw::config::core_config::{Banking, CoreConfig};
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
+use photon_fpga::hw::config::traversal::Traversal;
+use photon_fpga::hw::export::verilog::export_verilog;
+use photon_fpga::hw::sim::driver::HwQuery;
+use photon_fpga::hw::store::bank_crossbar::BankPorts;
 use std::path::PathBuf;
 use std::time::Instant;
 

@@ -8,8 +8,8 @@ use photon_fpga::host::exact::ExactBackend;
 use photon_fpga::host::gather::{BackendKind, FloatBackend, GatherBackend, GatherParams, Gathered};
 use photon_fpga::host::map::knn::Scalar;
 use photon_fpga::host::map::quantize::{GridPoint, Point, Quantizer};
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::rtl::native::SimOptions;
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::sim::native::SimOptions;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
@@ -334,55 +334,6 @@ fn exact_rtl_equals_float_on_small_maps() {
         let few = &photons[..30];
         same_as_float(BackendKind::Rtl, few, &queries, &p, Some(0));
     }
-}
-
-/// The study's series on a small Cornell box: a certified query stays certified at a
-/// larger m (its k′-th grid distance only grows and its threshold only falls), the
-/// counts add up, and the table has a row per point.
-#[test]
-fn exact_series_is_monotone_in_m() {
-    use photon_fpga::host::render::renderer::{eye_queries, photon_points, query_points};
-    use photon_fpga::host::render::{photons::trace_photons, scene::Scene, RenderSettings};
-    use photon_fpga::host::study::{exact_report, exact_series};
-    let scene = Scene::cornell_box();
-    let photons = photon_points(&trace_photons(&scene, 8000, 3, false));
-    let settings = RenderSettings {
-        width: 24,
-        height: 18,
-        spp: 1,
-        ..RenderSettings::default()
-    };
-    let queries = query_points(&eye_queries(&scene, &settings).0);
-    let base = params(16, None, 10, Metric::L2);
-    let ms = [Some(0), Some(4), Some(8), Some(16), None];
-    let pts = exact_series::run(&photons, &queries, &base, &[8, 10], &ms).unwrap();
-    assert_eq!(pts.len(), 10);
-    for w in pts.chunks(ms.len()) {
-        assert!(w[4].chosen && !w[0].chosen);
-        let w = &w[..4];
-        for p in w {
-            assert_eq!(p.certified + p.fallbacks, p.core_queries, "{p:?}");
-            assert!(p.retry_certified <= p.fallbacks);
-        }
-        for pair in w.windows(2) {
-            assert!(pair[1].certified >= pair[0].certified, "{pair:?}");
-            assert!(pair[1].core_reads >= pair[0].core_reads, "{pair:?}");
-        }
-        assert!(w[3].certified > w[0].certified, "{w:?}");
-    }
-    let table = format!(
-        "{}{}",
-        exact_report::headline(&pts, 10, None),
-        exact_report::markdown(&pts)
-    );
-    let rows = table
-        .lines()
-        .filter(|l| l.starts_with("| 10 ") || l.starts_with("| 8 "));
-    assert_eq!(rows.count(), 10, "{table}");
-    assert!(
-        table.starts_with("At 10 bits, k = 16: `--exact` (m = "),
-        "{table}"
-    );
 }
 
 /// One thread or three: the same answers and the same run summary (m, certified

@@ -4,8 +4,8 @@
 use photon_fpga::host::map::kdtree::{left_subtree_size, KdTree, PackedTree};
 use photon_fpga::host::map::knn::{brute_force, search, search_with, Scalar, Traversal};
 use photon_fpga::host::map::quantize::Quantizer;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::photon_word::PhotonLayout;
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 

@@ -2,39 +2,64 @@
 //! never import higher ones, no two files import each other, the hardware uses no
 //! command-line crate, no source file is longer than 600 lines. Layers, lowest first:
 //!
-//! 0. `hw` — the blocks of the core (ground floor: imports nothing of ours above it)
-//! 1. `hw::rtl` — driver, native simulation, export, cross-simulation, shell
-//! 2. `host::{error, limits, output, stages}` — the host's plumbing
-//! 3. `host::map` — quantizer, kd-tree, kNN
-//! 4. `host::{gather, csvio, exact}` — gather backends, their file formats, the
-//!    exact re-ranking
-//! 5. `host::render` — scene, photons, renderer
-//! 6. `host::workload` — benchmark workloads; `host::study` — the speed/error study;
-//!    `host::banking` — the banked store's bank-conflict model
-//! 7. the binary (`main.rs`, `cli/`)
+//! 0. `hw::config::core_config`, `hw::error` — what a core is, and what can go wrong with it
+//! 1. `hw::primitives` — RAMs, arbiters, encoders, register slices
+//! 2. `hw::store` — the TreeModule and the banked store
+//! 3. `hw::datapath` — the search both controllers share
+//! 4. `hw::modules`, `hw::barrel` — the two controllers (neither imports the other)
+//! 5. `hw::top` — the core, the array and their streams
+//! 6. `hw::export` — the Verilog export, the shell, the AXI4-Stream top
+//! 7. `hw::sim` — the simulation driver, native simulation and Verilator
+//! 8. `host::{error, limits, output, stages}` — the host's plumbing
+//! 9. `host::map` — quantizer, kd-tree, kNN
+//! 10. `host::{gather, csvio, exact}` — gather backends, their file formats, the
+//!     exact re-ranking
+//! 11. `host::render` — scene, photons, renderer
+//! 12. the product's command line (`cli/`, `main.rs`)
+//!
+//! The lab crate (`lab/src`) sits on top of all of it, and nothing of the product
+//! imports it:
+//!
+//! 13. `lab::workload` — benchmark workloads; `lab::cpu_ref` — kiddo, the CPU yardstick
+//! 14. `lab::banking` — the bank-conflict model; `lab::study` — the speed/error study
+//! 15. the lab's command line (`lab::cli`, its `main.rs`)
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-const LAYERS: [(&str, usize); 17] = [
-    ("hw::rtl", 1),
+const LAYERS: [(&str, usize); 29] = [
+    ("hw::config::core_config", 0),
+    ("hw::error", 0),
+    ("hw::primitives", 1),
+    ("hw::store", 2),
+    ("hw::datapath", 3),
+    ("hw::modules", 4),
+    ("hw::barrel", 4),
+    ("hw::top", 5),
+    ("hw::export", 6),
+    ("hw::sim", 7),
+    // hw/mod.rs only declares the folders (and `many`, which every block may use).
     ("hw", 0),
-    ("host::error", 2),
-    ("host::limits", 2),
-    ("host::output", 2),
-    ("host::stages", 2),
-    ("host::map", 3),
-    ("host::device", 3),
-    ("host::gather", 4),
-    ("host::csvio", 4),
-    ("host::exact", 4),
-    ("host::render", 5),
-    ("host::workload", 6),
-    ("host::study", 6),
-    ("host::banking", 6),
+    ("host::error", 8),
+    ("host::limits", 8),
+    ("host::output", 8),
+    ("host::stages", 8),
+    ("host::map", 9),
+    ("host::device", 9),
+    ("host::gather", 10),
+    ("host::csvio", 10),
+    ("host::exact", 10),
+    ("host::render", 11),
     // host/mod.rs only declares the modules.
-    ("host", 2),
-    ("cli", 7),
+    ("host", 8),
+    ("cli", 12),
+    ("lab::workload", 13),
+    ("lab::cpu_ref", 13),
+    ("lab::banking", 14),
+    ("lab::study", 14),
+    ("lab::cli", 15),
+    // lab/src/lib.rs only declares the modules.
+    ("lab", 13),
 ];
 
 const MAX_LINES: usize = 600;
@@ -54,10 +79,24 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// `src/hw/rtl/driver.rs` -> `hw::rtl::driver`; `mod.rs` names its folder; the
-/// binary's files are `cli::…`.
+/// `src/hw/sim/driver.rs` -> `hw::sim::driver`; `mod.rs` names its folder; the
+/// binary's files are `cli::…`; the lab's are `lab::…` (`lab/src/study/plan.rs` ->
+/// `lab::study::plan`).
 fn module_of(path: &Path) -> String {
-    let rel = path.strip_prefix(root().join("src")).unwrap();
+    if let Ok(rel) = path.strip_prefix(root().join("lab/src")) {
+        let inner = module_in(rel);
+        return match inner.as_str() {
+            "cli" | "crate" => format!("lab::{}", if inner == "crate" { "" } else { "cli" })
+                .trim_end_matches("::")
+                .to_string(),
+            _ => format!("lab::{inner}"),
+        };
+    }
+    module_in(path.strip_prefix(root().join("src")).unwrap())
+}
+
+/// A file's module within its crate's `src`.
+fn module_in(rel: &Path) -> String {
     let mut parts: Vec<String> = rel
         .with_extension("")
         .components()
@@ -80,13 +119,20 @@ fn layer(module: &str) -> Option<usize> {
         .map(|&(_, l)| l)
 }
 
-/// Every `crate::…` / `photon_fpga::…` path in the code (comments skipped), with
-/// one level of `{a, b}` groups expanded.
-fn imported_paths(text: &str) -> Vec<String> {
+/// Every `crate::…` / `photon_fpga::…` / `photon_fpga_lab::…` path in the code
+/// (comments skipped), with one level of `{a, b}` groups expanded, as a module of
+/// the two crates: in the lab, `crate::x` is `lab::x`.
+fn imported_paths(text: &str, in_lab: bool) -> Vec<String> {
     let mut paths = vec![];
     for line in text.lines() {
         let code = line.split("//").next().unwrap_or("");
-        for root in ["crate::", "photon_fpga::"] {
+        for root in ["crate::", "photon_fpga::", "photon_fpga_lab::"] {
+            let prefix = match root {
+                "photon_fpga_lab::" => "lab::",
+                "crate::" if in_lab => "lab::",
+                _ => "",
+            };
+            let mut paths_here = vec![];
             let mut rest = code;
             while let Some(at) = rest.find(root) {
                 let tail = &rest[at + root.len()..];
@@ -100,11 +146,18 @@ fn imported_paths(text: &str) -> Vec<String> {
                     for name in group.split(',') {
                         let name = name.trim().split("::").next().unwrap_or("").trim();
                         if !name.is_empty() && name != "self" {
-                            paths.push(format!("{path}::{name}"));
+                            paths_here.push(format!("{prefix}{path}::{name}"));
                         }
                     }
                 }
-                paths.push(path);
+                let before = &rest[..at];
+                let whole_word = !before.ends_with(|c: char| c.is_alphanumeric() || c == '_');
+                if whole_word {
+                    paths_here.push(format!("{prefix}{path}"));
+                } else {
+                    paths_here.clear();
+                }
+                paths.append(&mut paths_here);
                 rest = &tail[end..];
             }
         }
@@ -125,21 +178,26 @@ fn resolve<'a>(path: &str, modules: &'a BTreeSet<String>) -> Option<&'a String> 
 fn lower_layers_never_import_higher_ones_and_no_file_imports_its_importer() {
     let mut files = vec![];
     rust_files(&root().join("src"), &mut files);
+    rust_files(&root().join("lab/src"), &mut files);
     let modules: BTreeSet<String> = files.iter().map(|f| module_of(f)).collect();
     let mut imports: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
     let mut problems = vec![];
     for f in &files {
         let me = module_of(f);
-        if me == "crate" {
+        if me == "crate" || me == "lab" {
             continue;
         }
         let my_layer = layer(&me).unwrap_or_else(|| panic!("{me}: in no layer"));
         let text = std::fs::read_to_string(f).unwrap();
-        for path in imported_paths(&text) {
+        for path in imported_paths(&text, me.starts_with("lab")) {
             let Some(target) = resolve(&path, &modules) else {
                 continue;
             };
-            if *target == me || target == "crate" || me.starts_with(&format!("{target}::")) {
+            if *target == me
+                || target == "crate"
+                || target == "lab"
+                || me.starts_with(&format!("{target}::"))
+            {
                 continue;
             }
             let their = layer(target).unwrap_or_else(|| panic!("{target}: in no layer"));
@@ -162,8 +220,31 @@ fn lower_layers_never_import_higher_ones_and_no_file_imports_its_importer() {
         }
     }
     assert!(problems.is_empty(), "layering:\n{}", problems.join("\n"));
-    // The check itself sees imports: the rtl driver uses the blocks.
-    assert!(imports["hw::rtl::driver"].contains("hw::config"));
+    // The check itself sees imports: the rtl driver uses the blocks, the lab's
+    // study the product's renderer and its own plan.
+    assert!(imports["hw::sim::driver"].contains("hw::config::core_config"));
+    assert!(imports["lab::study::sweep"].contains("host::render"));
+    assert!(imports["lab::study::sweep"].contains("lab::study::plan"));
+}
+
+/// The product carries no measurement tool: kiddo and plotters are the lab's
+/// dependencies only (`cargo tree -p photon-fpga -e normal` lists neither).
+#[test]
+fn the_product_depends_on_no_lab_crate() {
+    let manifest = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
+    let deps = manifest
+        .split("[dependencies]")
+        .nth(1)
+        .and_then(|s| s.split("\n[").next())
+        .expect("a [dependencies] table");
+    for lab_only in ["kiddo", "plotters", "photon-fpga-lab"] {
+        assert!(
+            !deps.lines().any(|l| l.trim_start().starts_with(lab_only)),
+            "the product depends on {lab_only}"
+        );
+    }
+    let lab = std::fs::read_to_string(root().join("lab/Cargo.toml")).unwrap();
+    assert!(lab.contains("kiddo") && lab.contains("plotters"));
 }
 
 /// The lines of `text` outside comments that name `word` as a path or crate
@@ -181,7 +262,7 @@ fn uses_of(text: &str, word: &str) -> Vec<(usize, String)> {
         .collect()
 }
 
-/// The hardware layer (`src/hw`, `hw::rtl` included) knows no command line: the
+/// The hardware layer (`src/hw`, `hw::sim` and `hw::export` included) knows no command line: the
 /// CLI's value names and help texts live in `src/cli`, which converts them.
 #[test]
 fn the_hardware_uses_no_clap() {
@@ -206,7 +287,7 @@ fn the_hardware_uses_no_clap() {
 #[test]
 fn no_source_file_is_longer_than_600_lines() {
     let mut files = vec![];
-    for dir in ["src", "tests", "testbenches", "benches"] {
+    for dir in ["src", "tests", "testbenches", "benches", "lab"] {
         rust_files(&root().join(dir), &mut files);
     }
     let long: Vec<String> = files
@@ -232,4 +313,43 @@ fn the_readme_is_at_most_300_lines() {
         .lines()
         .count();
     assert!(n <= 300, "README.md: {n} lines");
+}
+
+/// `src/hw` shows the block diagram: its top level holds the folders and at most
+/// a few files (`mod.rs`, `error.rs`), each folder a `mod.rs` that says what it
+/// holds; and the two controllers share only what lies below them.
+#[test]
+fn the_hardware_is_in_folders_by_role() {
+    let hw = root().join("src/hw");
+    let mut top_files = vec![];
+    for e in std::fs::read_dir(&hw).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            let m = std::fs::read_to_string(p.join("mod.rs"))
+                .unwrap_or_else(|_| panic!("{}: no mod.rs", p.display()));
+            assert!(
+                m.starts_with("//! "),
+                "{}: mod.rs says nothing",
+                p.display()
+            );
+        } else {
+            top_files.push(p);
+        }
+    }
+    assert!(top_files.len() <= 12, "src/hw top level: {top_files:?}");
+    let mut files = vec![];
+    rust_files(&hw, &mut files);
+    for f in files {
+        let me = module_of(&f);
+        let text = std::fs::read_to_string(&f).unwrap();
+        for (mine, theirs) in [("hw::modules", "hw::barrel"), ("hw::barrel", "hw::modules")] {
+            if me.starts_with(mine) {
+                let crossing: Vec<String> = imported_paths(&text, false)
+                    .into_iter()
+                    .filter(|p| p.starts_with(theirs))
+                    .collect();
+                assert!(crossing.is_empty(), "{me} imports {crossing:?}");
+            }
+        }
+    }
 }

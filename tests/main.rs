@@ -2,9 +2,8 @@
 //! kNN against brute force, the exact re-ranking against the float search, the
 //! renderer, the CLI (end to end through the binary, with its error paths), the
 //! `rtl` backend through the CLI, the layering of the source tree, numerical
-//! stability of the radiance estimate and `photon-fpga study`.
+//! stability of the radiance estimate and `photon-fpga-lab study`.
 
-mod banking;
 mod cli;
 mod exact;
 mod knn;
@@ -12,5 +11,3 @@ mod layers;
 mod render;
 mod rtl;
 mod stability;
-mod study;
-mod study_exact;

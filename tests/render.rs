@@ -10,7 +10,7 @@ use photon_fpga::host::render::photons::trace_photons;
 use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::render::{self, eye_queries, render_image, RenderSettings};
 use photon_fpga::host::stages::StageTimes;
-use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::config::metric::Metric;
 
 fn pool(threads: usize) -> rayon::ThreadPool {
     rayon::ThreadPoolBuilder::new()

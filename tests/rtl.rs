@@ -356,47 +356,6 @@ fn verilator_gather_equals_rtl_on_hard_cases() {
     }
 }
 
-/// Issue 14: `bench-core` runs a stream on both engines (it fails if results,
-/// cycles or read counters differ) and a Cornell-box image's whole eye-ray stream
-/// under Verilator, checked query by query against the software search.
-#[test]
-#[cfg_attr(not(has_verilator), ignore = "needs verilator")]
-fn bench_core_runs_both_engines_and_a_whole_cornell_stream() {
-    let out = bin()
-        .args(["bench-core", "--queries", "20", "--address-bits", "6"])
-        .args(["--modules-per-port", "3", "--both-engines"])
-        .assert()
-        .success();
-    let text = String::from_utf8_lossy(&out.get_output().stdout).to_string();
-    assert!(
-        text.contains("same stream, same results and cycles"),
-        "{text}"
-    );
-    let out = bin()
-        .args([
-            "bench-core",
-            "--engine",
-            "verilator",
-            "--workload",
-            "cornell",
-        ])
-        .args(["--cornell-photons", "3000", "--cornell-size", "12x10"])
-        .args(["--k", "8", "--metric", "l2", "--fit-q"])
-        .assert()
-        .success();
-    let text = String::from_utf8_lossy(&out.get_output().stdout).to_string();
-    // At most one query per pixel (one sample each), and most pixels see a
-    // diffuse surface.
-    let queries: usize = text
-        .split(" queries, ")
-        .next()
-        .and_then(|s| s.rsplit(' ').next())
-        .and_then(|n| n.parse().ok())
-        .unwrap_or_else(|| panic!("no query count in {text}"));
-    assert!((100..=120).contains(&queries), "{queries} queries: {text}");
-    assert!(text.contains("equal per query"), "{text}");
-}
-
 /// The Verilator model cache: three concurrent first runs of one model, started
 /// from one working directory, all succeed with the same file as the rtl backend's
 /// and leave nothing but their outputs there; a damaged cached model is rebuilt;

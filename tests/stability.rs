@@ -12,7 +12,7 @@ use photon_fpga::host::map::quantize::{Point, Quantizer};
 use photon_fpga::host::render::l1_area::l1_section_area;
 use photon_fpga::host::render::photons::Photon;
 use photon_fpga::host::render::{photon_points, query_points, radiance, QueryPoint};
-use photon_fpga::hw::metric::Metric;
+use photon_fpga::hw::config::metric::Metric;
 
 /// Area of {p in the plane through 0 with normal n : |p|_1 <= 1} by counting the
 /// cells of a fine grid over the plane (independent of the polygon construction).

@@ -4,19 +4,19 @@
 //! `export-verilog` and `bench-core`, which also take the grid ([`CoreArgs`]).
 //! Both go through the one validated constructor, `CoreBuilder::build`. `--core
 //! FILE` ([`CoreFileArg`], taken by all four the same way) gives the whole core
-//! instead, from a core description file (`hw::core_file`).
+//! instead, from a core description file (`hw::config::core_file`).
 
 use super::values::{BankPortsArg, ControllerArg, DeviceArg, MetricArg, TraversalArg};
+use crate::host::device::banked_core;
+use crate::host::error::{Error, Result};
+use crate::host::gather::FixedCore;
+use crate::hw::config::config_builder::CoreBuilder;
+use crate::hw::config::controller::Controller;
+use crate::hw::config::core_config::{Banking, CoreConfig, MAX_HW_COORD_BITS};
+use crate::hw::config::photon_word::PhotonLayout;
+use crate::hw::config::traversal::Traversal;
 use clap::Args;
 use clap::ValueEnum;
-use photon_fpga::host::device::banked_core;
-use photon_fpga::host::error::{Error, Result};
-use photon_fpga::host::gather::FixedCore;
-use photon_fpga::hw::config::{Banking, CoreConfig, MAX_HW_COORD_BITS};
-use photon_fpga::hw::config_builder::CoreBuilder;
-use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::traversal::Traversal;
 use std::path::PathBuf;
 
 /// `--core FILE`: the whole core from a core description file.

@@ -2,12 +2,12 @@
 //! rewrite for event-driven simulators and optionally a registered shell.
 
 use crate::cli::core_args::{describe_q, CoreArgs};
+use crate::host::error::{Error, Result};
+use crate::host::output::Output;
+use crate::hw::export::axis_top::axis_top;
+use crate::hw::export::shell::registered_shell;
+use crate::hw::export::verilog::export_verilog;
 use clap::{Args, ValueEnum};
-use photon_fpga::host::error::{Error, Result};
-use photon_fpga::host::output::Output;
-use photon_fpga::hw::rtl::axis_top::axis_top;
-use photon_fpga::hw::rtl::export::export_verilog;
-use photon_fpga::hw::rtl::shell::registered_shell;
 use std::path::PathBuf;
 
 /// `--interface`: which top the export writes beside the core.
@@ -26,7 +26,7 @@ pub struct ExportArgs {
     #[command(flatten)]
     pub core: CoreArgs,
     /// Also write DIR/shell.v: T replicated cores behind registered byte-wide I/O
-    /// (for place and route; see src/hw/rtl/shell.rs).
+    /// (for place and route; see src/hw/export/shell.rs).
     #[arg(long)]
     pub shell_trees: Option<usize>,
     /// The top to write beside the core.
@@ -38,6 +38,9 @@ pub struct ExportArgs {
     pub out: PathBuf,
 }
 
+/// The core's Verilog in the output directory.
+const CORE_VERILOG: &str = "photon_search_core.v";
+
 pub fn export(args: &ExportArgs) -> Result<()> {
     let cfg = args.core.config()?;
     if args.shell_trees == Some(0) {
@@ -48,7 +51,7 @@ pub fn export(args: &ExportArgs) -> Result<()> {
     let verilog = &exported.verilog;
     // Event-driven simulators (Icarus, ISim, ModelSim) hang on the raw export's
     // glitch loops; this rewrite is what the CI cross-simulation runs under Icarus.
-    let sim_verilog = photon_fpga::hw::rtl::export::glitch_free(verilog)?;
+    let sim_verilog = crate::hw::export::verilog::glitch_free(verilog)?;
     let shell = match args.shell_trees {
         Some(trees) => Some((trees, registered_shell(&exported, trees)?)),
         None => None,
@@ -57,42 +60,54 @@ pub fn export(args: &ExportArgs) -> Result<()> {
         InterfaceArg::Core => None,
         InterfaceArg::Axis => Some(axis_top(&exported, &cfg)?),
     };
+    // Every file, then every check (none may replace the --core file it was made
+    // from), then the writes: a refused output leaves the directory as it was.
+    let description = crate::hw::config::core_file::to_toml(&cfg);
+    let mut files: Vec<(&str, &str, String)> = vec![
+        (CORE_VERILOG, verilog, String::new()),
+        (
+            crate::hw::config::core_file::CORE_FILE_NAME,
+            &description,
+            "the core's description (render, gather --core FILE)".into(),
+        ),
+        (
+            "photon_search_core_sim.v",
+            &sim_verilog,
+            "the same core for event-driven simulators (glitch-free rewrite)".into(),
+        ),
+    ];
+    if let Some((trees, shell)) = &shell {
+        let what = format!("{trees} core(s) behind a registered I/O shell");
+        files.push(("shell.v", shell, what));
+    }
+    if let Some(axis) = &axis {
+        let what = "the core behind AXI4-Stream ports".to_string();
+        files.push(("photon_search_axis.v", &axis.verilog, what));
+        let what = "the AXI4-Stream top's tdata layout".to_string();
+        files.push(("photon_search_axis.json", &axis.json, what));
+    }
+    let inputs: Vec<&std::path::Path> = args.core.file.file.iter().map(|p| p.as_path()).collect();
+    let is_dir = args.out.is_dir();
+    if !is_dir && args.out.exists() {
+        return Err(Error::new(format!(
+            "{}: not a directory",
+            args.out.display()
+        )));
+    }
+    if is_dir {
+        for (name, ..) in &files {
+            Output::check(&args.out.join(name), &inputs)?;
+        }
+    }
     std::fs::create_dir_all(&args.out)
         .map_err(|e| Error::new(format!("{}: cannot create: {e}", args.out.display())))?;
-    let path = args.out.join("photon_search_core.v");
-    Output::check(&path, &[])?.write(|w| w.write_all(verilog.as_bytes()))?;
-    // The core's description beside it: `--core FILE` runs every map on this core.
-    let toml_path = args.out.join(photon_fpga::hw::core_file::CORE_FILE_NAME);
-    let description = photon_fpga::hw::core_file::to_toml(&cfg);
-    Output::check(&toml_path, &[])?.write(|w| w.write_all(description.as_bytes()))?;
-    println!(
-        "wrote {}: the core's description (render, gather, bench-core --core FILE)",
-        toml_path.display()
-    );
-    let sim_path = args.out.join("photon_search_core_sim.v");
-    Output::check(&sim_path, &[])?.write(|w| w.write_all(sim_verilog.as_bytes()))?;
-    println!(
-        "wrote {}: the same core for event-driven simulators (glitch-free rewrite)",
-        sim_path.display()
-    );
-    if let Some((trees, shell)) = shell {
-        let spath = args.out.join("shell.v");
-        Output::check(&spath, &[])?.write(|w| w.write_all(shell.as_bytes()))?;
-        println!(
-            "wrote {}: {trees} core(s) behind a registered I/O shell",
-            spath.display()
-        );
-    }
-    if let Some(axis) = axis {
-        let vpath = args.out.join("photon_search_axis.v");
-        Output::check(&vpath, &[])?.write(|w| w.write_all(axis.verilog.as_bytes()))?;
-        let jpath = args.out.join("photon_search_axis.json");
-        Output::check(&jpath, &[])?.write(|w| w.write_all(axis.json.as_bytes()))?;
-        println!(
-            "wrote {} (and its tdata layout, {}): the core behind AXI4-Stream ports",
-            vpath.display(),
-            jpath.display()
-        );
+    let path = args.out.join(CORE_VERILOG);
+    for (name, text, what) in &files {
+        let p = args.out.join(name);
+        Output::check(&p, &inputs)?.write(|w| w.write_all(text.as_bytes()))?;
+        if !what.is_empty() {
+            println!("wrote {}: {what}", p.display());
+        }
     }
     println!(
         "wrote {}: {} controller, {} traversal, T = {} tree(s), H = {}, K = {}, {}, {}-bit coordinates, {} metric, {}-bit distances",

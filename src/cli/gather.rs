@@ -2,11 +2,11 @@
 
 use crate::cli::gather_opts::GatherOpts;
 use crate::cli::set_threads;
+use crate::host::csvio;
+use crate::host::error::{Error, Result};
+use crate::host::limits::{self};
+use crate::host::output::Output;
 use clap::Args;
-use photon_fpga::host::csvio;
-use photon_fpga::host::error::{Error, Result};
-use photon_fpga::host::limits::{self};
-use photon_fpga::host::output::Output;
 use std::path::PathBuf;
 
 #[derive(Args)]
@@ -29,7 +29,9 @@ pub fn gather(args: &GatherArgs) -> Result<()> {
     args.opts.check()?;
     let params = args.opts.params(10)?;
     params.validate(1)?;
-    let inputs = [args.photons.as_path(), args.queries.as_path()];
+    // The core file is an input too: no output may replace it.
+    let mut inputs = vec![args.photons.as_path(), args.queries.as_path()];
+    inputs.extend(args.opts.core_file.file.as_deref());
     let out = Output::check(&args.out, &inputs)?;
     let vcd = args.opts.vcd(&inputs)?;
     let photons = csvio::read_points(&args.photons)?;

@@ -4,20 +4,20 @@
 
 use super::core_args::{CoreFileArg, CoreOpts};
 use super::values::MetricArg;
-use clap::Args;
-use photon_fpga::host::error::{Error, Result};
-use photon_fpga::host::exact::ExactBackend;
-use photon_fpga::host::gather::{
+use crate::host::error::{Error, Result};
+use crate::host::exact::ExactBackend;
+use crate::host::gather::{
     make_backend, BackendKind, FixedCore, GatherBackend, GatherParams, HW_CAPACITY,
 };
-use photon_fpga::host::limits::MEMORY_CAPACITY;
-use photon_fpga::host::map::quantize::Point;
-use photon_fpga::host::output::{Output, Staged};
-use photon_fpga::hw::config::{CoreConfig, MAX_ADDRESS_BITS, MAX_HW_COORD_BITS};
-use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::rtl::native::SimOptions;
-use photon_fpga::hw::traversal::Traversal;
+use crate::host::limits::MEMORY_CAPACITY;
+use crate::host::map::quantize::Point;
+use crate::host::output::{Output, Staged};
+use crate::hw::config::controller::Controller;
+use crate::hw::config::core_config::{CoreConfig, MAX_ADDRESS_BITS, MAX_HW_COORD_BITS};
+use crate::hw::config::photon_word::PhotonLayout;
+use crate::hw::config::traversal::Traversal;
+use crate::hw::sim::native::SimOptions;
+use clap::Args;
 use std::path::PathBuf;
 
 /// Options every gather shares.
@@ -77,7 +77,7 @@ impl GatherOpts {
     /// most candidates the core may return.
     pub fn gathered_k(&self, k: usize) -> Result<usize> {
         if self.exact {
-            photon_fpga::host::exact::largest_k_prime(
+            crate::host::exact::largest_k_prime(
                 self.backend,
                 k,
                 self.refine,
@@ -116,7 +116,7 @@ impl GatherOpts {
         let path = match &self.vcd {
             Some(p) => p.clone(),
             None if self.backend.simulates() => {
-                match std::env::var_os(photon_fpga::hw::rtl::native::VCD_ENV) {
+                match std::env::var_os(crate::hw::sim::native::VCD_ENV) {
                     Some(p) => PathBuf::from(p),
                     None => return Ok(None),
                 }
@@ -180,7 +180,7 @@ impl GatherOpts {
             self.core.traversal.map_or(Traversal::default(), Into::into)
         };
         if self.exact {
-            photon_fpga::host::exact::check(self.backend, k, self.refine, controller.max_k())?;
+            crate::host::exact::check(self.backend, k, self.refine, controller.max_k())?;
         }
         let base = CoreConfig::builder().k(k).metric(metric);
         let core = self.core.builder(base, controller)?;

@@ -3,14 +3,14 @@
 
 use crate::cli::gather_opts::GatherOpts;
 use crate::cli::set_threads;
+use crate::host::error::{Error, Result};
+use crate::host::limits::{self, MAX_EMITTED};
+use crate::host::output::Output;
+use crate::host::render::photons;
+use crate::host::render::scene::Scene;
+use crate::host::render::{self, RenderSettings};
+use crate::host::stages::StageTimes;
 use clap::{Args, Parser};
-use photon_fpga::host::error::{Error, Result};
-use photon_fpga::host::limits::{self, MAX_EMITTED};
-use photon_fpga::host::output::Output;
-use photon_fpga::host::render::photons;
-use photon_fpga::host::render::scene::Scene;
-use photon_fpga::host::render::{self, RenderSettings};
-use photon_fpga::host::stages::StageTimes;
 use std::path::PathBuf;
 
 /// `WxH`, e.g. `256x256`.
@@ -84,7 +84,9 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         params.capacity as u64,
         &format!("--size {w}x{h} × --spp {}", args.spp),
     )?;
-    let inputs: Vec<&std::path::Path> = args.scene.iter().map(|p| p.as_path()).collect();
+    // The scene and the core file are inputs: no output may replace them.
+    let mut inputs: Vec<&std::path::Path> = args.scene.iter().map(|p| p.as_path()).collect();
+    inputs.extend(args.opts.core_file.file.as_deref());
     let out = Output::check(&args.out, &inputs)?;
     let vcd = args.opts.vcd(&inputs)?;
     let scene = match &args.scene {

@@ -4,14 +4,14 @@
 //! both ways makes a value added to the library a compile error here until it gets
 //! a name and a help text.
 
+use crate::hw::config::controller::Controller;
+use crate::hw::config::metric::Metric;
+use crate::hw::config::traversal::Traversal;
+use crate::hw::sim::native::Engine;
+use crate::hw::store::bank_crossbar::BankPorts;
 use clap::ValueEnum;
-use photon_fpga::hw::bank_crossbar::BankPorts;
-use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::rtl::native::Engine;
-use photon_fpga::hw::traversal::Traversal;
 
-photon_fpga::enum_mirror! {
+crate::enum_mirror! {
     /// `--metric`: the distance of the search (paper §4.4).
     #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
     MetricArg => Metric {
@@ -22,7 +22,7 @@ photon_fpga::enum_mirror! {
     }
 }
 
-photon_fpga::enum_mirror! {
+crate::enum_mirror! {
     /// `--traversal`: how the search climbs back up the tree (paper §2.2, §4.3).
     #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
     TraversalArg => Traversal {
@@ -37,7 +37,7 @@ photon_fpga::enum_mirror! {
     }
 }
 
-photon_fpga::enum_mirror! {
+crate::enum_mirror! {
     /// `--controller`: who runs a port's queries.
     #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
     ControllerArg => Controller {
@@ -50,7 +50,7 @@ photon_fpga::enum_mirror! {
     }
 }
 
-photon_fpga::enum_mirror! {
+crate::enum_mirror! {
     /// `--bank-ports`: how a bank's two BlockRAM read ports serve the datapaths.
     #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
     BankPortsArg => BankPorts {
@@ -65,7 +65,7 @@ photon_fpga::enum_mirror! {
     }
 }
 
-photon_fpga::enum_mirror! {
+crate::enum_mirror! {
     /// `--engine`: the simulator that runs the core.
     #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
     EngineArg => Engine {
@@ -90,8 +90,8 @@ pub enum DeviceArg {
 }
 
 impl DeviceArg {
-    pub fn device(self) -> &'static photon_fpga::host::device::plan::Device {
-        use photon_fpga::host::device::plan::{ECP5_85K, XC6VSX475T};
+    pub fn device(self) -> &'static crate::host::device::plan::Device {
+        use crate::host::device::plan::{ECP5_85K, XC6VSX475T};
         match self {
             DeviceArg::Ecp585k => &ECP5_85K,
             DeviceArg::Xc6vsx475t => &XC6VSX475T,
@@ -115,8 +115,7 @@ pub fn all_value_lists() -> Vec<Vec<String>> {
         names::<ControllerArg>(),
         names::<BankPortsArg>(),
         names::<EngineArg>(),
-        names::<photon_fpga::host::gather::BackendKind>(),
-        names::<super::bench_core::WorkloadKind>(),
+        names::<crate::host::gather::BackendKind>(),
         names::<super::export::InterfaceArg>(),
         names::<DeviceArg>(),
     ]

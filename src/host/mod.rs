@@ -6,7 +6,6 @@
 //! Layers, lowest first (tests/layers.rs checks them): `error`, `limits`,
 //! `output`, `stages` → `map` → `gather`, `csvio`, `exact` → `render` → `workload`, `study`, `banking`.
 
-pub mod banking;
 pub mod csvio;
 pub mod device;
 pub mod error;
@@ -17,5 +16,3 @@ pub mod map;
 pub mod output;
 pub mod render;
 pub mod stages;
-pub mod study;
-pub mod workload;

@@ -12,6 +12,9 @@
 //! * [`Output::stage`] is for producers that write by path (the simulator's VCD): a
 //!   temporary file to write, renamed by [`Staged::commit`] once the whole run has
 //!   succeeded and deleted if it is dropped.
+//! * An interrupted run (Ctrl-C, SIGTERM) runs no destructor, so every temporary
+//!   file is also remembered, and [`remove_on_interrupt`] installs the handler that
+//!   deletes those still there before the process exits.
 
 use crate::host::error::{Error, Result};
 use std::io::Write;
@@ -38,6 +41,30 @@ pub struct Staged {
     shown: PathBuf,
 }
 
+/// Every temporary file this process made. One renamed into place or deleted is
+/// no longer there, so the interrupt handler's removal of the list touches only
+/// those a run was still writing.
+static TEMPORARIES: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// Install (once per process) the Ctrl-C / SIGTERM handler that deletes the
+/// temporary files of the outputs being written, then exits with status 130.
+pub fn remove_on_interrupt() -> Result<()> {
+    static INSTALLED: std::sync::Once = std::sync::Once::new();
+    let mut result = Ok(());
+    INSTALLED.call_once(|| {
+        result = ctrlc::set_handler(|| {
+            let list = TEMPORARIES.lock().unwrap_or_else(|e| e.into_inner());
+            for p in list.iter() {
+                let _ = std::fs::remove_file(p);
+            }
+            eprintln!("interrupted; no output written");
+            std::process::exit(130);
+        })
+        .map_err(|e| Error::new(format!("cannot install the interrupt handler: {e}")));
+    });
+    result
+}
+
 /// A temporary file in `dir` with the permissions a new file gets (0o666 less the
 /// umask), not the owner-only ones of a plain temporary file: it becomes the output.
 fn temp_in(dir: &Path) -> std::io::Result<tempfile::NamedTempFile> {
@@ -48,7 +75,12 @@ fn temp_in(dir: &Path) -> std::io::Result<tempfile::NamedTempFile> {
         use std::os::unix::fs::PermissionsExt;
         b.permissions(std::fs::Permissions::from_mode(0o666));
     }
-    b.tempfile_in(dir)
+    let file = b.tempfile_in(dir)?;
+    TEMPORARIES
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push(file.path().to_path_buf());
+    Ok(file)
 }
 
 fn err(path: &Path, what: impl std::fmt::Display) -> Error {

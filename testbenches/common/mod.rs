@@ -2,14 +2,17 @@
 //! hardware result against the software search and brute force.
 #![allow(dead_code)]
 
+pub mod xsim;
+pub mod xsim_tb;
+
 use photon_fpga::host::map::kdtree::{KdTree, PackedTree};
 use photon_fpga::host::map::knn;
-use photon_fpga::hw::config::CoreConfig;
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::rtl::driver::{HwQuery, HwResult};
-use photon_fpga::hw::rtl::native::SimOptions;
-use photon_fpga::hw::traversal::Traversal;
+use photon_fpga::hw::config::core_config::CoreConfig;
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
+use photon_fpga::hw::config::traversal::Traversal;
+use photon_fpga::hw::sim::driver::{HwQuery, HwResult};
+use photon_fpga::hw::sim::native::SimOptions;
 use rand::Rng;
 use rand_pcg::Pcg64;
 use rust_hdl::prelude::{simulate, Block, Clock, In, Signal};

@@ -33,25 +33,6 @@ fn each_backend_has_its_own_photon_limit() {
     assert!(stored > (1 << 20) - 1, "{stored} stored: {stdout}");
 }
 
-/// Class 9: bench-core refuses a stream of no queries and a clock that is not a
-/// finite positive number before simulating anything.
-#[test]
-fn bench_core_refuses_no_queries_and_bad_clocks() {
-    let dir = tempfile::tempdir().unwrap();
-    refused(
-        dir.path(),
-        &strings(&["bench-core", "--queries", "0"]),
-        "--queries must be at least 1, got 0",
-    );
-    for f in ["NaN", "inf", "-inf", "0", "-5"] {
-        refused(
-            dir.path(),
-            &strings(&["bench-core", &format!("--fmax-mhz={f}")]),
-            "--fmax-mhz must be a finite number > 0",
-        );
-    }
-}
-
 /// Class 10: the core options are checked before any work: Q under the name of
 /// the other controller, the barrel controller with the re-read ascent, core
 /// limits, and core options given to a backend that runs no core.
@@ -109,16 +90,5 @@ fn core_options_are_refused_by_name() {
             "4",
         ]),
         "--modules-per-port 4 sets the modules controller's QueryModules",
-    );
-    refused(
-        dir.path(),
-        &strings(&[
-            "bench-core",
-            "--traversal",
-            "reread",
-            "--controller",
-            "barrel",
-        ]),
-        "traversal = reread with controller barrel",
     );
 }

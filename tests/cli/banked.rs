@@ -4,7 +4,7 @@
 //! status 2 and nothing written.
 
 use super::*;
-use photon_fpga::hw::core_file::{from_toml, CORE_FILE_NAME};
+use photon_fpga::hw::config::core_file::{from_toml, CORE_FILE_NAME};
 
 /// `render` of a small scene with `args` and the backend, the PNG's bytes.
 fn render_png(dir: &Path, name: &str, args: &[&str]) -> Vec<u8> {

@@ -5,12 +5,12 @@
 //! with exit status 2 and nothing written.
 
 use super::*;
-use photon_fpga::hw::config::CoreConfig;
-use photon_fpga::hw::controller::Controller;
-use photon_fpga::hw::core_file::{from_toml, to_toml, CORE_FILE_NAME};
-use photon_fpga::hw::metric::Metric;
-use photon_fpga::hw::photon_word::PhotonLayout;
-use photon_fpga::hw::traversal::Traversal;
+use photon_fpga::hw::config::controller::Controller;
+use photon_fpga::hw::config::core_config::CoreConfig;
+use photon_fpga::hw::config::core_file::{from_toml, to_toml, CORE_FILE_NAME};
+use photon_fpga::hw::config::metric::Metric;
+use photon_fpga::hw::config::photon_word::PhotonLayout;
+use photon_fpga::hw::config::traversal::Traversal;
 
 /// Export a core with `options` into `dir/name` and return its description file.
 fn export_core(dir: &Path, name: &str, options: &[&str]) -> PathBuf {
@@ -22,11 +22,6 @@ fn export_core(dir: &Path, name: &str, options: &[&str]) -> PathBuf {
         .assert()
         .success();
     out.join(CORE_FILE_NAME)
-}
-
-fn stdout_of(args: &[String]) -> String {
-    let run = bin().args(args).assert().success();
-    String::from_utf8_lossy(&run.get_output().stdout).to_string()
 }
 
 /// Every option of `CoreConfig` survives the file: cores that differ in each
@@ -249,9 +244,7 @@ fn sw_and_rtl(
 
 /// The fixed core under rust-hdl's own simulation: `gather --core FILE --backend
 /// rtl` on a map far smaller than the core's H (40 photons in a 2^11-word tree)
-/// writes the very file sw does on the same core, k the file's K; bench-core runs
-/// a Cornell map on the file's core, H and K the file's (it checks every query
-/// against the software search itself).
+/// writes the very file sw does on the same core, k the file's K.
 #[test]
 fn the_fixed_core_answers_small_maps_like_sw() {
     let dir = tempfile::tempdir().unwrap();
@@ -274,29 +267,11 @@ fn the_fixed_core_answers_small_maps_like_sw() {
     let files = sw_and_rtl(dir.path(), &file, &p, &q, &[]);
     assert_eq!(files[0], files[1], "rtl and sw differ on the file's core");
     assert_eq!(files[0].len(), 1 + 25 * 5, "k defaults to the file's K");
-    let bench = stdout_of(&strings(&[
-        "bench-core",
-        "--core",
-        &file,
-        "--workload",
-        "cornell",
-        "--cornell-photons",
-        "200",
-        "--cornell-size",
-        "6x6",
-        "--queries",
-        "12",
-    ]));
-    let core = bench.lines().find(|l| l.starts_with("core: ")).unwrap();
-    assert!(
-        core.contains("barrel controller") && core.contains("H = 11, K = 5"),
-        "{core}"
-    );
 }
 
 /// A core built for a largest radius (`--radius-bits 8`: squared-L2 radii up to
 /// 254 on its grid) answers a gather within a radius it holds like sw, and refuses
-/// by name, exit 2, a larger radius or none (gather and bench-core).
+/// by name, exit 2, a larger radius or none.
 #[test]
 fn a_core_for_a_radius_answers_it_and_refuses_more() {
     let dir = tempfile::tempdir().unwrap();
@@ -351,21 +326,6 @@ fn a_core_for_a_radius_answers_it_and_refuses_more() {
         &gather(&["--backend", "rtl"]),
         "an unbounded gather (no --radius), beyond the core",
     );
-    refused(
-        dir.path(),
-        &strings(&[
-            "bench-core",
-            "--core",
-            &f,
-            "--workload",
-            "cornell",
-            "--cornell-photons",
-            "200",
-            "--cornell-size",
-            "6x6",
-        ]),
-        "an unbounded gather (no --radius) is beyond the core: radius_bits = 8 answers radii up to 254",
-    );
 }
 
 /// What does not fit the file's core is refused before any work, naming the limit
@@ -414,11 +374,6 @@ fn what_does_not_fit_the_file_is_refused() {
         dir.path(),
         &render(&["--backend", "float"]),
         "--backend float searches the unquantized positions",
-    );
-    refused(
-        dir.path(),
-        &strings(&["bench-core", "--core", &f, "--address-bits", "6"]),
-        "the argument '--core <FILE>' cannot be used with '--address-bits",
     );
     // gather: a CSV map of 32 photons does not fit 2^5 - 1.
     let p: Vec<[f64; 3]> = (0..32).map(|i| [i as f64, 0.0, 1.0]).collect();
@@ -486,5 +441,119 @@ fn what_does_not_fit_the_file_is_refused() {
         dir.path(),
         &["--photons", &p, "--queries", &q, "--core", "nope.toml"],
         "nope.toml: cannot read",
+    ); // Coordinate widths the core cannot have, and a fourth width.
+    let widths = |w: &str| {
+        text.replace(
+            "coordinate_bits = [10, 10, 10]",
+            &format!("coordinate_bits = {w}"),
+        )
+    };
+    for (name, w) in [("zero.toml", "[0, 0, 0]"), ("wide.toml", "[17, 17, 17]")] {
+        bad(
+            name,
+            widths(w),
+            &format!("{name}: coordinate_bits = {w}: each width must be 1..=15"),
+        );
+    }
+    bad(
+        "four.toml",
+        widths("[10, 10, 10, 10]"),
+        "coordinate_bits = [10, 10, 10, 10]: expected three widths (x, y, z), got 4",
     );
+}
+
+/// The core file is an input: no output of render, gather or export-verilog may
+/// replace it (exit 2, the file as it was, nothing else written).
+#[test]
+fn no_output_replaces_the_core_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = export_core(dir.path(), "core", &["--k", "4", "--address-bits", "6"]);
+    // The user's own comment: it must survive every refused run.
+    let text = format!("# my core\n{}", std::fs::read_to_string(&d).unwrap());
+    std::fs::write(&d, &text).unwrap();
+    let f = d.display().to_string();
+    let (p, q) = box_points(dir.path(), 20, 5, 3);
+    let gather = |extra: &[&str]| {
+        cmdline(
+            &["gather", "--photons", &p, "--queries", &q, "--core", &f],
+            extra,
+        )
+    };
+    let input = "is also an input";
+    refused(dir.path(), &gather(&["--out", &f]), input);
+    let csv = dir.path().join("g.csv").display().to_string();
+    refused(
+        dir.path(),
+        &gather(&["--out", &csv, "--backend", "rtl", "--vcd", &f]),
+        input,
+    );
+    refused(
+        dir.path(),
+        &strings(&["render", "--core", &f, "--out", &f, "--photons", "20"]),
+        input,
+    );
+    let core_dir = d.parent().unwrap().display().to_string();
+    refused(
+        dir.path(),
+        &strings(&["export-verilog", "--core", &f, "--out", &core_dir]),
+        input,
+    );
+    assert_eq!(std::fs::read_to_string(&d).unwrap(), text);
+}
+
+/// A gather interrupted (SIGINT, as Ctrl-C sends) while it writes its output leaves
+/// no temporary file beside it, and exits 130.
+#[test]
+#[cfg(unix)]
+fn an_interrupted_gather_leaves_no_temporary_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let (p, q) = box_points(dir.path(), 3000, 40_000, 9);
+    let out = dir.path().join("out.csv");
+    let bin = assert_cmd::cargo::cargo_bin("photon-fpga");
+    let mut child = std::process::Command::new(bin)
+        .args([
+            "gather",
+            "--photons",
+            &p,
+            "--queries",
+            &q,
+            "--k",
+            "64",
+            "--threads",
+            "1",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // The temporary files beside the output, and whether one holds bytes yet (the
+    // output check's probe is empty and gone at once; the write's fills).
+    let temporary = |written: bool| {
+        std::fs::read_dir(dir.path()).unwrap().any(|e| {
+            let e = e.unwrap();
+            e.file_name().to_string_lossy().starts_with(".photon-fpga-")
+                && (!written || e.metadata().is_ok_and(|m| m.len() > 0))
+        })
+    };
+    let start = std::time::Instant::now();
+    while !temporary(true) {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the gather ended before its output was staged"
+        );
+        assert!(start.elapsed().as_secs() < 120, "no output staged");
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    let pid = child.id().to_string();
+    let killed = std::process::Command::new("kill")
+        .args(["-INT", &pid])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130), "{status:?}");
+    assert!(!temporary(false), "a temporary file was left behind");
+    assert!(!out.exists(), "a half output was left");
 }

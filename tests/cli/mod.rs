@@ -346,7 +346,6 @@ fn gather_lines(args: &[&str], out: &Path) -> Vec<String> {
 
 mod backends;
 mod banked;
-mod bench_banks;
 mod core_file;
 mod exact;
 mod limits;

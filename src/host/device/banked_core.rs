@@ -4,9 +4,9 @@
 
 use crate::host::device::plan::{plan, Device, Limits};
 use crate::host::error::{Error, Result};
-use crate::hw::config::PORTS;
-use crate::hw::config_builder::CoreBuilder;
-use crate::hw::controller::Controller;
+use crate::hw::config::config_builder::CoreBuilder;
+use crate::hw::config::controller::Controller;
+use crate::hw::config::core_config::PORTS;
 
 /// `b` with the banked barrel core that `dev` holds for `photons` photons of
 /// `word_bits`-bit words: a clear error (naming the largest map that fits) if
@@ -27,7 +27,7 @@ pub fn for_device(
     let p =
         plan(photons, word_bits, dev, &Limits::default()).map_err(|e| Error::new(e.to_string()))?;
     let trees = (p.datapaths as usize / PORTS).max(1);
-    let address_bits = crate::hw::config::bits_for(photons as u64);
+    let address_bits = crate::hw::config::core_config::bits_for(photons as u64);
     Ok(
         if photons < 1 << p.replicated_levels || p.replicated_levels >= address_bits {
             // The whole map fits every replica: whole trees, no banks.

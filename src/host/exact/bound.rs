@@ -23,7 +23,7 @@
 //! # δ for each metric (in grid steps)
 //! Write `p̂ = (p − o)/s`, `q̂ = (q − o)/s` for the exact real grid positions and `G`
 //! for the core's integer distance between the photon's grid point `g` and the
-//! query's `c` (`hw::metric::Metric::dist`, exact in u64). The photon's error is
+//! query's `c` (`hw::config::metric::Metric::dist`, exact in u64). The photon's error is
 //! known only to be at most `h = 1/2 + 2^-35` per axis; the query's is known: the
 //! host holds `q` and `c`, and `v = fl(fl(q − o)/s)` is within 2^-35 of `q̂` per axis.
 //! * **L1**: `D1/s = |p̂ − q̂|₁ >= |g − c|₁ − |g − p̂|₁ − |c − q̂|₁ >= G − 3h − ρ1`
@@ -61,7 +61,7 @@
 
 use crate::host::map::knn::FloatDist;
 use crate::host::map::quantize::{Point, Quantizer};
-use crate::hw::metric::Metric;
+use crate::hw::config::metric::Metric;
 
 /// Added to δ (grid steps): the per-axis rounding beyond a half step, and the f64
 /// evaluation of the lower bound.

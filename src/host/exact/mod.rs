@@ -40,9 +40,9 @@ use crate::host::gather::{
 };
 use crate::host::map::knn::{self, FloatDist, Scalar};
 use crate::host::map::quantize::{GridPoint, Point};
-use crate::hw::metric::Metric;
-use crate::hw::rtl::driver::{HwQuery, SimStats};
-use crate::hw::rtl::native::{Engine, SimOptions};
+use crate::hw::config::metric::Metric;
+use crate::hw::sim::driver::{HwQuery, SimStats};
+use crate::hw::sim::native::{Engine, SimOptions};
 use bound::Bound;
 use rayon::prelude::*;
 use rerank::{Rerank, Verdict};

@@ -22,7 +22,7 @@ use super::bound::Bound;
 use crate::host::gather::{canonical_order, Neighbour};
 use crate::host::map::knn::{FloatDist, Scalar};
 use crate::host::map::quantize::Point;
-use crate::hw::metric::Metric;
+use crate::hw::config::metric::Metric;
 
 /// What the re-ranking of one query concluded.
 #[derive(Clone, Debug, PartialEq)]

@@ -2,14 +2,14 @@
 //! and the checks that a gather and its map fit it.
 
 use crate::host::error::{Error, Result};
-use crate::hw::config::CoreConfig;
-use crate::hw::metric::Metric;
-use crate::hw::photon_word::TreeImage;
-use crate::hw::traversal::Traversal;
+use crate::hw::config::core_config::CoreConfig;
+use crate::hw::config::metric::Metric;
+use crate::hw::config::photon_word::TreeImage;
+use crate::hw::config::traversal::Traversal;
 use std::path::{Path, PathBuf};
 
 /// A fixed core read from a core description file
-/// ([`core_file`](crate::hw::core_file)): one core, one Verilator model, for every
+/// ([`core_file`](crate::hw::config::core_file)): one core, one Verilator model, for every
 /// map that fits it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FixedCore {
@@ -22,7 +22,7 @@ impl FixedCore {
     /// The core described by the file at `path`.
     pub fn read(path: &Path) -> Result<Self> {
         Ok(FixedCore {
-            config: crate::hw::core_file::read(path)?,
+            config: crate::hw::config::core_file::read(path)?,
             file: path.to_path_buf(),
         })
     }

@@ -61,8 +61,8 @@ impl GatherBackend for RtlBackend {
     fn describe(&self) -> Option<String> {
         let c = &self.config;
         let q = match c.controller {
-            crate::hw::controller::Controller::Modules => "QueryModules",
-            crate::hw::controller::Controller::Barrel => "query slots",
+            crate::hw::config::controller::Controller::Modules => "QueryModules",
+            crate::hw::config::controller::Controller::Barrel => "query slots",
         };
         let fitted = if self.fit_q {
             format!("Q fitted to the queries, at most {}", c.queries_per_port)
@@ -87,7 +87,7 @@ impl GatherBackend for RtlBackend {
             c.address_bits,
             c.k,
             if c.is_array() {
-                crate::hw::config::PORTS
+                crate::hw::config::core_config::PORTS
             } else {
                 c.datapaths()
             },
@@ -173,7 +173,7 @@ pub fn run_core(
     // core on chunks of the stream give the same results for any thread count.
     // A waveform dump wants one simulation.
     let chunks =
-        if options.vcd.is_some() || std::env::var_os(crate::hw::rtl::native::VCD_ENV).is_some() {
+        if options.vcd.is_some() || std::env::var_os(crate::hw::sim::native::VCD_ENV).is_some() {
             1
         } else {
             rayon::current_num_threads().max(1)

@@ -10,7 +10,7 @@
 
 use crate::host::map::quantize::Quantizer;
 use crate::host::map::scalar::Scalar;
-use crate::hw::photon_word::{PhotonLayout, TreeImage};
+use crate::hw::config::photon_word::{PhotonLayout, TreeImage};
 
 /// A kd-tree over points with coordinates of type `C`.
 #[derive(Clone, Debug)]

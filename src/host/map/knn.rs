@@ -41,9 +41,9 @@
 
 use crate::host::map::kdtree::{KdTree, PackedTree};
 pub use crate::host::map::scalar::{FloatDist, Scalar};
-use crate::hw::config::ReadProfile;
-use crate::hw::metric::Metric;
-pub use crate::hw::traversal::Traversal;
+use crate::hw::config::core_config::ReadProfile;
+use crate::hw::config::metric::Metric;
+pub use crate::hw::config::traversal::Traversal;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
@@ -286,7 +286,7 @@ struct Level<D> {
 }
 
 /// [`Traversal::Remember`] (`CELL` false) and [`Traversal::Cell`]: the ascent reads
-/// nothing; see the module docs and `hw::traversal`. `CELL` is a constant so that
+/// nothing; see the module docs and `hw::config::traversal`. `CELL` is a constant so that
 /// the default traversal's hot loop carries none of the offset bookkeeping.
 fn search_remember<const CELL: bool, C: Scalar, S: NodeSource<C> + ?Sized>(
     tree: &S,

@@ -2,7 +2,6 @@
 //! left-balanced kd-tree and its packed words, and the software kNN search that is
 //! the reference for every hardware gather (plus kiddo as the CPU yardstick).
 
-pub mod cpu_ref;
 pub mod kdtree;
 pub mod knn;
 pub mod quantize;

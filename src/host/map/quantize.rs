@@ -6,7 +6,7 @@
 //! how a flat or long scene packs into a narrower photon word.
 
 use crate::host::error::{Error, Result};
-use crate::hw::photon_word::{PhotonLayout, MAX_COORD_BITS};
+use crate::hw::config::photon_word::{PhotonLayout, MAX_COORD_BITS};
 
 /// A world position.
 pub type Point = [f64; 3];

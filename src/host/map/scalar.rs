@@ -3,7 +3,7 @@
 //! box, and `f64` world coordinates (the float reference), each with its exact,
 //! totally ordered distance type.
 
-use crate::hw::metric::Metric;
+use crate::hw::config::metric::Metric;
 use std::cmp::Ordering;
 
 /// A coordinate type the kd-tree and the search work on: `u32` grid coordinates or

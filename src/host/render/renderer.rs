@@ -15,7 +15,7 @@ use crate::host::render::l1_area::l1_section_area;
 use crate::host::render::photons::{stream_rng, Photon};
 use crate::host::render::scene::{glass_scatter, reflect, Material, Ray, Scene, Surface};
 use crate::host::stages::StageTimes;
-use crate::hw::metric::Metric;
+use crate::hw::config::metric::Metric;
 use glam::Vec3;
 use rand::Rng;
 use rayon::prelude::*;

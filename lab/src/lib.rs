@@ -1,0 +1,13 @@
+//! The photon-fpga lab: the measurements behind the docs, built on the product
+//! crate (`photon_fpga`) and never imported by it. The workloads (`workload`), the
+//! CPU yardstick (`cpu_ref`, kiddo), the banked store's bank-conflict model and its
+//! simulated sweeps (`banking`), and the speed-against-error study (`study`).
+//!
+//! Layers, lowest first (tests/layers.rs checks them): `workload`, `cpu_ref` →
+//! `banking`, `study` → `cli`.
+
+pub mod banking;
+pub mod cli;
+pub mod cpu_ref;
+pub mod study;
+pub mod workload;

@@ -1,0 +1,51 @@
+//! `photon-fpga-lab`: the measurements behind the docs and synth/REPORT.md.
+
+use clap::{Parser, Subcommand};
+use photon_fpga::host::output::remove_on_interrupt;
+use photon_fpga_lab::cli::banking::{banking, BankingArgs};
+use photon_fpga_lab::cli::bench_banks::{bench_banks, BenchBanksArgs};
+use photon_fpga_lab::cli::bench_core::{bench_core, BenchCoreArgs};
+use photon_fpga_lab::cli::study::{study, StudyArgs};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "photon-fpga-lab", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Simulate a core on a workload (random map or Cornell box): reads per cycle and
+    /// per query against the software search, cycles/s; --cpu times kiddo beside it.
+    BenchCore(BenchCoreArgs),
+    /// Speed against error: sweep bits, metric, k and photons; write the table,
+    /// the Pareto plot and the paper's Figs. 3-6.
+    Study(StudyArgs),
+    /// The banked photon store's bank conflicts, measured on the default render's
+    /// read stream (bank mappings, query orders, D datapaths x B banks); writes
+    /// docs/BANKING.md.
+    Banking(BankingArgs),
+    /// The banked core simulated (every answer checked): reads per cycle against D
+    /// datapaths x B banks, and queries/s against map size for a device's plan;
+    /// writes docs/BANKED_CORE.md, its CSV and two plots.
+    BenchBanks(BenchBanksArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = remove_on_interrupt().and_then(|()| match &cli.cmd {
+        Cmd::BenchCore(a) => bench_core(a),
+        Cmd::Study(a) => study(a),
+        Cmd::Banking(a) => banking(a),
+        Cmd::BenchBanks(a) => bench_banks(a),
+    });
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

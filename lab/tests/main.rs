@@ -1,0 +1,17 @@
+//! The lab's tests in one test binary: the bank model and its simulated sweeps, the
+//! workloads' throughput on the simulated core, bench-core, the study and its exact
+//! series.
+
+// The hardware testbenches' helpers (checks against the software search and brute
+// force), shared rather than copied.
+#[path = "../../testbenches/common/mod.rs"]
+mod common;
+
+mod bank_map;
+mod banking;
+mod bench_banks;
+mod bench_core;
+mod cli;
+mod study;
+mod study_exact;
+mod throughput;

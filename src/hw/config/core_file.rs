@@ -1,0 +1,239 @@
+//! The core description file: every elaboration-time parameter of one core
+//! ([`CoreConfig`]) as TOML, so that one fixed core (one FPGA image, one Verilator
+//! model) serves every photon map that fits it. `export-verilog` writes it beside
+//! the Verilog; `render`, `gather` and `bench-core` take it with `--core FILE` and
+//! check each map against it instead of deriving a core from the map.
+//!
+//! The file holds exactly what changes the exported Verilog, under the names the
+//! command line uses (`--controller`, `--modules-per-port` / `--slots-per-port`, …);
+//! every key is required except Q, which is given under the name of the controller
+//! (one of `modules_per_port`, `slots_per_port`), and unknown keys are refused, so a
+//! file means one core and nothing is filled in silently. The values are checked by
+//! the one validated constructor, [`CoreBuilder::build`].
+
+use crate::hw::config::config_builder::CoreBuilder;
+use crate::hw::config::controller::Controller;
+use crate::hw::config::core_config::{Banking, CoreConfig, MAX_HW_COORD_BITS};
+use crate::hw::config::metric::Metric;
+use crate::hw::config::photon_word::PhotonLayout;
+use crate::hw::config::traversal::Traversal;
+use crate::hw::error::HwError;
+use crate::hw::store::bank_crossbar::BankPorts;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The file name `export-verilog` gives the description beside `photon_search_core.v`.
+pub const CORE_FILE_NAME: &str = "photon_search_core.toml";
+
+crate::enum_mirror! {
+    /// `controller`: who runs a port's queries.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+    #[serde(rename_all = "lowercase")]
+    ControllerName => Controller { Modules, Barrel }
+}
+crate::enum_mirror! {
+    /// `traversal`: how the search climbs back up the tree.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+    #[serde(rename_all = "lowercase")]
+    TraversalName => Traversal { Remember, Reread, Cell }
+}
+crate::enum_mirror! {
+    /// `bank_ports`: how the banks' read ports are shared.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+    #[serde(rename_all = "lowercase")]
+    BankPortsName => BankPorts { One, Shared, Split }
+}
+crate::enum_mirror! {
+    /// `metric`: the distance of the search.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+    #[serde(rename_all = "lowercase")]
+    MetricName => Metric { L2, L1 }
+}
+
+/// One core, as the file holds it.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CoreFile {
+    /// `modules` (the paper's QueryModules) or `barrel` (query slots).
+    pub controller: ControllerName,
+    /// `remember`, `reread` or `cell`.
+    pub traversal: TraversalName,
+    /// Found-list depth K: the largest k a query may ask for.
+    pub k: usize,
+    /// Coordinate bits of x, y and z: the photon word's layout. A map is quantized
+    /// onto exactly this grid.
+    #[serde(deserialize_with = "three_widths")]
+    pub coordinate_bits: [u32; 3],
+    /// Tree height H: the core holds at most 2^H − 1 photons.
+    pub address_bits: u32,
+    /// `l2` or `l1`.
+    pub metric: MetricName,
+    /// Q with the modules controller: QueryModules per TreeModule port.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub modules_per_port: Option<usize>,
+    /// Q with the barrel controller: query slots per TreeModule port.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slots_per_port: Option<usize>,
+    /// Replicated trees T (with banks: replicas of the top levels, two datapaths each).
+    pub trees: usize,
+    /// The pipeline registers (BlockRAM read data, result streams).
+    pub pipelined: bool,
+    /// A banked store: the banks (a power of two) and the levels replicated beside
+    /// the datapaths. Absent: each tree holds the whole map.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub banks: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub replicated_levels: Option<u32>,
+    /// With banks: `one`, `shared` or `split` read ports per bank (absent: the
+    /// default, `BankPorts::default`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bank_ports: Option<BankPortsName>,
+    /// Result streams R (absent: one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub result_streams: Option<usize>,
+    /// Distance bits for the largest initial radius the core answers (radii below
+    /// 2^b − 1; larger distances saturate). Absent: the grid's diagonal.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius_bits: Option<u32>,
+}
+
+impl From<&CoreConfig> for CoreFile {
+    fn from(c: &CoreConfig) -> Self {
+        let q = Some(c.queries_per_port);
+        let (modules_per_port, slots_per_port) = match c.controller {
+            Controller::Modules => (q, None),
+            Controller::Barrel => (None, q),
+        };
+        CoreFile {
+            controller: c.controller.into(),
+            traversal: c.traversal.into(),
+            k: c.k,
+            coordinate_bits: c.layout.bits,
+            address_bits: c.address_bits,
+            metric: c.metric.into(),
+            modules_per_port,
+            slots_per_port,
+            trees: c.trees,
+            pipelined: c.pipelined,
+            banks: c.banking.map(|b| 1u64 << b.bank_bits),
+            replicated_levels: c.banking.map(|b| b.replicated_levels),
+            bank_ports: c.banking.map(|b| b.ports.into()),
+            result_streams: (c.result_streams != 1).then_some(c.result_streams),
+            radius_bits: c.radius_bits,
+        }
+    }
+}
+
+/// `coordinate_bits`: exactly three widths, x, y and z (toml would drop a fourth).
+fn three_widths<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[u32; 3], D::Error> {
+    let v = Vec::<u32>::deserialize(d)?;
+    <[u32; 3]>::try_from(v.as_slice()).map_err(|_| {
+        serde::de::Error::custom(format!(
+            "coordinate_bits = {v:?}: expected three widths (x, y, z), got {}",
+            v.len()
+        ))
+    })
+}
+
+impl CoreFile {
+    /// The core this file describes, checked by [`CoreBuilder::build`] (Q under the
+    /// other controller's name, K, Q, T, H or the widths out of range are refused,
+    /// named with their value).
+    pub fn config(&self) -> Result<CoreConfig, HwError> {
+        let controller: Controller = self.controller.into();
+        let widths = 1..=MAX_HW_COORD_BITS;
+        if !self.coordinate_bits.iter().all(|b| widths.contains(b)) {
+            return Err(HwError::Config(format!(
+                "coordinate_bits = {:?}: each width must be 1..={MAX_HW_COORD_BITS}",
+                self.coordinate_bits
+            )));
+        }
+        if self.modules_per_port.is_none() && self.slots_per_port.is_none() {
+            let name = match controller {
+                Controller::Modules => "modules_per_port",
+                Controller::Barrel => "slots_per_port",
+            };
+            return Err(HwError::Config(format!(
+                "Q is missing: controller = \"{}\" takes {name}",
+                self.controller_name()
+            )));
+        }
+        let mut b = CoreBuilder::default()
+            .layout(PhotonLayout::new(self.coordinate_bits))
+            .address_bits(self.address_bits)
+            .k(self.k)
+            .metric(self.metric.into())
+            .pipelined(self.pipelined)
+            .trees(self.trees)
+            .traversal(self.traversal.into())
+            .controller(controller)
+            .result_streams(self.result_streams.unwrap_or(1))
+            .radius_bits(self.radius_bits);
+        if let Some(q) = self.modules_per_port {
+            b = b.modules_per_port(q);
+        }
+        if let Some(q) = self.slots_per_port {
+            b = b.slots_per_port(q);
+        }
+        match (self.banks, self.replicated_levels) {
+            (Some(banks), levels) => b = b.banks(Banking::bank_bits_for(banks)?, levels),
+            (None, Some(l)) => {
+                return Err(HwError::Config(format!(
+                    "replicated_levels = {l} without banks: only a banked store replicates levels"
+                )))
+            }
+            (None, None) => {}
+        }
+        match (self.banks, self.bank_ports) {
+            (Some(_), Some(p)) => b = b.bank_ports(p.into()),
+            (None, Some(p)) => {
+                return Err(HwError::Config(format!(
+                    "bank_ports = {:?} without banks: only a banked store has bank ports",
+                    BankPorts::from(p)
+                )))
+            }
+            _ => {}
+        }
+        b.build()
+    }
+
+    fn controller_name(&self) -> String {
+        Controller::from(self.controller).to_string()
+    }
+}
+
+/// `cfg` as the file's text: a comment saying what it is, then one key per line.
+pub fn to_toml(cfg: &CoreConfig) -> String {
+    let body = toml::to_string(&CoreFile::from(cfg)).expect("a CoreFile serialises to TOML");
+    format!(
+        "# photon-fpga core description: the core exported beside this file.\n\
+         # render, gather and bench-core take it with --core FILE and run every photon\n\
+         # map of at most 2^address_bits - 1 photons, and every k up to k, on this core.\n\
+         {body}"
+    )
+}
+
+/// The core described by `text`; `origin` (the file's name) starts every error,
+/// and a parse error names the line, the column and the value (toml's span).
+pub fn from_toml(text: &str, origin: &str) -> Result<CoreConfig, HwError> {
+    let file: CoreFile =
+        toml::from_str(text).map_err(|e| HwError::Config(format!("{origin}: {e}")))?;
+    file.config()
+        .map_err(|e| HwError::Config(format!("{origin}: {}", strip(&e))))
+}
+
+/// The core described by the file at `path`.
+pub fn read(path: &Path) -> Result<CoreConfig, HwError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| HwError::Config(format!("{}: cannot read: {e}", path.display())))?;
+    from_toml(&text, &path.display().to_string())
+}
+
+/// An error's message without the "hardware core: " prefix of its kind.
+fn strip(e: &HwError) -> String {
+    match e {
+        HwError::Config(m) | HwError::Simulation(m) | HwError::CrossSim(m) | HwError::Export(m) => {
+            m.clone()
+        }
+    }
+}

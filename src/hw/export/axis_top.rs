@@ -1,0 +1,432 @@
+//! `photon_search_axis`: the exported core (or array) behind AXI4-Stream ports, the
+//! interface an FPGA engineer plugs a streaming core into (AMD UG1037, the naming of
+//! verilog-axis): `aclk`, active-low `aresetn`, slave streams `s_axis_photon` (the
+//! tree load) and `s_axis_query`, master stream `m_axis_result` with `tlast` on the
+//! last beat of each query's result packet.
+//!
+//! Why a generated wrapper and not a second core: the core's streams already are
+//! valid/ready streams, so the wrapper only renames them, lays each payload out in
+//! `tdata` and adapts the reset; the core stays the one that is simulated, tested and
+//! cross-simulated. The wrapper is text written around the exported top's ports, as
+//! the registered shell is (`shell.rs`).
+//!
+//! The `tdata` layouts are derived, never written down by hand: every field of the
+//! core's payload struct ([`QueryBeat`], [`ResultBeat`], read through rust-hdl's type
+//! descriptor) starts on a byte boundary and is padded to whole bytes (zeros above
+//! it), and `tdata` is padded to a power-of-two number of bytes, so a DMA engine
+//! moves a beat as one aligned little-endian record (no `tkeep`: every byte is
+//! valid). The photon load carries just the packed word ([`PhotonLayout`], as wide as
+//! the core's word port), the host's tree image in heap order from address 1; the
+//! wrapper counts the addresses (1 after reset and after each `tlast`), so a load
+//! is one DMA of the word array. Widening a struct field widens its slot here and in
+//! the tables, with no other change.
+//!
+//! Reset: `aresetn` is registered into the core's synchronous reset; while
+//! `aresetn` is low or that register is set, every `tvalid` and `tready` the wrapper
+//! drives is low, so no beat moves and no aborted result leaves after the reset.
+
+use crate::hw::config::core_config::CoreConfig;
+use crate::hw::config::photon_word::PhotonLayout;
+use crate::hw::error::HwError;
+use crate::hw::export::verilog::Exported;
+use crate::hw::top::stream::{QueryBeat, ResultBeat};
+use rust_hdl::core::type_descriptor::{TypeDescriptor, TypeKind};
+use rust_hdl::prelude::Synth;
+
+/// One field of a stream's `tdata`: bits `lsb .. lsb + width` carry it, the slot up
+/// to `lsb + slot` is zero above it. `core_lsb` is where the core's packed struct
+/// has it (`None` for the photon word's sub-fields and for fields the wrapper makes).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Field {
+    pub name: String,
+    pub lsb: usize,
+    pub width: usize,
+    pub slot: usize,
+    pub core_lsb: Option<usize>,
+}
+
+/// One AXI4-Stream port's `tdata` layout.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct StreamLayout {
+    /// The port prefix, e.g. `s_axis_query`.
+    pub name: &'static str,
+    pub tdata_bits: usize,
+    pub fields: Vec<Field>,
+}
+
+/// The generated top: its Verilog (module `photon_search_axis`, which instantiates
+/// the exported `top`), the layouts and the same facts as JSON for testbenches.
+#[derive(Clone, Debug)]
+pub struct AxisTop {
+    pub verilog: String,
+    pub streams: Vec<StreamLayout>,
+    pub json: String,
+}
+
+fn axis_error(msg: impl Into<String>) -> HwError {
+    HwError::Export(format!("AXI4-Stream top: {}", msg.into()))
+}
+
+fn bits_of(t: &TypeDescriptor) -> usize {
+    match &t.kind {
+        TypeKind::Bits(n) | TypeKind::Signed(n) => *n,
+        TypeKind::Enum(v) => (usize::BITS - v.len().saturating_sub(1).leading_zeros()) as usize,
+        TypeKind::Composite(f) => f.iter().map(|f| bits_of(&f.kind)).sum(),
+    }
+}
+
+/// The fields of a `LogicStruct`, first field in the low bits (as rust-hdl packs
+/// it), each in its own byte-aligned slot.
+fn struct_layout(
+    name: &'static str,
+    t: TypeDescriptor,
+    port_width: usize,
+) -> Result<StreamLayout, HwError> {
+    let TypeKind::Composite(members) = t.kind else {
+        return Err(axis_error(format!("{} is not a struct", t.name)));
+    };
+    let (mut core, mut lsb) = (0, 0);
+    let mut fields = vec![];
+    for m in members {
+        let width = bits_of(&m.kind);
+        let slot = width.div_ceil(8) * 8;
+        fields.push(Field {
+            name: m.fieldname.clone(),
+            lsb,
+            width,
+            slot,
+            core_lsb: Some(core),
+        });
+        core += width;
+        lsb += slot;
+    }
+    if core != port_width {
+        return Err(axis_error(format!(
+            "{} has {core} bits but its core port has {port_width}",
+            t.name
+        )));
+    }
+    Ok(StreamLayout {
+        name,
+        tdata_bits: pow2_bytes(lsb),
+        fields,
+    })
+}
+
+/// `bits` rounded up to a power-of-two number of bytes.
+fn pow2_bytes(bits: usize) -> usize {
+    bits.div_ceil(8).next_power_of_two() * 8
+}
+
+/// The photon stream: the packed word's sub-fields, the word as wide as the port.
+fn photon_layout(layout: PhotonLayout, word_port: usize) -> Result<StreamLayout, HwError> {
+    if layout.word_bits() as usize > word_port {
+        return Err(axis_error(format!(
+            "a {}-bit photon word does not fit the core's {word_port}-bit word port",
+            layout.word_bits()
+        )));
+    }
+    let mut fields: Vec<Field> = ["x", "y", "z"]
+        .iter()
+        .enumerate()
+        .map(|(a, n)| Field {
+            name: n.to_string(),
+            lsb: layout.offset(a) as usize,
+            width: layout.bits[a] as usize,
+            slot: layout.bits[a] as usize,
+            core_lsb: None,
+        })
+        .collect();
+    let axis = layout.axis_offset() as usize;
+    let rest = pow2_bytes(word_port) - axis;
+    fields.push(Field {
+        name: "axis".into(),
+        lsb: axis,
+        width: 2,
+        slot: rest,
+        core_lsb: None,
+    });
+    Ok(StreamLayout {
+        name: "s_axis_photon",
+        tdata_bits: pow2_bytes(word_port),
+        fields,
+    })
+}
+
+/// The layouts of the three streams of `core` (exported for `cfg`).
+pub fn stream_layouts(core: &Exported, cfg: &CoreConfig) -> Result<Vec<StreamLayout>, HwError> {
+    let width = |name: &str| {
+        core.ports
+            .iter()
+            .find(|p| p.name == name)
+            .map(|p| p.width)
+            .ok_or_else(|| axis_error(format!("the core has no port `{name}`")))
+    };
+    Ok(vec![
+        photon_layout(cfg.layout, width("load$word")?)?,
+        struct_layout(
+            "s_axis_query",
+            QueryBeat::descriptor(),
+            width("query$data")?,
+        )?,
+        struct_layout(
+            "m_axis_result",
+            ResultBeat::descriptor(),
+            width("result$data")?,
+        )?,
+    ])
+}
+
+/// What a field means, for the tables.
+fn meaning(stream: &str, field: &str) -> &'static str {
+    match (stream, field) {
+        ("s_axis_photon", "x" | "y" | "z") => "grid coordinate",
+        ("s_axis_photon", "axis") => "split axis: 0 x, 1 y, 2 z",
+        (_, "id") => "query tag (a result returns its low id_bits)",
+        ("s_axis_query", "x" | "y" | "z") => "query grid coordinate",
+        ("s_axis_query", "radius") => "inclusive radius bound, metric units",
+        ("s_axis_query", "k") => "neighbours wanted, 1..=K",
+        (_, "header") => "1: header beat (id, count, visited)",
+        (_, "last") => "1: last beat of the packet (= tlast)",
+        (_, "count") => "header: photons found",
+        (_, "visited") => "header: photons read",
+        (_, "address") => "entry: heap address of a photon",
+        (_, "distance") => "entry: its distance (0 from a K > 64 core: the host computes it)",
+        (_, "pair") => "entry: address2/distance2 hold a second photon",
+        (_, "address2") => "entry: second photon's heap address",
+        (_, "distance2") => "entry: its distance (as distance)",
+        _ => "",
+    }
+}
+
+/// The layouts as a Markdown table: one row per field, its `tdata` bit range (the
+/// field's own bits; the rest of its byte slot is zero).
+pub fn layout_table(streams: &[StreamLayout]) -> String {
+    let mut t = String::from("| stream | tdata bits | field | meaning |\n|---|---|---|---|\n");
+    for s in streams {
+        for f in &s.fields {
+            let bits = if f.width == 1 {
+                format!("[{}]", f.lsb)
+            } else {
+                format!("[{}:{}]", f.lsb + f.width - 1, f.lsb)
+            };
+            t += &format!(
+                "| {} ({} bytes) | {bits} | {} | {} |\n",
+                s.name,
+                s.tdata_bits / 8,
+                f.name,
+                meaning(s.name, &f.name)
+            );
+        }
+    }
+    t
+}
+
+fn json_of(streams: &[StreamLayout], cfg: &CoreConfig) -> String {
+    let streams: serde_json::Map<String, serde_json::Value> = streams
+        .iter()
+        .map(|s| {
+            let fields: Vec<serde_json::Value> = s
+                .fields
+                .iter()
+                .map(|f| serde_json::json!({"name": f.name, "lsb": f.lsb, "width": f.width}))
+                .collect();
+            (
+                s.name.to_string(),
+                serde_json::json!({"tdata_bits": s.tdata_bits, "fields": fields}),
+            )
+        })
+        .collect();
+    let v = serde_json::json!({
+        "top": "photon_search_axis",
+        "streams": streams,
+        "core": {
+            "metric": cfg.metric.to_string(),
+            "k": cfg.k,
+            "coord_bits": cfg.layout.bits,
+            "address_bits": cfg.address_bits,
+            "max_photons": cfg.tree_words() - 1,
+            "id_bits": cfg.id_bits(),
+            "dist_bits": cfg.dist_bits(),
+            "controller": cfg.controller.to_string(),
+            "trees": cfg.trees,
+        }
+    });
+    let mut s = serde_json::to_string_pretty(&v).expect("a JSON value serialises");
+    s.push('\n');
+    s
+}
+
+/// `module photon_search_axis` around `core` (exported for `cfg`), its layouts and
+/// their JSON. The core's module comes with the export and is instantiated as `top`.
+pub fn axis_top(core: &Exported, cfg: &CoreConfig) -> Result<AxisTop, HwError> {
+    if cfg.result_streams != 1 {
+        return Err(axis_error(format!(
+            "result_streams = {}: the AXI4-Stream top has one result stream \
+             (m_axis_result); export the core without --axis, or with one result stream",
+            cfg.result_streams
+        )));
+    }
+    let streams = stream_layouts(core, cfg)?;
+    let (photon, query, result) = (&streams[0], &streams[1], &streams[2]);
+    let addr_w = core
+        .ports
+        .iter()
+        .find(|p| p.name == "load$address")
+        .map(|p| p.width)
+        .ok_or_else(|| axis_error("the core has no port `load$address`"))?;
+    let word_w = core
+        .ports
+        .iter()
+        .find(|p| p.name == "load$word")
+        .map_or(0, |p| p.width);
+    let last_lsb = result
+        .fields
+        .iter()
+        .find(|f| f.name == "last")
+        .and_then(|f| f.core_lsb)
+        .ok_or_else(|| axis_error("ResultBeat has no `last` field"))?;
+    let query_w: usize = query.fields.iter().map(|f| f.width).sum();
+    let result_w: usize = result.fields.iter().map(|f| f.width).sum();
+
+    let mut v = String::new();
+    v += "// photon_search_axis: the photon-search core behind AXI4-Stream ports.\n";
+    v += "// Generated by `photon-fpga export-verilog --interface axis`; instantiates `top`\n";
+    v += "// (photon_search_core.v, or photon_search_core_sim.v for event-driven simulators).\n";
+    v += &format!(
+        "// Core: {} controller, K = {}, H = {} (up to {} photons), {}-bit coordinates, {} metric,\n\
+         // T = {}; a result's id carries the low {} bits of its query's id.\n",
+        cfg.controller,
+        cfg.k,
+        cfg.address_bits,
+        cfg.tree_words() - 1,
+        cfg.layout.bits[0],
+        cfg.metric,
+        cfg.trees,
+        cfg.id_bits()
+    );
+    v += "//\n// aresetn: active low, synchronous, registered into the core's reset; no beat\n";
+    v += "// moves while it or that register is asserted. Load the map after every reset.\n";
+    v += "// s_axis_photon: the packed kd-tree words in heap order, address 1 first, tlast on\n";
+    v += "// word N (the photon count); taken only while no query is in flight.\n";
+    v += "// s_axis_query: one query a beat. m_axis_result: per query a header beat, then its\n";
+    v += "// photons one (or, with pair, two) a beat in found-list order; tlast on the last beat\n";
+    v += "// (the header itself when count = 0). Packets of different queries may leave out of\n";
+    v += "// order; one packet's beats are contiguous. Unlisted tdata bits are zero.\n//\n";
+    v += "// tdata layout (little-endian bytes; each field from a byte boundary):\n";
+    for line in layout_table(&streams).lines() {
+        v += &format!("//   {line}\n");
+    }
+    v += "//\n";
+    v += &format!(
+        "module photon_search_axis (\n\
+         \x20   input  wire aclk,\n\
+         \x20   input  wire aresetn,\n\
+         \x20   input  wire [{}:0] s_axis_photon_tdata,\n\
+         \x20   input  wire s_axis_photon_tvalid,\n\
+         \x20   output wire s_axis_photon_tready,\n\
+         \x20   input  wire s_axis_photon_tlast,\n\
+         \x20   input  wire [{}:0] s_axis_query_tdata,\n\
+         \x20   input  wire s_axis_query_tvalid,\n\
+         \x20   output wire s_axis_query_tready,\n\
+         \x20   output wire [{}:0] m_axis_result_tdata,\n\
+         \x20   output wire m_axis_result_tvalid,\n\
+         \x20   input  wire m_axis_result_tready,\n\
+         \x20   output wire m_axis_result_tlast\n);\n",
+        photon.tdata_bits - 1,
+        query.tdata_bits - 1,
+        result.tdata_bits - 1
+    );
+    v += "    reg reset_q;\n    always @(posedge aclk) reset_q <= !aresetn;\n";
+    v += "    wire run = aresetn && !reset_q;\n\n";
+    v += &format!(
+        "    // The load's heap address: 1 after reset and after each tlast.\n\
+         \x20   reg [{aw}:0] load_address;\n\
+         \x20   wire load_ready;\n\
+         \x20   wire load_fire = s_axis_photon_tvalid && s_axis_photon_tready;\n\
+         \x20   assign s_axis_photon_tready = load_ready && run;\n\
+         \x20   always @(posedge aclk)\n\
+         \x20       if (reset_q || (load_fire && s_axis_photon_tlast)) load_address <= {addr_w}'d1;\n\
+         \x20       else if (load_fire) load_address <= load_address + {addr_w}'d1;\n\n",
+        aw = addr_w - 1
+    );
+    v += &format!(
+        "    wire [{}:0] query_data;\n    wire query_ready;\n",
+        query_w - 1
+    );
+    v += "    assign s_axis_query_tready = query_ready && run;\n";
+    for f in &query.fields {
+        let c = f.core_lsb.expect("a struct field");
+        v += &format!(
+            "    assign query_data[{}:{c}] = s_axis_query_tdata[{}:{}]; // {}\n",
+            c + f.width - 1,
+            f.lsb + f.width - 1,
+            f.lsb,
+            f.name
+        );
+    }
+    v += &format!(
+        "\n    wire [{}:0] result_data;\n    wire result_valid;\n",
+        result_w - 1
+    );
+    v += "    assign m_axis_result_tvalid = result_valid && run;\n";
+    v += &format!("    assign m_axis_result_tlast = result_data[{last_lsb}];\n");
+    let mut top = 0;
+    for f in &result.fields {
+        let c = f.core_lsb.expect("a struct field");
+        let pad = f.slot - f.width;
+        let src = format!("result_data[{}:{c}]", c + f.width - 1);
+        let val = if pad > 0 {
+            format!("{{{pad}'d0, {src}}}")
+        } else {
+            src
+        };
+        v += &format!(
+            "    assign m_axis_result_tdata[{}:{}] = {val}; // {}\n",
+            f.lsb + f.slot - 1,
+            f.lsb,
+            f.name
+        );
+        top = f.lsb + f.slot;
+    }
+    if top < result.tdata_bits {
+        v += &format!(
+            "    assign m_axis_result_tdata[{}:{top}] = {}'d0;\n",
+            result.tdata_bits - 1,
+            result.tdata_bits - top
+        );
+    }
+    // Every core port: the streams wired above, clock and reset; status outputs
+    // (measurement only) left open; an input the wrapper does not know is an error.
+    let mut conns = vec![];
+    for p in &core.ports {
+        let c = match p.name.as_str() {
+            "clock" => "aclk".to_string(),
+            "reset" => "reset_q".to_string(),
+            "load$valid" => "s_axis_photon_tvalid && run".to_string(),
+            "load$ready" => "load_ready".to_string(),
+            "load$address" => "load_address".to_string(),
+            "load$word" => format!("s_axis_photon_tdata[{}:0]", word_w - 1),
+            "load$last" => "s_axis_photon_tlast".to_string(),
+            "query$valid" => "s_axis_query_tvalid && run".to_string(),
+            "query$ready" => "query_ready".to_string(),
+            "query$data" => "query_data".to_string(),
+            "result$valid" => "result_valid".to_string(),
+            "result$ready" => "m_axis_result_tready && run".to_string(),
+            "result$data" => "result_data".to_string(),
+            _ if !p.input => String::new(),
+            other => return Err(axis_error(format!("unknown core input `{other}`"))),
+        };
+        conns.push(format!(".{}({c})", p.name));
+    }
+    v += &format!(
+        "\n    top core (\n        {}\n    );\nendmodule\n",
+        conns.join(",\n        ")
+    );
+    let json = json_of(&streams, cfg);
+    Ok(AxisTop {
+        verilog: v,
+        streams,
+        json,
+    })
+}

@@ -1,0 +1,13 @@
+//! The small blocks every larger one is built from: BlockRAM and LUT-RAM with the
+//! read timing the FPGA gives them (§4.1), the lowest-set-bit priority encoder
+//! (§4.4's "lowest slot among ties"), the round-robin arbiter of a shared port
+//! (§4.5), the registered free pick, multiplexer trees and the skid-buffer register
+//! slice.
+
+pub mod block_ram;
+pub mod free_pick;
+pub mod lut_ram;
+pub mod mux_trees;
+pub mod port_arbiter;
+pub mod priority_encoder;
+pub mod register_slice;

@@ -1,0 +1,10 @@
+//! Where the photons live. The paper's TreeModule (§4.1): the packed kd-tree in one
+//! true dual-port BlockRAM, one read per port per cycle. Beyond the paper, the
+//! banked store: one map spread over B BlockRAM banks below the replicated top
+//! levels (`BankStore`, `BankMap`), reached through a crossbar with a round robin
+//! per bank port (`BankCrossbar`).
+
+pub mod bank_crossbar;
+pub mod bank_map;
+pub mod bank_store;
+pub mod tree_module;
