@@ -11,7 +11,7 @@ use photon_fpga::hw::config::photon_word::PhotonLayout;
 use photon_fpga::hw::config::traversal::Traversal;
 use photon_fpga::hw::export::axis_top::{axis_top, layout_table, StreamLayout};
 use photon_fpga::hw::export::verilog::export_verilog;
-use photon_fpga::hw::top::stream::{QueryBeat, ResultBeat};
+use photon_fpga::hw::primitives::stream::{QueryBeat, ResultBeat};
 use rust_hdl::prelude::*;
 use std::process::Command;
 

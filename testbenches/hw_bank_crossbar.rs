@@ -14,8 +14,10 @@
 use crate::common::xsim::{compare, Recorder, XsimRun};
 use crate::common::xsim_tb::{self, Simulator};
 use crate::common::{clock_cycle, lint_top, rng, settle};
+use photon_fpga::hw::config::bank_config::BankPorts;
 use photon_fpga::hw::export::verilog::export_block;
-use photon_fpga::hw::store::bank_crossbar::{BankCrossbar, BankPort, BankPorts};
+use photon_fpga::hw::primitives::bank_bus::BankPort;
+use photon_fpga::hw::store::bank_crossbar::BankCrossbar;
 use rand::Rng;
 use rust_hdl::prelude::*;
 use std::collections::VecDeque;

@@ -7,6 +7,7 @@
 
 use crate::common::*;
 use crate::hw_core::hard_queries;
+use photon_fpga::hw::config::bank_config::BankPorts;
 use photon_fpga::hw::config::controller::Controller;
 use photon_fpga::hw::config::core_config::{Banking, CoreConfig};
 use photon_fpga::hw::config::metric::Metric;
@@ -14,7 +15,6 @@ use photon_fpga::hw::config::photon_word::PhotonLayout;
 use photon_fpga::hw::config::traversal::Traversal;
 use photon_fpga::hw::sim::driver::{HwQuery, HwResult, SimStats};
 use photon_fpga::hw::sim::native::{run_gather, CoreSim, SimOptions};
-use photon_fpga::hw::store::bank_crossbar::BankPorts;
 use rand_pcg::Pcg64;
 
 /// A banked barrel core for `tree`: `trees` replicas of `levels` levels, 2^`bank_bits` banks.

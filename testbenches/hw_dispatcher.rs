@@ -7,8 +7,8 @@
 //! no sink sees a beat in a cycle no beat moves. At the end every beat arrived
 //! exactly once and in order.
 
+use photon_fpga::hw::primitives::stream::QueryBeat;
 use photon_fpga::hw::top::dispatcher::Dispatcher;
-use photon_fpga::hw::top::stream::QueryBeat;
 use rand::Rng;
 use rust_hdl::prelude::*;
 

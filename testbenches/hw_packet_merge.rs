@@ -10,8 +10,8 @@
 //! At the end every beat left exactly once, each source's packets in order and
 //! whole.
 
+use photon_fpga::hw::primitives::stream::ResultBeat;
 use photon_fpga::hw::top::packet_merge::PacketMerge;
-use photon_fpga::hw::top::stream::ResultBeat;
 use rand::Rng;
 use rand_pcg::Pcg64;
 use rust_hdl::prelude::*;

@@ -7,7 +7,7 @@ use photon_fpga::hw::config::core_config::CoreConfig;
 use photon_fpga::hw::config::metric::Metric;
 use photon_fpga::hw::config::photon_word::PhotonLayout;
 use photon_fpga::hw::datapath::query_limits::QueryLimits;
-use photon_fpga::hw::top::stream::QueryBeat;
+use photon_fpga::hw::primitives::stream::QueryBeat;
 use rand::Rng;
 use rust_hdl::prelude::*;
 

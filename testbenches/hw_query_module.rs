@@ -18,7 +18,7 @@ use photon_fpga::hw::config::metric::Metric;
 use photon_fpga::hw::config::photon_word::PhotonLayout;
 use photon_fpga::hw::config::traversal::Traversal;
 use photon_fpga::hw::modules::query_module::QueryModule;
-use photon_fpga::hw::top::stream::{QueryBeat, ReadRequest, ReadResult};
+use photon_fpga::hw::primitives::stream::{QueryBeat, ReadRequest, ReadResult};
 use rand::Rng;
 use rand_pcg::Pcg64;
 use rust_hdl::prelude::*;

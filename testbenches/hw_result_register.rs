@@ -5,7 +5,7 @@
 //! throughput with no stalls, and that registered outputs change only at clock edges.
 
 use photon_fpga::hw::primitives::register_slice::ResultRegister;
-use photon_fpga::hw::top::stream::ResultBeat;
+use photon_fpga::hw::primitives::stream::ResultBeat;
 use rand::Rng;
 use rust_hdl::prelude::*;
 

@@ -23,7 +23,7 @@ use photon_fpga::hw::config::core_config::CoreConfig;
 use photon_fpga::hw::config::metric::Metric;
 use photon_fpga::hw::config::photon_word::PhotonLayout;
 use photon_fpga::hw::datapath::search_module::SearchModule;
-use photon_fpga::hw::top::stream::{QueryBeat, ReadRequest, ReadResult};
+use photon_fpga::hw::primitives::stream::{QueryBeat, ReadRequest, ReadResult};
 use rand::Rng;
 use rust_hdl::prelude::*;
 use std::collections::VecDeque;

@@ -13,7 +13,7 @@ use photon_fpga::hw::barrel::slot_readout::SlotReadout;
 use photon_fpga::hw::config::controller::Controller;
 use photon_fpga::hw::config::core_config::{low_mask, CoreConfig, BARREL_SLOTS};
 use photon_fpga::hw::config::metric::Metric;
-use photon_fpga::hw::top::stream::ResultBeat;
+use photon_fpga::hw::primitives::stream::ResultBeat;
 use rand::seq::SliceRandom;
 use rand::Rng;
 use rust_hdl::prelude::*;

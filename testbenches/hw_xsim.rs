@@ -30,6 +30,7 @@ use photon_fpga::host::map::kdtree::PackedTree;
 use photon_fpga::host::render::photons::trace_photons;
 use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::render::{self, eye_queries, RenderSettings};
+use photon_fpga::hw::config::bank_config::BankPorts;
 use photon_fpga::hw::config::controller::Controller;
 use photon_fpga::hw::config::core_config::{Banking, CoreConfig};
 use photon_fpga::hw::config::metric::Metric;
@@ -37,7 +38,6 @@ use photon_fpga::hw::config::photon_word::PhotonLayout;
 use photon_fpga::hw::config::traversal::Traversal;
 use photon_fpga::hw::export::verilog::export_verilog;
 use photon_fpga::hw::sim::driver::HwQuery;
-use photon_fpga::hw::store::bank_crossbar::BankPorts;
 use std::path::PathBuf;
 use std::time::Instant;
 

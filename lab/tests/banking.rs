@@ -8,10 +8,10 @@ use photon_fpga::host::device::plan::{
 };
 use photon_fpga::host::map::kdtree::{KdTree, PackedTree};
 use photon_fpga::host::map::knn::search_with;
+use photon_fpga::hw::config::bank_config::BankPorts;
 use photon_fpga::hw::config::metric::Metric;
 use photon_fpga::hw::config::photon_word::PhotonLayout;
 use photon_fpga::hw::config::traversal::Traversal;
-use photon_fpga::hw::store::bank_crossbar::BankPorts;
 use photon_fpga_lab::banking::mapping::{level, BankMap, Mapping};
 use photon_fpga_lab::banking::order::{hilbert, morton, QueryOrder};
 use photon_fpga_lab::banking::sim::{run, Issue, Machine};

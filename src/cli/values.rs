@@ -4,11 +4,11 @@
 //! both ways makes a value added to the library a compile error here until it gets
 //! a name and a help text.
 
+use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::controller::Controller;
 use crate::hw::config::metric::Metric;
 use crate::hw::config::traversal::Traversal;
 use crate::hw::sim::native::Engine;
-use crate::hw::store::bank_crossbar::BankPorts;
 use clap::ValueEnum;
 
 crate::enum_mirror! {

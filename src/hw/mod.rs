@@ -1,11 +1,11 @@
 //! The photon-search core (paper §4) as rust-hdl blocks.
 //!
 //! Folders, lowest first (tests/layers.rs checks that none imports a later one):
-//! `config` (what a core is), `primitives` (RAMs, arbiters, encoders), `store` (the
-//! TreeModule and the banked store), `datapath` (the search both controllers
-//! share), `modules` (the paper's QueryModule controller), `barrel` (the barrel
-//! controller), `top` (the core and its streams), `export` (Verilog), `sim` (running
-//! the core). One block per file, ports first, `#[hdl_gen] fn update`:
+//! `config` (what a core is), `primitives` (RAMs, arbiters, encoders, the stream and
+//! bank-bus bundles), `store` (the TreeModule, the banked store and the read issue
+//! in front of it), `datapath` (the search both controllers share), `modules` (the
+//! paper's QueryModule controller), `barrel` (the barrel controller), `top` (the
+//! core and the array), `export` (Verilog), `sim` (running the core). One block per file, ports first, `#[hdl_gen] fn update`:
 //!
 //! ```text
 //! PhotonSearchArray (top/array.rs)          T > 1 whole cores side by side, same streams
@@ -22,7 +22,7 @@
 //! │       ├── PortArbiter, PriorityEncoder  per bank port: its grant and its index
 //! │       └── MuxTrees × 2 (primitives/mux_trees.rs)   rows to the banks, words back
 //! └── ControllerPort × 2T (top/controller_port.rs)  a tree's port A (also the load
-//!     │                                 port) or B, behind one bundle (top/stream.rs PortIo)
+//!     │                                 port) or B, behind one bundle (primitives/stream.rs PortIo)
 //!     ├── SearchPort (modules/search_port.rs)   `Controller::Modules`, §4.5
 //!     │   ├── QueryModule × Q (modules/query_module.rs)  §4.2
 //!     │   │   ├── MaxFinder (modules/max_finder.rs)      bit-transposed distance list, §4.4
@@ -45,7 +45,7 @@
 //!     └── BarrelPort (barrel/barrel_port.rs)   `Controller::Barrel`: Q query slots behind one
 //!         │                             pipelined datapath
 //!         ├── SearchModule                       as above
-//!         ├── ReadIssue (barrel/read_issue.rs)          its reads to the replica or a bank
+//!         ├── ReadIssue (store/read_issue.rs)          its reads to the replica or a bank
 //!         │                                      (wires without banks)
 //!         ├── FreePick                           the free slot the next query takes
 //!         ├── FoundRule, QueryLimits             as in the QueryModule

@@ -12,6 +12,7 @@ use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::map::kdtree::PackedTree;
 use photon_fpga::host::map::knn::search_with;
 use photon_fpga::host::render::RenderSettings;
+use photon_fpga::hw::config::bank_config::BankPorts;
 use photon_fpga::hw::config::config_builder::CoreBuilder;
 use photon_fpga::hw::config::controller::Controller;
 use photon_fpga::hw::config::core_config::{Banking, CoreConfig, PORTS};
@@ -19,7 +20,6 @@ use photon_fpga::hw::config::metric::Metric;
 use photon_fpga::hw::config::traversal::Traversal;
 use photon_fpga::hw::sim::driver::HwQuery;
 use photon_fpga::hw::sim::native::{CoreSim, Engine, SimOptions};
-use photon_fpga::hw::store::bank_crossbar::BankPorts;
 
 /// Grid bits of the measured maps (the default render's).
 pub const GRID_BITS: u32 = 10;

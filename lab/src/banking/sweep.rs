@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 /// The barrel port's slots and slot loop (`hw::barrel::barrel_port`: a read issued in
 /// stage F returns to stage A four cycles later and reaches F again seven stages
-/// on), plus the interconnect's registers (`hw::barrel::read_issue`: the offer, the bank
+/// on), plus the interconnect's registers (`hw::store::read_issue`: the offer, the bank
 /// port's row and the answer; a read from the replica is registered alike).
 pub const SLOTS: usize = 16;
 pub const BARREL_LOOP: u64 = 11;

@@ -12,9 +12,9 @@ use photon_fpga::cli::values::{BankPortsArg, DeviceArg, EngineArg};
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::limits;
 use photon_fpga::host::render::RenderSettings;
+use photon_fpga::hw::config::bank_config::BankPorts;
 use photon_fpga::hw::config::core_config::{Banking, MAX_BANKED_TREES, MAX_K};
 use photon_fpga::hw::sim::native::Engine;
-use photon_fpga::hw::store::bank_crossbar::BankPorts;
 use std::path::PathBuf;
 
 #[derive(Args)]

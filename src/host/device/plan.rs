@@ -25,8 +25,8 @@
 //!   BlockRAMs wastes some), then the most banks (fewer conflicts), then shared
 //!   ports.
 
+use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::core_config::{MAX_BANKED_TREES, MAX_TREES};
-use crate::hw::store::bank_crossbar::BankPorts;
 use std::fmt;
 
 /// A device's BlockRAM and logic.

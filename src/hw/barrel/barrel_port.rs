@@ -46,13 +46,12 @@
 //! when its bank is free ([`ReadIssue`]).
 //!
 //! Result read-out is the SearchPort's packet format, two photons a beat from two
-//! BlockRAMs written as photons enter the list ([`SlotReadout`]; [`ResultBeat`](crate::hw::top::stream::ResultBeat) says why two).
+//! BlockRAMs written as photons enter the list ([`SlotReadout`]; [`ResultBeat`](crate::hw::primitives::stream::ResultBeat) says why two).
 
 use crate::hw::barrel::ascent::{Ascent, Climb};
 use crate::hw::barrel::found_heap::FoundHeap;
 use crate::hw::barrel::found_max::FoundMax;
 use crate::hw::barrel::heap_stage::{HeapKey, HeapOp};
-use crate::hw::barrel::read_issue::ReadIssue;
 use crate::hw::barrel::slot_readout::SlotReadout;
 use crate::hw::barrel::slot_store::{SlotEvent, SlotStore};
 use crate::hw::config::core_config::{
@@ -64,11 +63,12 @@ use crate::hw::datapath::far_cell_dist::FarCellDist;
 use crate::hw::datapath::found_rule::FoundRule;
 use crate::hw::datapath::query_limits::QueryLimits;
 use crate::hw::datapath::search_module::SearchModule;
+use crate::hw::primitives::bank_bus::{BankAnswerIn, BankRequester};
 use crate::hw::primitives::block_ram::{BlockRam, BramIndex, BramWord};
 use crate::hw::primitives::free_pick::FreePick;
 use crate::hw::primitives::lut_ram::RamIndex;
-use crate::hw::store::bank_crossbar::{BankAnswerIn, BankRequester};
-use crate::hw::top::stream::PortIo;
+use crate::hw::primitives::stream::PortIo;
+use crate::hw::store::read_issue::ReadIssue;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]

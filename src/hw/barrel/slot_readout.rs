@@ -29,7 +29,7 @@ use crate::hw::primitives::block_ram::{BlockRam, BramIndex, BramWord};
 use crate::hw::primitives::lut_ram::{LutRam, RamIndex};
 use crate::hw::primitives::priority_encoder::PriorityEncoder;
 use crate::hw::primitives::register_slice::ResultRegister;
-use crate::hw::top::stream::{ResultBeat, StreamOut};
+use crate::hw::primitives::stream::{ResultBeat, StreamOut};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]

@@ -3,7 +3,6 @@
 
 use crate::hw::config::controller::Controller;
 use crate::hw::error::HwError;
-use crate::hw::store::bank_crossbar::BankPorts;
 
 /// A banked photon store: the map spread over `2^bank_bits` BlockRAM banks, its
 /// top `replicated_levels` levels (read by every query) copied beside each pair
@@ -83,5 +82,50 @@ impl Banking {
             ));
         }
         Ok(())
+    }
+}
+
+/// How a bank's read ports are shared among the requesters (`--bank-ports`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BankPorts {
+    /// One read port per bank.
+    One,
+    /// Two read ports, either serving any requester: the second grants one of
+    /// those the first left waiting.
+    #[default]
+    Shared,
+    /// Two read ports, the first serving the even requesters and the second the
+    /// odd ones (a replica's two datapaths, one on each): each port's arbiter
+    /// and row selection see half the requesters and each requester's word comes
+    /// from one port of each bank, half the crossbar of `Shared`.
+    Split,
+}
+
+impl BankPorts {
+    /// Read ports per bank.
+    pub fn ports(self) -> usize {
+        if self == BankPorts::One {
+            1
+        } else {
+            2
+        }
+    }
+    /// The mode's one-word name, as `--bank-ports` and the core file spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            BankPorts::One => "one",
+            BankPorts::Shared => "shared",
+            BankPorts::Split => "split",
+        }
+    }
+}
+
+impl std::fmt::Display for BankPorts {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            BankPorts::One => "one port per bank",
+            BankPorts::Shared => "two shared ports per bank",
+            BankPorts::Split => "two split ports per bank",
+        })
     }
 }

@@ -4,13 +4,13 @@
 //! ascent, Q under the other controller's name, K, Q, T or H out of range) is
 //! refused when the configuration is made, with the option and its value named.
 
+use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::controller::Controller;
 use crate::hw::config::core_config::{Banking, CoreConfig, BARREL_SLOTS, MAX_QUERIES_PER_PORT};
 use crate::hw::config::metric::Metric;
 use crate::hw::config::photon_word::{PhotonLayout, TreeImage};
 use crate::hw::config::traversal::Traversal;
 use crate::hw::error::HwError;
-use crate::hw::store::bank_crossbar::BankPorts;
 
 /// The one way to make a [`CoreConfig`]: every option with a default, set by name,
 /// checked together by [`CoreBuilder::build`]. Q is given under the name of the

@@ -11,6 +11,7 @@
 //! file means one core and nothing is filled in silently. The values are checked by
 //! the one validated constructor, [`CoreBuilder::build`].
 
+use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::config_builder::CoreBuilder;
 use crate::hw::config::controller::Controller;
 use crate::hw::config::core_config::{Banking, CoreConfig, MAX_HW_COORD_BITS};
@@ -18,7 +19,6 @@ use crate::hw::config::metric::Metric;
 use crate::hw::config::photon_word::PhotonLayout;
 use crate::hw::config::traversal::Traversal;
 use crate::hw::error::HwError;
-use crate::hw::store::bank_crossbar::BankPorts;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 

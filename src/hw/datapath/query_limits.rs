@@ -6,7 +6,7 @@
 //! photons within it. k is kept in count bits (1..=K).
 
 use crate::hw::config::core_config::{CoreConfig, Count, Dist};
-use crate::hw::top::stream::QueryBeat;
+use crate::hw::primitives::stream::QueryBeat;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]

@@ -25,7 +25,7 @@ use crate::hw::config::metric::Metric;
 use crate::hw::datapath::dist_module::DistModule;
 use crate::hw::datapath::next_index::NextIndexModule;
 use crate::hw::primitives::lut_ram::LutRam;
-use crate::hw::top::stream::{QueryBeat, ReadRequest, ReadResult};
+use crate::hw::primitives::stream::{QueryBeat, ReadRequest, ReadResult};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]

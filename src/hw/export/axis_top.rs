@@ -29,7 +29,7 @@ use crate::hw::config::core_config::CoreConfig;
 use crate::hw::config::photon_word::PhotonLayout;
 use crate::hw::error::HwError;
 use crate::hw::export::verilog::Exported;
-use crate::hw::top::stream::{QueryBeat, ResultBeat};
+use crate::hw::primitives::stream::{QueryBeat, ResultBeat};
 use rust_hdl::core::type_descriptor::{TypeDescriptor, TypeKind};
 use rust_hdl::prelude::Synth;
 

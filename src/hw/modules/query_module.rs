@@ -37,7 +37,7 @@ use crate::hw::datapath::query_limits::QueryLimits;
 use crate::hw::modules::max_finder::MaxFinder;
 use crate::hw::primitives::lut_ram::{LutRam, RamIndex};
 use crate::hw::primitives::priority_encoder::PriorityEncoder;
-use crate::hw::top::stream::{QueryBeat, ReadRequest, ReadResult};
+use crate::hw::primitives::stream::{QueryBeat, ReadRequest, ReadResult};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]

@@ -19,7 +19,7 @@ use crate::hw::config::core_config::{
 use crate::hw::primitives::lut_ram::RamIndex;
 use crate::hw::primitives::priority_encoder::PriorityEncoder;
 use crate::hw::primitives::register_slice::ResultRegister;
-use crate::hw::top::stream::{ResultBeat, StreamOut};
+use crate::hw::primitives::stream::{ResultBeat, StreamOut};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]

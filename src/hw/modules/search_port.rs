@@ -23,7 +23,7 @@
 //!
 //! Result stream, one beat per cycle when valid & ready: a header beat, then `count`
 //! entry beats in found-list slot order
-//! ([`ResultBeat`](crate::hw::top::stream::ResultBeat)), sequenced by a
+//! ([`ResultBeat`](crate::hw::primitives::stream::ResultBeat)), sequenced by a
 //! [`ResultReadout`] (the selected module's count and reads are fetched into
 //! registers a cycle before its header; with `CoreConfig::pipelined` every result
 //! output is a flip-flop).
@@ -35,7 +35,7 @@ use crate::hw::modules::result_readout::ResultReadout;
 use crate::hw::primitives::free_pick::FreePick;
 use crate::hw::primitives::lut_ram::LutRam;
 use crate::hw::primitives::port_arbiter::PortArbiter;
-use crate::hw::top::stream::{PortIo, QueryBeat, ReadRequest};
+use crate::hw::primitives::stream::{PortIo, QueryBeat, ReadRequest};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]

@@ -4,6 +4,7 @@
 //! (§4.5), the registered free pick, multiplexer trees and the skid-buffer register
 //! slice.
 
+pub mod bank_bus;
 pub mod block_ram;
 pub mod free_pick;
 pub mod lut_ram;
@@ -11,3 +12,4 @@ pub mod mux_trees;
 pub mod port_arbiter;
 pub mod priority_encoder;
 pub mod register_slice;
+pub mod stream;

@@ -15,7 +15,7 @@
 //! With `bypass` (an elaboration constant, `CoreConfig::pipelined` false) the slice
 //! is wires, so the unpipelined core can still be built and measured.
 
-use crate::hw::top::stream::{ResultBeat, StreamIn, StreamOut};
+use crate::hw::primitives::stream::{ResultBeat, StreamIn, StreamOut};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]

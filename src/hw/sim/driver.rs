@@ -14,8 +14,8 @@
 use crate::hw::config::core_config::{CoreConfig, MAX_RESULT_STREAMS};
 use crate::hw::config::photon_word::TreeImage;
 use crate::hw::error::HwError;
+use crate::hw::primitives::stream::{QueryBeat, ResultBeat};
 use crate::hw::sim::entry_distances::HeldMap;
-use crate::hw::top::stream::{QueryBeat, ResultBeat};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 

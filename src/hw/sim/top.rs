@@ -4,9 +4,9 @@
 //! driver, one cross-simulation and one Verilog testbench serve both.
 
 use crate::hw::config::core_config::CoreConfig;
+use crate::hw::primitives::stream::{LoadIn, QueryBeat, ResultBeat, StreamIn, StreamOut};
 use crate::hw::top::array::PhotonSearchArray;
 use crate::hw::top::core::PhotonSearchCore;
-use crate::hw::top::stream::{LoadIn, QueryBeat, ResultBeat, StreamIn, StreamOut};
 use rust_hdl::prelude::*;
 
 /// Mutable access to a top's ports (see `core.rs` for the stream protocol).

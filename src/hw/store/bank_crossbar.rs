@@ -25,130 +25,17 @@
 //! the reads in flight are dropped (their answers never appear); the round robin
 //! keeps its turn.
 
-use crate::hw::config::core_config::Addr;
+use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::core_config::ModuleMask;
 use crate::hw::many;
+use crate::hw::primitives::bank_bus::{
+    BankAnswer, BankClient, BankIndex, BankPort, BankRow, BankTag,
+};
 use crate::hw::primitives::block_ram::BramWord;
 use crate::hw::primitives::mux_trees::MuxTrees;
 use crate::hw::primitives::port_arbiter::PortArbiter;
 use crate::hw::primitives::priority_encoder::{EncodedIndex, PriorityEncoder};
 use rust_hdl::prelude::*;
-
-/// A bank's index (up to 1,024 banks), two bits to spare: a bank port's index
-/// (bank × ports + port, what a requester's word is selected by) has the same type.
-pub type BankIndex = Bits<12>;
-/// A row in a bank (a heap address's high bits: as wide as an address, so that
-/// a bank is a [`TreeModule`](crate::hw::store::tree_module::TreeModule) without casts).
-pub type BankRow = Addr;
-/// The tag a requester gives a read, returned with its word (e.g. the slot).
-pub type BankTag = Bits<8>;
-
-/// One requester's read requests, a valid/ready stream: the bank, the row in it
-/// and the requester's tag.
-#[derive(LogicInterface, Default)]
-#[join = "BankRequester"]
-pub struct BankClient {
-    pub valid: Signal<In, bool>,
-    pub ready: Signal<Out, bool>,
-    pub bank: Signal<In, BankIndex>,
-    pub row: Signal<In, BankRow>,
-    pub tag: Signal<In, BankTag>,
-}
-
-/// The requester's side of a [`BankClient`].
-#[derive(LogicInterface, Default)]
-#[join = "BankClient"]
-pub struct BankRequester {
-    pub valid: Signal<Out, bool>,
-    pub ready: Signal<In, bool>,
-    pub bank: Signal<Out, BankIndex>,
-    pub row: Signal<Out, BankRow>,
-    pub tag: Signal<Out, BankTag>,
-}
-
-/// One requester's answers (flip-flops; no back-pressure: the barrel datapath
-/// takes a read's word in the cycle it arrives): a read's word and its request's
-/// tag.
-#[derive(LogicInterface, Default)]
-#[join = "BankAnswerIn"]
-pub struct BankAnswer {
-    pub valid: Signal<Out, bool>,
-    pub tag: Signal<Out, BankTag>,
-    pub word: Signal<Out, BramWord>,
-}
-
-/// The requester's side of a [`BankAnswer`].
-#[derive(LogicInterface, Default)]
-#[join = "BankAnswer"]
-pub struct BankAnswerIn {
-    pub valid: Signal<In, bool>,
-    pub tag: Signal<In, BankTag>,
-    pub word: Signal<In, BramWord>,
-}
-
-/// One bank's read port, seen from the crossbar: a BlockRAM read (`word` is the
-/// row enabled in the previous cycle).
-#[derive(LogicInterface, Default)]
-#[join = "BankMemoryPort"]
-pub struct BankPort {
-    pub enable: Signal<Out, bool>,
-    pub row: Signal<Out, BankRow>,
-    pub word: Signal<In, BramWord>,
-}
-
-/// The memory's side of a [`BankPort`].
-#[derive(LogicInterface, Default)]
-#[join = "BankPort"]
-pub struct BankMemoryPort {
-    pub enable: Signal<In, bool>,
-    pub row: Signal<In, BankRow>,
-    pub word: Signal<Out, BramWord>,
-}
-
-/// How a bank's read ports are shared among the requesters (`--bank-ports`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum BankPorts {
-    /// One read port per bank.
-    One,
-    /// Two read ports, either serving any requester: the second grants one of
-    /// those the first left waiting.
-    #[default]
-    Shared,
-    /// Two read ports, the first serving the even requesters and the second the
-    /// odd ones (a replica's two datapaths, one on each): each port's arbiter
-    /// and row selection see half the requesters and each requester's word comes
-    /// from one port of each bank, half the crossbar of `Shared`.
-    Split,
-}
-
-impl BankPorts {
-    /// Read ports per bank.
-    pub fn ports(self) -> usize {
-        if self == BankPorts::One {
-            1
-        } else {
-            2
-        }
-    }
-    /// The mode's one-word name, as `--bank-ports` and the core file spell it.
-    pub fn name(self) -> &'static str {
-        match self {
-            BankPorts::One => "one",
-            BankPorts::Shared => "shared",
-            BankPorts::Split => "split",
-        }
-    }
-}
-
-impl std::fmt::Display for BankPorts {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            BankPorts::One => "one port per bank",
-            BankPorts::Shared => "two shared ports per bank",
-            BankPorts::Split => "two split ports per bank",
-        })
-    }
-}
 
 #[derive(LogicBlock)]
 pub struct BankCrossbar {

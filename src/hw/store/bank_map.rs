@@ -9,7 +9,7 @@
 //! `(N >> b) + 1` rows. Combinational: an XOR of the address's `b`-bit groups.
 
 use crate::hw::config::core_config::Addr;
-use crate::hw::store::bank_crossbar::{BankIndex, BankRow};
+use crate::hw::primitives::bank_bus::{BankIndex, BankRow};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]

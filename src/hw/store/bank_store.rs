@@ -8,11 +8,13 @@
 //! Loading: a written word goes to its bank and row through port A (the core
 //! loads a map only while no query is in flight, so no read competes with it).
 
-use crate::hw::barrel::read_issue::ReadIssue;
+use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::core_config::{Addr, CoreConfig, Word};
+use crate::hw::primitives::bank_bus::{BankAnswer, BankClient, BankIndex};
 use crate::hw::primitives::block_ram::BramWord;
-use crate::hw::store::bank_crossbar::{BankAnswer, BankClient, BankCrossbar, BankIndex, BankPorts};
+use crate::hw::store::bank_crossbar::BankCrossbar;
 use crate::hw::store::bank_map::BankMap;
+use crate::hw::store::read_issue::ReadIssue;
 use crate::hw::store::tree_module::TreeModule;
 use rust_hdl::prelude::*;
 

@@ -2,9 +2,11 @@
 //! true dual-port BlockRAM, one read per port per cycle. Beyond the paper, the
 //! banked store: one map spread over B BlockRAM banks below the replicated top
 //! levels (`BankStore`, `BankMap`), reached through a crossbar with a round robin
-//! per bank port (`BankCrossbar`).
+//! per bank port (`BankCrossbar`); `ReadIssue`, a barrel datapath's reads to its
+//! replica or a bank, each slot parked while its bank is busy.
 
 pub mod bank_crossbar;
 pub mod bank_map;
 pub mod bank_store;
+pub mod read_issue;
 pub mod tree_module;

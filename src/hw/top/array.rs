@@ -29,10 +29,10 @@
 //! the native simulation does by looking inside.
 
 use crate::hw::config::core_config::{CoreConfig, MAX_TREES};
+use crate::hw::primitives::stream::{LoadIn, QueryBeat, ResultBeat, StreamIn, StreamOut};
 use crate::hw::top::core::PhotonSearchCore;
 use crate::hw::top::dispatcher::Dispatcher;
 use crate::hw::top::packet_merge::PacketMerge;
-use crate::hw::top::stream::{LoadIn, QueryBeat, ResultBeat, StreamIn, StreamOut};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]

@@ -9,7 +9,7 @@ use crate::hw::barrel::barrel_port::BarrelPort;
 use crate::hw::config::controller::Controller;
 use crate::hw::config::core_config::CoreConfig;
 use crate::hw::modules::search_port::SearchPort;
-use crate::hw::top::stream::PortIo;
+use crate::hw::primitives::stream::PortIo;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]

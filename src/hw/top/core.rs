@@ -3,7 +3,7 @@
 //! [`Dispatcher`] handing queries to a port with a free QueryModule and a
 //! [`PacketMerge`] of the two ports' result streams.
 //!
-//! Streams ([`crate::hw::top::stream`]), all valid/ready:
+//! Streams ([`crate::hw::primitives::stream`]), all valid/ready:
 //! * `load`: heap address, word, `last` (the last word's address is latched as N,
 //!   the photon count). Accepted only while no query is in flight, so a new map can
 //!   be loaded after the previous one finished, with or without reset; `ready` is
@@ -25,16 +25,16 @@
 //! port takes a cycle later and loads into it from registers the cycle after.
 //!
 //! Each port is a [`ControllerPort`] (SearchPort or BarrelPort behind the same
-//! [`PortIo`](crate::hw::top::stream::PortIo) bundle), so the ports are wired once,
+//! [`PortIo`](crate::hw::primitives::stream::PortIo) bundle), so the ports are wired once,
 //! whichever the controller.
 
 use crate::hw::config::core_config::{Addr, CoreConfig, PORTS};
+use crate::hw::primitives::stream::{LoadIn, QueryBeat, ResultBeat, StreamIn, StreamOut};
 use crate::hw::store::bank_store::BankStore;
 use crate::hw::store::tree_module::TreeModule;
 use crate::hw::top::controller_port::ControllerPort;
 use crate::hw::top::dispatcher::Dispatcher;
 use crate::hw::top::packet_merge::PacketMerge;
-use crate::hw::top::stream::{LoadIn, QueryBeat, ResultBeat, StreamIn, StreamOut};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]

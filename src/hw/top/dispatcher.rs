@@ -6,7 +6,7 @@
 
 use crate::hw::config::core_config::ModuleMask;
 use crate::hw::primitives::port_arbiter::PortArbiter;
-use crate::hw::top::stream::{StreamIn, StreamOut};
+use crate::hw::primitives::stream::{StreamIn, StreamOut};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]

@@ -19,7 +19,7 @@
 
 use crate::hw::config::core_config::ModuleMask;
 use crate::hw::primitives::port_arbiter::PortArbiter;
-use crate::hw::top::stream::{ResultBeat, StreamIn, StreamOut};
+use crate::hw::primitives::stream::{ResultBeat, StreamIn, StreamOut};
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]

@@ -42,12 +42,12 @@ use crate::hw::config::core_config::{
     bits_for, Addr, CoreConfig, Dist, ModuleIndex, ModuleMask, Word,
 };
 use crate::hw::many;
+use crate::hw::primitives::bank_bus::{BankAnswerIn, BankIndex, BankRequester, BankRow};
 use crate::hw::primitives::free_pick::FreePick;
 use crate::hw::primitives::lut_ram::LutRam;
 use crate::hw::primitives::register_slice::RegisterSlice;
-use crate::hw::store::bank_crossbar::{BankAnswerIn, BankIndex, BankRequester, BankRow};
+use crate::hw::primitives::stream::ReadRequest;
 use crate::hw::store::bank_map::BankMap;
-use crate::hw::top::stream::ReadRequest;
 use rust_hdl::prelude::*;
 
 /// A read on offer: its slot, heap address, and where it lives (the replica, or

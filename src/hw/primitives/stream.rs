@@ -12,7 +12,7 @@
 use crate::hw::config::core_config::{
     Addr, Coord, Count, Dist, ModuleIndex, QueryId, ReadCount, Word,
 };
-use crate::hw::store::bank_crossbar::{BankAnswerIn, BankRequester};
+use crate::hw::primitives::bank_bus::{BankAnswerIn, BankRequester};
 use rust_hdl::prelude::*;
 
 /// One query: grid coordinates, an inclusive integer radius bound in the metric
