@@ -1,5 +1,5 @@
 //! Cycle-exact cross-simulation: the rust-hdl simulation of the core records the
-//! input vector of every cycle and every handshake (src/hw/rtl/xsim.rs documents both
+//! input vector of every cycle and every handshake (testbenches/common/xsim.rs documents both
 //! files); the exported Verilog replays the stimulus blindly under Icarus Verilog
 //! and Verilator and must write the same response file byte for byte, so every
 //! load, query and result beat moves at the same cycle with the same bits. The

@@ -6,13 +6,15 @@
 //! FILE` ([`CoreFileArg`], taken by all four the same way) gives the whole core
 //! instead, from a core description file (`hw::config::core_file`).
 
-use super::values::{BankPortsArg, ControllerArg, DeviceArg, MetricArg, TraversalArg};
+use super::values::DeviceArg;
 use crate::host::device::banked_core;
 use crate::host::error::{Error, Result};
 use crate::host::gather::FixedCore;
+use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::config_builder::CoreBuilder;
 use crate::hw::config::controller::Controller;
 use crate::hw::config::core_config::{Banking, CoreConfig, MAX_HW_COORD_BITS};
+use crate::hw::config::metric::Metric;
 use crate::hw::config::photon_word::PhotonLayout;
 use crate::hw::config::traversal::Traversal;
 use clap::Args;
@@ -65,11 +67,11 @@ pub struct CoreOpts {
     /// best core measured, synth/REPORT.md); modules (the paper's) for export-verilog
     /// and bench-core].
     #[arg(long, value_enum)]
-    pub controller: Option<ControllerArg>,
+    pub controller: Option<Controller>,
     /// How the search climbs back up the tree (changes read counts, never
     /// neighbours) [default: cell with the barrel controller, else remember].
     #[arg(long, value_enum)]
-    pub traversal: Option<TraversalArg>,
+    pub traversal: Option<Traversal>,
     /// QueryModules per TreeModule port, with --controller modules [default: the
     /// issue interval, so a busy port reads every cycle; render and gather fit it
     /// to their queries].
@@ -104,7 +106,7 @@ pub struct CoreOpts {
     /// --banks or --device (docs/HARDWARE.md, "The crossbar's area") [default:
     /// shared].
     #[arg(long, value_enum)]
-    pub bank_ports: Option<BankPortsArg>,
+    pub bank_ports: Option<BankPorts>,
     /// Result streams R: the datapaths' result packets leave on R streams, D / R
     /// datapaths each (a divisor of D = 2 x --trees with --banks, else of 2); one
     /// stream carries a beat a cycle, which about 8 busy datapaths fill at k = 32
@@ -270,7 +272,7 @@ impl CoreOpts {
                         .map_or(String::new(), |v| v.get_name().to_string())
                 )));
             }
-            b = b.bank_ports(p.into());
+            b = b.bank_ports(p);
         }
         Ok(b)
     }
@@ -296,7 +298,7 @@ pub struct CoreArgs {
         default_value_t = CoreConfig::paper().metric.into(),
         conflicts_with = "core"
     )]
-    metric: MetricArg,
+    metric: Metric,
     /// Distance bits for the largest initial radius the core is to answer (radii
     /// below 2^b − 1 in the metric on the grid; larger distances saturate):
     /// narrower found lists and bounds for a scene that gathers within a radius
@@ -331,7 +333,7 @@ impl CoreArgs {
             .layout(PhotonLayout::new([self.bits; 3]))
             .address_bits(self.address_bits)
             .k(self.k)
-            .metric(self.metric.into())
+            .metric(self.metric)
             .radius_bits(self.radius_bits);
         self.opts.builder(base, Controller::Modules)
     }

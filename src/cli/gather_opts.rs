@@ -3,7 +3,6 @@
 //! work starts.
 
 use super::core_args::{CoreFileArg, CoreOpts};
-use super::values::MetricArg;
 use crate::host::error::{Error, Result};
 use crate::host::exact::ExactBackend;
 use crate::host::gather::{
@@ -14,6 +13,7 @@ use crate::host::map::quantize::Point;
 use crate::host::output::{Output, Staged};
 use crate::hw::config::controller::Controller;
 use crate::hw::config::core_config::{CoreConfig, MAX_ADDRESS_BITS, MAX_HW_COORD_BITS};
+use crate::hw::config::metric::Metric;
 use crate::hw::config::photon_word::PhotonLayout;
 use crate::hw::config::traversal::Traversal;
 use crate::hw::sim::native::SimOptions;
@@ -36,8 +36,8 @@ pub struct GatherOpts {
     #[arg(long, conflicts_with = "core")]
     pub bits: Option<u32>,
     /// Distance metric (with --core, the file's).
-    #[arg(long, value_enum, default_value_t = MetricArg::L2, conflicts_with = "core")]
-    pub metric: MetricArg,
+    #[arg(long, value_enum, default_value_t = Metric::L2, conflicts_with = "core")]
+    pub metric: Metric,
     /// Who answers the gathers.
     #[arg(long, value_enum, default_value_t = BackendKind::Sw)]
     pub backend: BackendKind,
@@ -171,7 +171,7 @@ impl GatherOpts {
         }
         let hw = self.backend.simulates();
         let k = self.k.unwrap_or(default_k);
-        let metric = self.metric.into();
+        let metric = self.metric;
         let bits = self.bits.unwrap_or(10);
         let controller = self.core.controller_or(Controller::Barrel);
         let traversal = if hw {

@@ -1,82 +1,10 @@
-//! The command line's names for the library's enums. The hardware layer knows no
-//! command line, so each value list is declared here once, with the help text of
-//! every value, and converts to and from the library's type; an exhaustive `match`
-//! both ways makes a value added to the library a compile error here until it gets
-//! a name and a help text.
+//! The command line's own enum (`--device`) and the list of every enum an option
+//! takes, for the help test. The library's enums (`Metric`, `Traversal`,
+//! `Controller`, `BankPorts`, `Engine`, `BackendKind`) are value enums themselves
+//! behind the `cli` feature: their names and help texts are written once, at their
+//! definitions.
 
-use crate::hw::config::bank_config::BankPorts;
-use crate::hw::config::controller::Controller;
-use crate::hw::config::metric::Metric;
-use crate::hw::config::traversal::Traversal;
-use crate::hw::sim::native::Engine;
 use clap::ValueEnum;
-
-crate::enum_mirror! {
-    /// `--metric`: the distance of the search (paper §4.4).
-    #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-    MetricArg => Metric {
-        /// Squared Euclidean distance (no square root in hardware).
-        L2,
-        /// Manhattan distance (the paper's 12-bit "absolute distance").
-        L1,
-    }
-}
-
-crate::enum_mirror! {
-    /// `--traversal`: how the search climbs back up the tree (paper §2.2, §4.3).
-    #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-    TraversalArg => Traversal {
-        /// Remember each level's axis distance on the way down: the ascent reads
-        /// nothing (reads per query = distance tests).
-        Remember,
-        /// The paper's search: re-read every parent on the way up.
-        Reread,
-        /// Remember the path and prune on the distance to the far child's cell
-        /// (Arya and Mount): fewest reads.
-        Cell,
-    }
-}
-
-crate::enum_mirror! {
-    /// `--controller`: who runs a port's queries.
-    #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-    ControllerArg => Controller {
-        /// Q QueryModules per port behind a round-robin arbiter (the paper's, §4.2).
-        Modules,
-        /// Q query slots in memory behind one pipelined datapath per port: about a
-        /// fifth of the LUTs for nearly the same queries/s. Needs a traversal that
-        /// remembers the path (remember, cell).
-        Barrel,
-    }
-}
-
-crate::enum_mirror! {
-    /// `--bank-ports`: how a bank's two BlockRAM read ports serve the datapaths.
-    #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-    BankPortsArg => BankPorts {
-        /// One read port per bank.
-        One,
-        /// Two ports, either one serving any datapath (the fewest bank conflicts).
-        Shared,
-        /// Two ports, the first serving the even datapaths and the second the odd
-        /// ones: half the crossbar of shared (a bank's two reads in a cycle must
-        /// come from a replica's two datapaths).
-        Split,
-    }
-}
-
-crate::enum_mirror! {
-    /// `--engine`: the simulator that runs the core.
-    #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-    EngineArg => Engine {
-        /// rust-hdl's own simulation of the blocks.
-        Native,
-        /// The exported Verilog under Verilator (built on first use, cached in
-        /// $PHOTON_FPGA_CACHE_DIR, else $XDG_CACHE_HOME/photon-fpga or
-        /// ~/.cache/photon-fpga).
-        Verilator,
-    }
-}
 
 /// `--device`: the FPGA a banked core is planned for (`host::device::plan`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -102,6 +30,11 @@ impl DeviceArg {
 /// Every command-line enum's value names, for the help test.
 #[cfg(test)]
 pub fn all_value_lists() -> Vec<Vec<String>> {
+    use crate::hw::config::bank_config::BankPorts;
+    use crate::hw::config::controller::Controller;
+    use crate::hw::config::metric::Metric;
+    use crate::hw::config::traversal::Traversal;
+    use crate::hw::sim::native::Engine;
     fn names<T: ValueEnum>() -> Vec<String> {
         T::value_variants()
             .iter()
@@ -110,11 +43,11 @@ pub fn all_value_lists() -> Vec<Vec<String>> {
             .collect()
     }
     vec![
-        names::<MetricArg>(),
-        names::<TraversalArg>(),
-        names::<ControllerArg>(),
-        names::<BankPortsArg>(),
-        names::<EngineArg>(),
+        names::<Metric>(),
+        names::<Traversal>(),
+        names::<Controller>(),
+        names::<BankPorts>(),
+        names::<Engine>(),
         names::<crate::host::gather::BackendKind>(),
         names::<super::export::InterfaceArg>(),
         names::<DeviceArg>(),

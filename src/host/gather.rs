@@ -23,7 +23,8 @@ pub use fixed_core::FixedCore;
 pub use rtl_backend::{run_core, RtlBackend};
 
 /// Which implementation answers the gathers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum BackendKind {
     /// kd-tree search on the unquantized f64 positions (the accuracy baseline).
     Float,

@@ -8,7 +8,7 @@ use crate::banking::rtl_sweep::{self, MapPoint, RtlPoint, GRID_BITS};
 use crate::workload;
 use clap::Args;
 use photon_fpga::cli::render::{check_photons_and_spp, parse_size};
-use photon_fpga::cli::values::{BankPortsArg, DeviceArg, EngineArg};
+use photon_fpga::cli::values::DeviceArg;
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::limits;
 use photon_fpga::host::render::RenderSettings;
@@ -42,7 +42,7 @@ pub struct BenchBanksArgs {
     pub banks: Vec<u64>,
     /// The conflict curve's bank-port modes (one, shared, split).
     #[arg(long, value_enum, value_delimiter = ',', default_value = "shared")]
-    pub bank_ports: Vec<BankPortsArg>,
+    pub bank_ports: Vec<BankPorts>,
     /// Queries of the conflict curve: an even sample of the image's [default: all].
     #[arg(long)]
     pub queries: Option<usize>,
@@ -65,8 +65,8 @@ pub struct BenchBanksArgs {
     #[arg(long, default_value_t = 215.0)]
     pub fmax_mhz: f64,
     /// Who simulates the core.
-    #[arg(long, value_enum, default_value_t = EngineArg::Verilator)]
-    pub engine: EngineArg,
+    #[arg(long, value_enum, default_value_t = Engine::Verilator)]
+    pub engine: Engine,
     /// Directory of BANKED_CORE.md, banked_core.csv and the two PNG plots.
     #[arg(long, default_value = "docs")]
     pub out: PathBuf,
@@ -115,7 +115,7 @@ pub fn bench_banks(args: &BenchBanksArgs) -> Result<()> {
     }
     // Every output checked before the long runs (nothing written on a refusal).
     rtl_report::check_outputs(&args.out)?;
-    let engine: Engine = args.engine.into();
+    let engine: Engine = args.engine;
     let settings = RenderSettings {
         width: args.size.0,
         height: args.size.1,
@@ -142,7 +142,7 @@ pub fn bench_banks(args: &BenchBanksArgs) -> Result<()> {
             p.queries
         )
     };
-    let ports: Vec<BankPorts> = args.bank_ports.iter().map(|&p| p.into()).collect();
+    let ports: Vec<BankPorts> = args.bank_ports.to_vec();
     let curve = rtl_sweep::conflict_curve(
         &w,
         args.k,

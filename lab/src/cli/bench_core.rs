@@ -4,7 +4,6 @@
 
 use clap::{Args, ValueEnum};
 use photon_fpga::cli::core_args::{describe_q, CoreArgs};
-use photon_fpga::cli::values::{EngineArg, TraversalArg};
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::limits;
 use photon_fpga::hw::sim::native::{Engine, SimOptions};
@@ -70,8 +69,8 @@ pub struct BenchCoreArgs {
     )]
     fit_q: bool,
     /// The simulator.
-    #[arg(long, value_enum, default_value_t = EngineArg::Native)]
-    engine: EngineArg,
+    #[arg(long, value_enum, default_value_t = Engine::Native)]
+    engine: Engine,
     /// Also run the stream on the other engine and report both speeds (the results
     /// and cycle counts must agree).
     #[arg(long)]
@@ -93,7 +92,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     if let Some(f) = args.fmax_mhz {
         limits::check_positive("--fmax-mhz", f)?;
     }
-    let engine: Engine = args.engine.into();
+    let engine: Engine = args.engine;
     let fixed = args.core.fixed()?;
     let spec = args.core.builder()?;
     let mut cfg = args.core.config_of(spec)?;
@@ -195,10 +194,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     let mut sw_visited = 0u64;
     let mut sw_tested = 0u64;
     // Every traversal's reads on the same queries (software search).
-    let traversals: Vec<Traversal> = TraversalArg::value_variants()
-        .iter()
-        .map(|&t| t.into())
-        .collect();
+    let traversals: Vec<Traversal> = Traversal::value_variants().to_vec();
     let mut each_visited = vec![0u64; traversals.len()];
     for (q, r) in queries.iter().zip(&results) {
         let f = search_with(tree, q.coords, cfg.k, max, cfg.metric, cfg.traversal);

@@ -9,7 +9,6 @@ use clap::Args;
 use indicatif::ProgressBar;
 use photon_fpga::cli::core_args::CoreOpts;
 use photon_fpga::cli::set_threads;
-use photon_fpga::cli::values::EngineArg;
 use photon_fpga::host::error::Result;
 use photon_fpga::host::render::scene::Scene;
 use photon_fpga::hw::config::core_config::CoreConfig;
@@ -33,7 +32,7 @@ pub struct StudyArgs {
     /// Simulator for the core's reads per cycle (default: Verilator when installed
     /// and not --quick, else rust-hdl's native simulation).
     #[arg(long, value_enum)]
-    pub engine: Option<EngineArg>,
+    pub engine: Option<Engine>,
     /// Worker threads (results do not depend on it).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -77,7 +76,6 @@ pub fn study(args: &StudyArgs) -> Result<()> {
     let out = OutDir::check(&args.out)?;
     let engine = args
         .engine
-        .map(Engine::from)
         .unwrap_or(if !args.quick && on_path("verilator") {
             Engine::Verilator
         } else {

@@ -14,8 +14,7 @@ use photon_fpga::hw::config::core_config::{ReadProfile, PORTS};
 use photon_fpga::hw::config::metric::Metric;
 use photon_fpga::hw::config::traversal::Traversal;
 use photon_fpga::hw::sim::native::{Engine, SimOptions};
-use serde::{Deserialize, Deserializer};
-use std::fmt;
+use serde::Deserialize;
 use std::path::Path;
 
 /// One simulated gather of a sample of queries.
@@ -196,48 +195,14 @@ pub struct SynthOptions {
     pub address_bits: u32,
     /// None: export-verilog's default (the issue interval).
     pub queries_per_port: Option<usize>,
-    #[serde(deserialize_with = "metric")]
     pub metric: Metric,
-    #[serde(deserialize_with = "traversal")]
     pub traversal: Traversal,
-    #[serde(deserialize_with = "controller")]
     pub controller: Controller,
     pub trees: usize,
     pub pipelined: bool,
     /// Distance bits for a largest radius (`--radius-bits`), if the core has them.
     #[serde(default)]
     pub radius_bits: Option<u32>,
-}
-
-/// The value of `all` whose name (its `Display`, the CLI's spelling) is the string
-/// being read.
-fn named<'de, D: Deserializer<'de>, T: fmt::Display + Copy>(
-    d: D,
-    all: &[T],
-) -> std::result::Result<T, D::Error> {
-    let s = String::deserialize(d)?;
-    all.iter()
-        .copied()
-        .find(|v| v.to_string() == s)
-        .ok_or_else(|| {
-            let names: Vec<String> = all.iter().map(|v| v.to_string()).collect();
-            serde::de::Error::custom(format!("unknown value {s:?} (one of {})", names.join(", ")))
-        })
-}
-
-fn metric<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Metric, D::Error> {
-    named(d, &[Metric::L1, Metric::L2])
-}
-
-fn traversal<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Traversal, D::Error> {
-    named(
-        d,
-        &[Traversal::Remember, Traversal::Reread, Traversal::Cell],
-    )
-}
-
-fn controller<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Controller, D::Error> {
-    named(d, &[Controller::Modules, Controller::Barrel])
 }
 
 #[derive(Clone, Debug, Deserialize)]

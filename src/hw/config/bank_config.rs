@@ -3,6 +3,7 @@
 
 use crate::hw::config::controller::Controller;
 use crate::hw::error::HwError;
+use serde::{Deserialize, Serialize};
 
 /// A banked photon store: the map spread over `2^bank_bits` BlockRAM banks, its
 /// top `replicated_levels` levels (read by every query) copied beside each pair
@@ -85,19 +86,20 @@ impl Banking {
     }
 }
 
-/// How a bank's read ports are shared among the requesters (`--bank-ports`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// How a bank's read ports are shared among the requesters (`--bank-ports`, the
+/// core file's `bank_ports`); each variant's doc is its help text.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
 pub enum BankPorts {
     /// One read port per bank.
     One,
-    /// Two read ports, either serving any requester: the second grants one of
-    /// those the first left waiting.
+    /// Two ports, either one serving any datapath (the fewest bank conflicts): the
+    /// second grants one of those the first left waiting.
     #[default]
     Shared,
-    /// Two read ports, the first serving the even requesters and the second the
-    /// odd ones (a replica's two datapaths, one on each): each port's arbiter
-    /// and row selection see half the requesters and each requester's word comes
-    /// from one port of each bank, half the crossbar of `Shared`.
+    /// Two ports, the first serving the even datapaths and the second the odd ones
+    /// (a replica's two datapaths, one on each): half the crossbar of shared.
     Split,
 }
 

@@ -7,16 +7,21 @@
 //! ([`BarrelPort`](crate::hw::barrel::barrel_port::BarrelPort)): the same reads, a
 //! fraction of the logic (a core's QueryModules hold nearly all of its LUTs).
 
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
-/// The controller of a port's queries.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+/// The controller of a port's queries (`--controller`, the core file's
+/// `controller`); each variant's doc is its help text.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
 pub enum Controller {
-    /// Q QueryModules per port, a round-robin arbiter (the paper's). The default.
+    /// Q QueryModules per port behind a round-robin arbiter (the paper's, §4.2).
     #[default]
     Modules,
-    /// Q query slots in LUT-RAM and BlockRAM behind one pipelined datapath per
-    /// port. Needs a traversal that remembers the path (`remember`, `cell`).
+    /// Q query slots in memory behind one pipelined datapath per port: about a
+    /// fifth of the LUTs for nearly the same queries/s. Needs a traversal that
+    /// remembers the path (remember, cell).
     Barrel,
 }
 

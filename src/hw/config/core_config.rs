@@ -220,9 +220,9 @@ impl CoreConfig {
 
     /// Right-sized Q ("model only what the scene needs"): enough QueryModules that a port still reads a
     /// photon nearly every cycle on this stream — the mean read interval with 25 %
-    /// slack for the queueing at the arbiter (measured: ≥ 0.98 reads per port per
-    /// cycle on the paper workload and a Cornell-box stream, testbenches/hw_throughput),
-    /// never more than the worst-case issue interval.
+    /// slack for the queueing at the arbiter (the lab's throughput tests hold a port
+    /// to nearly a read per cycle with it), never more than the worst-case issue
+    /// interval.
     pub fn fit_queries_per_port(&mut self, profile: &ReadProfile) {
         if self.controller == Controller::Barrel {
             self.queries_per_port = BARREL_SLOTS;

@@ -25,39 +25,14 @@ use std::path::Path;
 /// The file name `export-verilog` gives the description beside `photon_search_core.v`.
 pub const CORE_FILE_NAME: &str = "photon_search_core.toml";
 
-crate::enum_mirror! {
-    /// `controller`: who runs a port's queries.
-    #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-    #[serde(rename_all = "lowercase")]
-    ControllerName => Controller { Modules, Barrel }
-}
-crate::enum_mirror! {
-    /// `traversal`: how the search climbs back up the tree.
-    #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-    #[serde(rename_all = "lowercase")]
-    TraversalName => Traversal { Remember, Reread, Cell }
-}
-crate::enum_mirror! {
-    /// `bank_ports`: how the banks' read ports are shared.
-    #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-    #[serde(rename_all = "lowercase")]
-    BankPortsName => BankPorts { One, Shared, Split }
-}
-crate::enum_mirror! {
-    /// `metric`: the distance of the search.
-    #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-    #[serde(rename_all = "lowercase")]
-    MetricName => Metric { L2, L1 }
-}
-
 /// One core, as the file holds it.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CoreFile {
     /// `modules` (the paper's QueryModules) or `barrel` (query slots).
-    pub controller: ControllerName,
+    pub controller: Controller,
     /// `remember`, `reread` or `cell`.
-    pub traversal: TraversalName,
+    pub traversal: Traversal,
     /// Found-list depth K: the largest k a query may ask for.
     pub k: usize,
     /// Coordinate bits of x, y and z: the photon word's layout. A map is quantized
@@ -67,7 +42,7 @@ pub struct CoreFile {
     /// Tree height H: the core holds at most 2^H − 1 photons.
     pub address_bits: u32,
     /// `l2` or `l1`.
-    pub metric: MetricName,
+    pub metric: Metric,
     /// Q with the modules controller: QueryModules per TreeModule port.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub modules_per_port: Option<usize>,
@@ -87,7 +62,7 @@ pub struct CoreFile {
     /// With banks: `one`, `shared` or `split` read ports per bank (absent: the
     /// default, `BankPorts::default`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub bank_ports: Option<BankPortsName>,
+    pub bank_ports: Option<BankPorts>,
     /// Result streams R (absent: one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub result_streams: Option<usize>,
@@ -105,19 +80,19 @@ impl From<&CoreConfig> for CoreFile {
             Controller::Barrel => (None, q),
         };
         CoreFile {
-            controller: c.controller.into(),
-            traversal: c.traversal.into(),
+            controller: c.controller,
+            traversal: c.traversal,
             k: c.k,
             coordinate_bits: c.layout.bits,
             address_bits: c.address_bits,
-            metric: c.metric.into(),
+            metric: c.metric,
             modules_per_port,
             slots_per_port,
             trees: c.trees,
             pipelined: c.pipelined,
             banks: c.banking.map(|b| 1u64 << b.bank_bits),
             replicated_levels: c.banking.map(|b| b.replicated_levels),
-            bank_ports: c.banking.map(|b| b.ports.into()),
+            bank_ports: c.banking.map(|b| b.ports),
             result_streams: (c.result_streams != 1).then_some(c.result_streams),
             radius_bits: c.radius_bits,
         }
@@ -140,7 +115,7 @@ impl CoreFile {
     /// other controller's name, K, Q, T, H or the widths out of range are refused,
     /// named with their value).
     pub fn config(&self) -> Result<CoreConfig, HwError> {
-        let controller: Controller = self.controller.into();
+        let controller: Controller = self.controller;
         let widths = 1..=MAX_HW_COORD_BITS;
         if !self.coordinate_bits.iter().all(|b| widths.contains(b)) {
             return Err(HwError::Config(format!(
@@ -162,10 +137,10 @@ impl CoreFile {
             .layout(PhotonLayout::new(self.coordinate_bits))
             .address_bits(self.address_bits)
             .k(self.k)
-            .metric(self.metric.into())
+            .metric(self.metric)
             .pipelined(self.pipelined)
             .trees(self.trees)
-            .traversal(self.traversal.into())
+            .traversal(self.traversal)
             .controller(controller)
             .result_streams(self.result_streams.unwrap_or(1))
             .radius_bits(self.radius_bits);
@@ -185,11 +160,11 @@ impl CoreFile {
             (None, None) => {}
         }
         match (self.banks, self.bank_ports) {
-            (Some(_), Some(p)) => b = b.bank_ports(p.into()),
+            (Some(_), Some(p)) => b = b.bank_ports(p),
             (None, Some(p)) => {
                 return Err(HwError::Config(format!(
                     "bank_ports = {:?} without banks: only a banked store has bank ports",
-                    BankPorts::from(p)
+                    p
                 )))
             }
             _ => {}
@@ -198,7 +173,7 @@ impl CoreFile {
     }
 
     fn controller_name(&self) -> String {
-        Controller::from(self.controller).to_string()
+        self.controller.to_string()
     }
 }
 

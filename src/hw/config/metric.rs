@@ -5,12 +5,16 @@
 //! distance of 10-bit coordinates (max 3 x 1023 = 3069). Squared Euclidean is the
 //! default because it is what Jensen's radiance estimate assumes.
 
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
-/// Distance metric on quantized integer coordinates.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+/// Distance metric on quantized integer coordinates (`--metric`, the core file's
+/// `metric`); each variant's doc is its help text.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
 pub enum Metric {
-    /// Squared Euclidean distance (no square root anywhere in hardware).
+    /// Squared Euclidean distance (no square root in hardware).
     #[default]
     L2,
     /// Manhattan distance (the paper's 12-bit "absolute distance").

@@ -12,7 +12,6 @@ pub mod config_widths;
 pub mod controller;
 pub mod core_config;
 pub mod core_file;
-pub mod enum_mirror;
 pub mod metric;
 pub mod photon_word;
 pub mod traversal;

@@ -29,18 +29,23 @@
 //! heap-ordered tree) is tested on its axis distance and leaves the offsets as they
 //! are (a lower bound still), as the SearchModule decides it alone.
 
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
-/// The ascent of the kd-tree search.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+/// The ascent of the kd-tree search (`--traversal`, the core file's `traversal`);
+/// each variant's doc is its help text.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
 pub enum Traversal {
-    /// Remember each level's axis distance on the way down; the ascent reads nothing
-    /// (reads per query = distance tests). The default.
+    /// Remember each level's axis distance on the way down: the ascent reads
+    /// nothing (reads per query = distance tests).
     #[default]
     Remember,
     /// The paper's search: re-read every parent on the way up.
     Reread,
-    /// `Remember`, pruning on the distance to the far child's cell (Arya–Mount).
+    /// Remember the path and prune on the distance to the far child's cell
+    /// (Arya and Mount): fewest reads.
     Cell,
 }
 

@@ -1,9 +1,9 @@
 //! The one simulation driver: it plays the host's side of the core's load / query /
 //! result streams cycle by cycle against any simulated core (a [`Dut`]: rust-hdl's
-//! native simulation today), checks the result protocol, and reports every cycle to
+//! native simulation, or the exported Verilog under Verilator), checks the result protocol, and reports every cycle to
 //! its [`Observer`]s (cycle and read statistics, a VCD trace, the cross-simulation's
-//! recorder). The `rtl` gather backend, `bench-core`, the testbenches and the
-//! cross-simulation all run through it.
+//! recorder). The `rtl` and `verilator` gather backends, the lab's `bench-core`,
+//! the testbenches and the cross-simulation all run through it.
 //!
 //! A run is a list of [`Job`]s, each an optional map load followed by queries. The
 //! host presents the next job's load as soon as the previous job's queries are all

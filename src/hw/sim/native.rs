@@ -31,13 +31,17 @@ pub struct SimOptions {
     pub engine: Engine,
 }
 
-/// The simulator behind the driver.
+/// The simulator behind the driver (`--engine`); each variant's doc is its help
+/// text.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Engine {
     /// rust-hdl's own simulation of the blocks (VCD traces).
     #[default]
     Native,
-    /// The exported Verilog under Verilator ([`crate::hw::sim::verilator`]).
+    /// The exported Verilog under Verilator (built on first use, cached in
+    /// $PHOTON_FPGA_CACHE_DIR, else $XDG_CACHE_HOME/photon-fpga or
+    /// ~/.cache/photon-fpga).
     Verilator,
 }
 

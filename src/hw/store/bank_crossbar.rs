@@ -11,9 +11,8 @@
 //! the bank; a requester whose bank is busy waits (`ready` low) while the others
 //! go on. A BlockRAM has two read ports: with two ports per bank, a second
 //! arbiter per bank grants one of the requesters the first left waiting, through
-//! the bank's `second` port (the bank model, `host::banking`, measures D = 16
-//! datapaths on 64 banks at 0.91 reads per cycle each with one port, 0.99 with
-//! two). The granted row is registered at the bank port (`enable` and `row` are
+//! the bank's `second` port (what it buys is measured by the lab's bank model,
+//! docs/BANKING.md). The granted row is registered at the bank port (`enable` and `row` are
 //! flip-flops), so the arbitration and the row selection end at a register and
 //! the wires out to a bank's BlockRAMs, which spread over the device, start at
 //! one. The bank answers the registered row's word the next cycle (a BlockRAM's

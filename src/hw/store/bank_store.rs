@@ -1,8 +1,7 @@
 //! BankStore: the banked part of one photon map (`CoreConfig::banking`): B =
 //! 2^b BlockRAM banks, each a dual-port [`TreeModule`] of 2^(H−b) rows, behind a
-//! [`BankCrossbar`] with one or two read ports per bank (the bank model, docs/BANKING.md,
-//! measures 0.99 reads per cycle per datapath with two ports against 0.91 with
-//! one, at B = 4 × D). A node's bank and row are the [`BankMap`]'s (XOR-fold);
+//! [`BankCrossbar`] with one or two read ports per bank (the second recovers most
+//! of what bank conflicts cost: the lab's bank model, docs/BANKING.md). A node's bank and row are the [`BankMap`]'s (XOR-fold);
 //! the levels above it live in the datapaths' replicas, not here.
 //!
 //! Loading: a written word goes to its bank and row through port A (the core

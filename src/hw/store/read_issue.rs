@@ -14,9 +14,9 @@
 //! * **offer** — one read at a time is offered, from a register: to the local
 //!   replica (a node above the banked levels: always taken) or to its bank
 //!   through the [`BankCrossbar`](crate::hw::store::bank_crossbar::BankCrossbar). A
-//!   refused offer stays until its bank takes it (in order: the bank model,
-//!   `host::banking`, measures 0.906 reads per cycle against 0.912 for a refused
-//!   read going to the back of the queue, and holding needs no second queue).
+//!   refused offer stays until its bank takes it (in order: the lab's bank model
+//!   measures it as good as sending a refused read to the back of the queue,
+//!   docs/BANKING.md, and holding needs no second queue).
 //!   The offer register is the output register of a [`RegisterSlice`] (the skid
 //!   buffer of verilog-axis' `axis_register`): the next read enters the slice
 //!   whenever its skid register is empty, a flip-flop, so the bank's answer

@@ -1,7 +1,9 @@
-//! PhotonSearchCore (paper §4): the top. One dual-port TreeModule, two SearchPorts
-//! (each: Q QueryModules, a round-robin PortArbiter and a SearchModule), a
-//! [`Dispatcher`] handing queries to a port with a free QueryModule and a
-//! [`PacketMerge`] of the two ports' result streams.
+//! PhotonSearchCore (paper §4): the top. T dual-port TreeModules (the whole map
+//! each, or with banks replicas of its top levels over a [`BankStore`] of the
+//! rest), 2T controller ports (one per TreeModule port: the paper's SearchPort of Q
+//! QueryModules, or a barrel datapath of Q slots), a [`Dispatcher`] handing queries
+//! to a port with room and a [`PacketMerge`] of the ports' result packets onto R
+//! result streams.
 //!
 //! Streams ([`crate::hw::primitives::stream`]), all valid/ready:
 //! * `load`: heap address, word, `last` (the last word's address is latched as N,
