@@ -24,7 +24,7 @@ fn ascent_climbs_to_the_deepest_pending_level_within_r() {
             .metric(Metric::L2)
             .controller(Controller::Barrel)
             .traversal(Traversal::Cell)
-            .slots_per_port(6)
+            .queries_per_port(6)
             .radius_bits(radius_bits)
             .build()
             .unwrap();

@@ -19,7 +19,7 @@ fn configs() -> Vec<CoreConfig> {
     let barrel = CoreConfig::builder()
         .traversal(Traversal::Cell)
         .controller(Controller::Barrel)
-        .slots_per_port(16)
+        .queries_per_port(16)
         .build()
         .unwrap();
     // 12-bit coordinates: a 38-bit word on the 64-bit word port.
@@ -27,13 +27,13 @@ fn configs() -> Vec<CoreConfig> {
         .layout(PhotonLayout::new([12, 12, 12]))
         .address_bits(8)
         .k(20)
-        .modules_per_port(2)
+        .queries_per_port(2)
         .build()
         .unwrap();
     let array = CoreConfig::builder()
         .address_bits(6)
         .k(4)
-        .modules_per_port(2)
+        .queries_per_port(2)
         .trees(2)
         .build()
         .unwrap();

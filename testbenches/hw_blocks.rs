@@ -480,7 +480,7 @@ fn found_max_is_the_lowest_maximum() {
     for (k, seed) in [(1usize, 61u64), (3, 62), (10, 63), (33, 64), (64, 65)] {
         let cfg = CoreConfig::builder()
             .k(k)
-            .modules_per_port(6)
+            .queries_per_port(6)
             .build()
             .unwrap();
         let mut uut = FoundMax::new(&cfg);

@@ -112,14 +112,22 @@ fn the_builder_refuses_bad_combinations_by_name() {
         e.contains("traversal = reread") && e.contains("barrel"),
         "{e}"
     );
-    let e = err(barrel.modules_per_port(8));
-    assert!(e.contains("modules_per_port = 8"), "{e}");
-    let e = err(CoreConfig::builder().slots_per_port(8));
-    assert!(e.contains("slots_per_port = 8"), "{e}");
-    let e = err(barrel.slots_per_port(33));
-    assert!(e.contains("slots_per_port = 33"), "{e}");
-    let e = err(CoreConfig::builder().modules_per_port(0));
-    assert!(e.contains("modules_per_port = 0"), "{e}");
+    // Q is one option whichever the controller, named with what it counts.
+    let e = err(barrel.queries_per_port(33));
+    assert!(
+        e.contains("queries_per_port = 33") && e.contains("query slots"),
+        "{e}"
+    );
+    let e = err(CoreConfig::builder().queries_per_port(0));
+    assert!(
+        e.contains("queries_per_port = 0") && e.contains("QueryModules"),
+        "{e}"
+    );
+    // The order of the options does not matter: Q given before the controller.
+    let q_first = CoreConfig::builder()
+        .queries_per_port(8)
+        .controller(Controller::Barrel);
+    assert_eq!(q_first.build().unwrap().queries_per_port, 8);
     let k = MAX_K_MODULES + 1;
     assert!(err(CoreConfig::builder().k(k)).contains(&format!("K = {k}")));
     assert!(err(CoreConfig::builder().trees(9)).contains("trees = 9"));
@@ -130,7 +138,7 @@ fn the_builder_refuses_bad_combinations_by_name() {
     let b = barrel.build().unwrap();
     assert_eq!(b.queries_per_port, BARREL_SLOTS);
     assert_eq!(
-        barrel.slots_per_port(5).build().unwrap().queries_per_port,
+        barrel.queries_per_port(5).build().unwrap().queries_per_port,
         5
     );
     let m = CoreConfig::builder().build().unwrap();

@@ -46,7 +46,7 @@ fn small_core(
 ) -> CoreConfig {
     let cfg = CoreConfig::for_map(tree.image(), k, metric).expect("config");
     cfg.to_builder()
-        .modules_per_port(cfg.queries_per_port.min(6))
+        .queries_per_port(cfg.queries_per_port.min(6))
         .build()
         .expect("config")
 }
@@ -212,7 +212,7 @@ fn paper_config_matches_software() {
         .default_queries_per_port()
         .traversal(Traversal::Cell)
         .controller(Controller::Barrel)
-        .slots_per_port(BARREL_SLOTS)
+        .queries_per_port(BARREL_SLOTS)
         .build()
         .unwrap();
     for cfg in [cfg, barrel] {

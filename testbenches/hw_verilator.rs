@@ -63,7 +63,7 @@ fn verilator_equals_the_native_simulation() {
         .metric(cfg.metric)
         .traversal(Traversal::Cell)
         .controller(Controller::Barrel)
-        .slots_per_port(4);
+        .queries_per_port(4);
     both(&barrel.build().unwrap(), &points, &queries, Some(10));
     both(&barrel.build().unwrap(), &one, &q_one, Some(11));
     both(

@@ -68,7 +68,7 @@ fn barrel_core_verilog_is_clean() {
         &CoreConfig::builder()
             .traversal(Traversal::Cell)
             .controller(Controller::Barrel)
-            .slots_per_port(16)
+            .queries_per_port(16)
             .build()
             .unwrap(),
     );

@@ -157,7 +157,7 @@ fn small() -> (CoreConfig, Map) {
         .metric(Metric::L2)
         .for_map(qmap.tree.image())
         .address_bits(5)
-        .modules_per_port(2)
+        .queries_per_port(2)
         .build()
         .unwrap();
     cfg.check_map(m.tree.image()).unwrap();
@@ -209,7 +209,7 @@ fn wide_cases() -> (CoreConfig, Vec<Case>) {
     let cfg = CoreConfig::builder()
         .k(40)
         .metric(Metric::L1)
-        .modules_per_port(3)
+        .queries_per_port(3)
         .build_for(tree.image())
         .unwrap();
     assert_eq!((cfg.slot_bits(), cfg.word_width()), (64, 64));
@@ -285,7 +285,7 @@ fn deep_cases(k: usize, n: usize) -> (CoreConfig, Vec<Case>) {
         .metric(Metric::L2)
         .controller(Controller::Barrel)
         .traversal(Traversal::Cell)
-        .slots_per_port(4)
+        .queries_per_port(4)
         .build_for(tree.image())
         .unwrap();
     assert!(cfg.uses_found_heap());
@@ -337,7 +337,7 @@ fn banked_cases() -> (CoreConfig, Vec<Case>) {
         .metric(Metric::L2)
         .controller(Controller::Barrel)
         .traversal(Traversal::Cell)
-        .slots_per_port(6)
+        .queries_per_port(6)
         .trees(2)
         .banking(Some(Banking {
             bank_bits: 3,
@@ -492,7 +492,7 @@ fn small_and_paper(sim: Simulator) {
         let (cfg, cases) = small_cases();
         let b = cfg.to_builder().default_queries_per_port();
         let b = b.traversal(traversal).controller(Controller::Barrel);
-        (b.slots_per_port(4).build().unwrap(), cases)
+        (b.queries_per_port(4).build().unwrap(), cases)
     };
     // Two replicated trees (PhotonSearchArray) on the small config's cases.
     let array = {

@@ -103,7 +103,14 @@ fn rtl_render_runs_the_chosen_core() {
         rr[0].0 == out[0].0 && rr[1].0 == out[0].0,
         "reread renders differ"
     );
-    let runs: [&[&str]; 1] = [&["--backend", "rtl", "--trees", "2", "--slots-per-port", "6"]];
+    let runs: [&[&str]; 1] = [&[
+        "--backend",
+        "rtl",
+        "--trees",
+        "2",
+        "--queries-per-port",
+        "6",
+    ]];
     let arr = renders_with(&runs, "12x10", "1200", "5");
     assert!(core(&arr[0].1).contains("T = 2 tree(s)"), "{}", arr[0].1);
     assert!(core(&arr[0].1).contains("(Q = 6)"), "{}", arr[0].1);
@@ -166,11 +173,11 @@ fn rtl_gather_returns_the_exact_k_nearest() {
     std::fs::write(&qp, format!("x,y,z\n{}", csv(&queries))).unwrap();
     let cores: [&[&str]; 3] = [
         &[],
-        &["--controller", "barrel", "--slots-per-port", "5"],
+        &["--controller", "barrel", "--queries-per-port", "5"],
         &[
             "--controller",
             "modules",
-            "--modules-per-port",
+            "--queries-per-port",
             "3",
             "--trees",
             "2",

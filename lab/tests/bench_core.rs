@@ -11,7 +11,7 @@ use crate::cli::*;
 fn bench_core_runs_both_engines_and_a_whole_cornell_stream() {
     let out = bin()
         .args(["bench-core", "--queries", "20", "--address-bits", "6"])
-        .args(["--modules-per-port", "3", "--both-engines"])
+        .args(["--queries-per-port", "3", "--both-engines"])
         .assert()
         .success();
     let text = String::from_utf8_lossy(&out.get_output().stdout).to_string();

@@ -279,12 +279,12 @@ fn study_refuses_bad_input_before_any_work_and_leaves_nothing() {
             vec![
                 "--controller".into(),
                 "barrel".into(),
-                "--modules-per-port".into(),
-                "4".into(),
+                "--queries-per-port".into(),
+                "40".into(),
                 "--out".into(),
                 dir.path().join("o").display().to_string(),
             ],
-            "--controller barrel takes --slots-per-port",
+            "queries_per_port = 40 unsupported",
         ),
         (
             vec![

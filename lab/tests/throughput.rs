@@ -196,7 +196,7 @@ fn barrel_port_reads_nearly_every_cycle() {
     use photon_fpga_lab::workload;
     let barrel = CoreConfig::builder()
         .controller(Controller::Barrel)
-        .slots_per_port(BARREL_SLOTS);
+        .queries_per_port(BARREL_SLOTS);
     let paper = barrel.build().unwrap();
     let uniform = workload::uniform(paper.layout, 1023, 600, 7);
     let cornell = workload::cornell(60_000, usize::MAX, 10, 64, 6);

@@ -38,8 +38,6 @@ pub struct CoreFileArg {
         conflicts_with_all = [
             "controller",
             "traversal",
-            "modules_per_port",
-            "slots_per_port",
             "queries_per_port",
             "trees",
             "unpipelined",
@@ -72,17 +70,11 @@ pub struct CoreOpts {
     /// neighbours) [default: cell with the barrel controller, else remember].
     #[arg(long, value_enum)]
     pub traversal: Option<Traversal>,
-    /// QueryModules per TreeModule port, with --controller modules [default: the
-    /// issue interval, so a busy port reads every cycle; render and gather fit it
-    /// to their queries].
-    #[arg(long, conflicts_with = "slots_per_port")]
-    pub modules_per_port: Option<usize>,
-    /// Query slots per TreeModule port, with --controller barrel [default: 16].
-    #[arg(long)]
-    pub slots_per_port: Option<usize>,
-    /// Q of the chosen controller (QueryModules or query slots per port), the name
-    /// older scripts use.
-    #[arg(long, hide = true, conflicts_with_all = ["modules_per_port", "slots_per_port"])]
+    /// Q, the queries a TreeModule port holds at once: QueryModules with
+    /// --controller modules [default: the issue interval, so a busy port reads every
+    /// cycle; render and gather fit it to their queries], query slots with
+    /// --controller barrel [default: 16].
+    #[arg(long, value_name = "Q")]
     pub queries_per_port: Option<usize>,
     /// Replicated trees T (the paper's future work): T copies of the core, each with
     /// its own copy of the map, behind one set of streams [default: 1].
@@ -164,8 +156,6 @@ impl CoreOpts {
     pub fn hardware_option_given(&self) -> Option<&'static str> {
         [
             (self.controller.is_some(), "--controller"),
-            (self.modules_per_port.is_some(), "--modules-per-port"),
-            (self.slots_per_port.is_some(), "--slots-per-port"),
             (self.queries_per_port.is_some(), "--queries-per-port"),
             (self.trees.is_some(), "--trees"),
             (self.unpipelined, "--unpipelined"),
@@ -194,8 +184,6 @@ impl CoreOpts {
             out += &format!(" --traversal {}", name(t));
         }
         for (flag, v) in [
-            ("--modules-per-port", self.modules_per_port),
-            ("--slots-per-port", self.slots_per_port),
             ("--queries-per-port", self.queries_per_port),
             ("--trees", self.trees),
             ("--banks", self.banks.map(|b| b as usize)),
@@ -222,40 +210,20 @@ impl CoreOpts {
     }
 
     /// These options on top of `base` (grid, K and metric), with the controller
-    /// `default_controller` unless one is chosen. Q given under the other
-    /// controller's name is refused here, naming both options.
+    /// `default_controller` unless one is chosen.
     pub fn builder(
         &self,
         base: CoreBuilder,
         default_controller: Controller,
     ) -> Result<CoreBuilder> {
         let controller = self.controller_or(default_controller);
-        match (controller, self.modules_per_port, self.slots_per_port) {
-            (Controller::Modules, _, Some(q)) => {
-                return Err(Error::new(format!(
-                    "--slots-per-port {q} sets the barrel controller's query slots; \
-                     --controller modules takes --modules-per-port"
-                )))
-            }
-            (Controller::Barrel, Some(q), _) => {
-                return Err(Error::new(format!(
-                    "--modules-per-port {q} sets the modules controller's QueryModules; \
-                     --controller barrel takes --slots-per-port"
-                )))
-            }
-            _ => {}
-        }
         let mut b = base
             .controller(controller)
             .traversal(self.traversal_for(controller))
             .trees(self.trees.unwrap_or(1))
             .result_streams(self.result_streams.unwrap_or(1))
             .pipelined(!self.unpipelined);
-        if let Some(q) = self
-            .modules_per_port
-            .or(self.slots_per_port)
-            .or(self.queries_per_port)
-        {
+        if let Some(q) = self.queries_per_port {
             b = b.queries_per_port(q);
         }
         if let Some(banks) = self.banks {

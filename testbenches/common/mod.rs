@@ -146,7 +146,7 @@ pub fn small_config(
         .layout(layout)
         .address_bits(address_bits)
         .k(k)
-        .modules_per_port(q)
+        .queries_per_port(q)
         .metric(metric)
         .build()
         .expect("a small core within the limits")

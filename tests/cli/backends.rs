@@ -42,16 +42,14 @@ fn core_options_are_refused_by_name() {
     let out = dir.path().join("r.png").display().to_string();
     let v = dir.path().join("v").display().to_string();
     let render = |extra: &[&str]| cmdline(&["render", "--out", &out, "--backend", "rtl"], extra);
-    refused(
-        dir.path(),
-        &render(&["--controller", "modules", "--slots-per-port", "4"]),
-        "--slots-per-port 4 sets the barrel controller's query slots",
-    );
-    refused(
-        dir.path(),
-        &render(&["--modules-per-port", "4"]),
-        "--modules-per-port 4 sets the modules controller's QueryModules",
-    );
+    // Q has one name for both controllers; the old two are gone.
+    for old in ["--queries-per-port", "--queries-per-port"] {
+        refused(
+            dir.path(),
+            &render(&[old, "4"]),
+            &format!("unexpected argument '{old}' found"),
+        );
+    }
     refused(
         dir.path(),
         &render(&["--controller", "barrel", "--traversal", "reread"]),
@@ -60,8 +58,8 @@ fn core_options_are_refused_by_name() {
     refused(dir.path(), &render(&["--trees", "9"]), "trees = 9");
     refused(
         dir.path(),
-        &render(&["--slots-per-port", "40"]),
-        "slots_per_port = 40 unsupported (1..=32",
+        &render(&["--queries-per-port", "40"]),
+        "queries_per_port = 40 unsupported (1..=32 query slots",
     );
     for backend in ["sw", "float"] {
         refused(
@@ -85,10 +83,10 @@ fn core_options_are_refused_by_name() {
             "--out",
             &v,
             "--controller",
-            "barrel",
-            "--modules-per-port",
-            "4",
+            "modules",
+            "--queries-per-port",
+            "0",
         ]),
-        "--modules-per-port 4 sets the modules controller's QueryModules",
+        "queries_per_port = 0 unsupported (1..=32 QueryModules",
     );
 }

@@ -25,8 +25,9 @@ fn export_core(dir: &Path, name: &str, options: &[&str]) -> PathBuf {
 }
 
 /// Every option of `CoreConfig` survives the file: cores that differ in each
-/// option, built by the library, read back equal; the file spells Q under its
-/// controller's name.
+/// option, built by the library, read back equal; the file spells Q as the
+/// command line does, and a file of an earlier export (Q under its controller's
+/// name) reads the same.
 #[test]
 fn the_file_round_trips_every_option() {
     let b = CoreConfig::builder;
@@ -34,7 +35,7 @@ fn the_file_round_trips_every_option() {
         CoreConfig::paper(),
         b().controller(Controller::Barrel)
             .traversal(Traversal::Cell)
-            .slots_per_port(11)
+            .queries_per_port(11)
             .k(40)
             .build()
             .unwrap(),
@@ -42,7 +43,7 @@ fn the_file_round_trips_every_option() {
             .address_bits(17)
             .metric(Metric::L2)
             .traversal(Traversal::Reread)
-            .modules_per_port(3)
+            .queries_per_port(3)
             .trees(2)
             .pipelined(false)
             .build()
@@ -52,15 +53,14 @@ fn the_file_round_trips_every_option() {
     for cfg in cores {
         let text = to_toml(&cfg);
         assert_eq!(from_toml(&text, "core.toml").unwrap(), cfg, "{text}");
-        let q = format!(
-            "{}_per_port = {}",
-            match cfg.controller {
-                Controller::Modules => "modules",
-                Controller::Barrel => "slots",
-            },
-            cfg.queries_per_port
-        );
+        let q = format!("queries_per_port = {}", cfg.queries_per_port);
         assert!(text.lines().any(|l| l == q), "{q} missing from\n{text}");
+        let earlier = match cfg.controller {
+            Controller::Modules => "modules_per_port",
+            Controller::Barrel => "slots_per_port",
+        };
+        let old = text.replace("queries_per_port", earlier);
+        assert_eq!(from_toml(&old, "old.toml").unwrap(), cfg, "{old}");
     }
 }
 
@@ -81,7 +81,7 @@ fn the_same_file_exports_the_same_verilog() {
         "7",
         "--metric",
         "l2",
-        "--slots-per-port",
+        "--queries-per-port",
         "4",
     ];
     let file = export_core(dir.path(), "a", &options);
@@ -141,7 +141,7 @@ fn one_model_renders_maps_of_every_size_like_sw() {
             "modules",
             "--traversal",
             "remember",
-            "--modules-per-port",
+            "--queries-per-port",
             "3",
             "--k",
             "6",
@@ -386,8 +386,8 @@ fn what_does_not_fit_the_file_is_refused() {
         &["--photons", &p, "--queries", &q, "--core", &f],
         &format!("32 photons exceed the 31 photons the core of {f} holds (address_bits = 5)"),
     );
-    // Files that are not a core: a wrong value (its line), an unknown key, Q under
-    // the other controller's name, Q missing, a key missing, a core out of range.
+    // Files that are not a core: a wrong value (its line), an unknown key, Q
+    // missing, a key missing, a core out of range.
     let text = std::fs::read_to_string(&file).unwrap();
     let bad = |name: &str, text: String, message: &str| {
         let path = write(dir.path(), name, &text).display().to_string();
@@ -412,17 +412,12 @@ fn what_does_not_fit_the_file_is_refused() {
         "unknown field `colour`",
     );
     bad(
-        "other_q.toml",
-        text.replace("modules_per_port", "slots_per_port"),
-        "given with controller modules: query slots are the barrel controller's",
-    );
-    bad(
         "no_q.toml",
         text.lines()
-            .filter(|l| !l.starts_with("modules_per_port"))
+            .filter(|l| !l.starts_with("queries_per_port"))
             .collect::<Vec<_>>()
             .join("\n"),
-        "no_q.toml: Q is missing: controller = \"modules\" takes modules_per_port",
+        "missing field `queries_per_port`",
     );
     bad(
         "no_k.toml",

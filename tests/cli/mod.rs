@@ -271,7 +271,7 @@ fn export_verilog_files_and_errors() {
     ];
     bin()
         .args(args)
-        .args(["--modules-per-port", "2", "--shell-trees", "2", "--out"])
+        .args(["--queries-per-port", "2", "--shell-trees", "2", "--out"])
         .arg(&out)
         .assert()
         .success();

@@ -65,7 +65,7 @@ pub struct BenchCoreArgs {
     /// interval of the software model plus slack) instead of the worst case.
     #[arg(
         long,
-        conflicts_with_all = ["modules_per_port", "slots_per_port", "queries_per_port", "core"]
+        conflicts_with_all = ["queries_per_port", "core"]
     )]
     fit_q: bool,
     /// The simulator.

@@ -26,8 +26,7 @@ pub struct CoreBuilder {
     trees: usize,
     traversal: Traversal,
     controller: Controller,
-    modules_per_port: Option<usize>,
-    slots_per_port: Option<usize>,
+    queries_per_port: Option<usize>,
     /// Bank bits and the replicated levels (None: derived when built), and how
     /// the banks' ports are shared.
     banking: Option<(u32, Option<u32>)>,
@@ -49,8 +48,7 @@ impl Default for CoreBuilder {
             trees: 1,
             traversal: Traversal::default(),
             controller: Controller::default(),
-            modules_per_port: None,
-            slots_per_port: None,
+            queries_per_port: None,
             banking: None,
             bank_ports: None,
             result_streams: 1,
@@ -134,33 +132,19 @@ impl CoreBuilder {
             ..self
         }
     }
-    /// QueryModules per port (`Controller::Modules` only; 1..=[`MAX_QUERIES_PER_PORT`]).
-    pub fn modules_per_port(self, q: usize) -> Self {
-        CoreBuilder {
-            modules_per_port: Some(q),
-            ..self
-        }
-    }
-    /// Query slots per port (`Controller::Barrel` only; 1..=[`MAX_QUERIES_PER_PORT`]).
-    pub fn slots_per_port(self, q: usize) -> Self {
-        CoreBuilder {
-            slots_per_port: Some(q),
-            ..self
-        }
-    }
-    /// Q under the name of the controller chosen so far: modules per port or slots
-    /// per port (for callers that carry one Q for either, e.g. a sweep).
+    /// Q, the queries a TreeModule port holds at once: its QueryModules
+    /// (`Controller::Modules`) or its barrel datapath's query slots
+    /// (`Controller::Barrel`); 1..=[`MAX_QUERIES_PER_PORT`].
     pub fn queries_per_port(self, q: usize) -> Self {
-        match self.controller {
-            Controller::Modules => self.modules_per_port(q),
-            Controller::Barrel => self.slots_per_port(q),
+        CoreBuilder {
+            queries_per_port: Some(q),
+            ..self
         }
     }
     /// Forget a Q given before: the controller's default again.
     pub fn default_queries_per_port(self) -> Self {
         CoreBuilder {
-            modules_per_port: None,
-            slots_per_port: None,
+            queries_per_port: None,
             ..self
         }
     }
@@ -190,31 +174,13 @@ impl CoreBuilder {
     /// The Q given for the chosen controller, if one was (else its default is used,
     /// and a host may size Q from the queries: [`CoreConfig::fit_queries_per_port`]).
     pub fn given_queries_per_port(&self) -> Option<usize> {
-        match self.controller {
-            Controller::Modules => self.modules_per_port,
-            Controller::Barrel => self.slots_per_port,
-        }
+        self.queries_per_port
     }
 
     /// The configuration, or the first option the datapath cannot build, named
     /// with its value.
     pub fn build(self) -> Result<CoreConfig, HwError> {
         let fail = |m: String| Err(HwError::Config(m));
-        match (self.controller, self.modules_per_port, self.slots_per_port) {
-            (Controller::Modules, _, Some(q)) => {
-                return fail(format!(
-                    "slots_per_port = {q} given with controller modules: query slots are the \
-                     barrel controller's; QueryModules are set by modules_per_port"
-                ))
-            }
-            (Controller::Barrel, Some(q), _) => {
-                return fail(format!(
-                    "modules_per_port = {q} given with controller barrel: QueryModules are the \
-                     modules controller's; query slots are set by slots_per_port"
-                ))
-            }
-            _ => {}
-        }
         if self.controller == Controller::Barrel && !self.traversal.remembers() {
             return fail(format!(
                 "traversal = {} with controller barrel: the barrel controller needs a traversal \
@@ -271,8 +237,7 @@ impl From<CoreConfig> for CoreBuilder {
             trees: cfg.trees,
             traversal: cfg.traversal,
             controller: cfg.controller,
-            modules_per_port: None,
-            slots_per_port: None,
+            queries_per_port: None,
             banking: None,
             bank_ports: None,
             result_streams: cfg.result_streams,
@@ -308,7 +273,7 @@ impl CoreConfig {
 
     /// [`CoreConfig::paper`]'s options in a builder.
     pub fn paper_builder() -> CoreBuilder {
-        CoreBuilder::default().modules_per_port(21)
+        CoreBuilder::default().queries_per_port(21)
     }
 
     /// "Model only what the scene needs": the default core ([`CoreBuilder::default`]'s

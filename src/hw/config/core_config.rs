@@ -148,8 +148,7 @@ pub struct CoreConfig {
     /// it is the number of QueryModules per port (each its own controller,
     /// MaxFinder and found list, paper §4.2); with [`Controller::Barrel`] the number
     /// of query slots per port (entries of the slot memories behind the port's one
-    /// datapath). `CoreBuilder::modules_per_port` and `CoreBuilder::slots_per_port`
-    /// set it under the name that applies.
+    /// datapath). One name for both: `CoreBuilder::queries_per_port`.
     pub queries_per_port: usize,
     /// Distance metric of DistModule (the full and the split-axis distance).
     pub metric: Metric,
@@ -397,12 +396,12 @@ impl CoreConfig {
             )));
         }
         if self.queries_per_port == 0 || self.queries_per_port > MAX_QUERIES_PER_PORT {
-            let (name, what) = match self.controller {
-                Controller::Modules => ("modules_per_port", "QueryModules"),
-                Controller::Barrel => ("slots_per_port", "query slots"),
+            let what = match self.controller {
+                Controller::Modules => "QueryModules",
+                Controller::Barrel => "query slots",
             };
             return Err(HwError::Config(format!(
-                "{name} = {} unsupported (1..={MAX_QUERIES_PER_PORT} {what} per port)",
+                "queries_per_port = {} unsupported (1..={MAX_QUERIES_PER_PORT} {what} per port)",
                 self.queries_per_port
             )));
         }

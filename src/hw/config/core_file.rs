@@ -5,10 +5,10 @@
 //! check each map against it instead of deriving a core from the map.
 //!
 //! The file holds exactly what changes the exported Verilog, under the names the
-//! command line uses (`--controller`, `--modules-per-port` / `--slots-per-port`, …);
-//! every key is required except Q, which is given under the name of the controller
-//! (one of `modules_per_port`, `slots_per_port`), and unknown keys are refused, so a
-//! file means one core and nothing is filled in silently. The values are checked by
+//! command line uses (`--controller`, `--queries-per-port`, …); every key is
+//! required except those of an absent feature (banks, extra result streams, radius
+//! bits), and unknown keys are refused, so a file means one core and nothing is
+//! filled in silently. The values are checked by
 //! the one validated constructor, [`CoreBuilder::build`].
 
 use crate::hw::config::bank_config::BankPorts;
@@ -43,12 +43,11 @@ pub struct CoreFile {
     pub address_bits: u32,
     /// `l2` or `l1`.
     pub metric: Metric,
-    /// Q with the modules controller: QueryModules per TreeModule port.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub modules_per_port: Option<usize>,
-    /// Q with the barrel controller: query slots per TreeModule port.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub slots_per_port: Option<usize>,
+    /// Q, the queries a TreeModule port holds at once: QueryModules with the
+    /// modules controller, query slots with the barrel controller (earlier files
+    /// spell it `modules_per_port` or `slots_per_port`, read the same).
+    #[serde(alias = "modules_per_port", alias = "slots_per_port")]
+    pub queries_per_port: usize,
     /// Replicated trees T (with banks: replicas of the top levels, two datapaths each).
     pub trees: usize,
     /// The pipeline registers (BlockRAM read data, result streams).
@@ -74,11 +73,6 @@ pub struct CoreFile {
 
 impl From<&CoreConfig> for CoreFile {
     fn from(c: &CoreConfig) -> Self {
-        let q = Some(c.queries_per_port);
-        let (modules_per_port, slots_per_port) = match c.controller {
-            Controller::Modules => (q, None),
-            Controller::Barrel => (None, q),
-        };
         CoreFile {
             controller: c.controller,
             traversal: c.traversal,
@@ -86,8 +80,7 @@ impl From<&CoreConfig> for CoreFile {
             coordinate_bits: c.layout.bits,
             address_bits: c.address_bits,
             metric: c.metric,
-            modules_per_port,
-            slots_per_port,
+            queries_per_port: c.queries_per_port,
             trees: c.trees,
             pipelined: c.pipelined,
             banks: c.banking.map(|b| 1u64 << b.bank_bits),
@@ -111,26 +104,14 @@ fn three_widths<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[u32; 3], D::E
 }
 
 impl CoreFile {
-    /// The core this file describes, checked by [`CoreBuilder::build`] (Q under the
-    /// other controller's name, K, Q, T, H or the widths out of range are refused,
-    /// named with their value).
+    /// The core this file describes, checked by [`CoreBuilder::build`] (K, Q, T, H
+    /// or the widths out of range are refused, named with their value).
     pub fn config(&self) -> Result<CoreConfig, HwError> {
-        let controller: Controller = self.controller;
         let widths = 1..=MAX_HW_COORD_BITS;
         if !self.coordinate_bits.iter().all(|b| widths.contains(b)) {
             return Err(HwError::Config(format!(
                 "coordinate_bits = {:?}: each width must be 1..={MAX_HW_COORD_BITS}",
                 self.coordinate_bits
-            )));
-        }
-        if self.modules_per_port.is_none() && self.slots_per_port.is_none() {
-            let name = match controller {
-                Controller::Modules => "modules_per_port",
-                Controller::Barrel => "slots_per_port",
-            };
-            return Err(HwError::Config(format!(
-                "Q is missing: controller = \"{}\" takes {name}",
-                self.controller_name()
             )));
         }
         let mut b = CoreBuilder::default()
@@ -141,15 +122,10 @@ impl CoreFile {
             .pipelined(self.pipelined)
             .trees(self.trees)
             .traversal(self.traversal)
-            .controller(controller)
+            .controller(self.controller)
             .result_streams(self.result_streams.unwrap_or(1))
-            .radius_bits(self.radius_bits);
-        if let Some(q) = self.modules_per_port {
-            b = b.modules_per_port(q);
-        }
-        if let Some(q) = self.slots_per_port {
-            b = b.slots_per_port(q);
-        }
+            .radius_bits(self.radius_bits)
+            .queries_per_port(self.queries_per_port);
         match (self.banks, self.replicated_levels) {
             (Some(banks), levels) => b = b.banks(Banking::bank_bits_for(banks)?, levels),
             (None, Some(l)) => {
@@ -170,10 +146,6 @@ impl CoreFile {
             _ => {}
         }
         b.build()
-    }
-
-    fn controller_name(&self) -> String {
-        self.controller.to_string()
     }
 }
 
