@@ -327,12 +327,12 @@ fn exact_rtl_equals_float_on_small_maps() {
     for metric in METRICS {
         for (k, radius) in [(5, None), (3, Some(0.3)), (8, Some(0.0))] {
             let p = params(k, radius, 10, metric);
-            same_as_float(BackendKind::Rtl, &photons, &queries, &p, None);
+            same_as_float(BackendKind::Native, &photons, &queries, &p, None);
         }
         // k beyond the photons: the core's list holds them all.
         let p = params(40, None, 10, metric);
         let few = &photons[..30];
-        same_as_float(BackendKind::Rtl, few, &queries, &p, Some(0));
+        same_as_float(BackendKind::Native, few, &queries, &p, Some(0));
     }
 }
 
@@ -343,7 +343,7 @@ fn exact_is_the_same_whatever_the_thread_count() {
     let mut r = rng(51);
     let photons = uniform(&mut r, 600, 0.0, 1.0);
     let queries = uniform(&mut r, 80, -0.1, 1.1);
-    for kind in [BackendKind::Sw, BackendKind::Rtl] {
+    for kind in [BackendKind::Sw, BackendKind::Native] {
         let p = params(6, Some(0.2), 9, Metric::L2);
         let run = |threads| {
             let pool = rayon::ThreadPoolBuilder::new()

@@ -270,7 +270,7 @@ fn rtl_refuses_what_the_core_cannot_hold() {
     );
     render_fails(
         &["--backend", "sw", "--vcd", "x.vcd"],
-        "--vcd needs --backend rtl or verilator",
+        "--vcd needs --backend native or verilator",
     );
 }
 

@@ -40,11 +40,7 @@ pub struct CoreFileArg {
             "traversal",
             "queries_per_port",
             "trees",
-            "unpipelined",
             "banks",
-            "replicated_levels",
-            "bank_ports",
-            "result_streams",
             "device",
         ]
     )]
@@ -80,40 +76,50 @@ pub struct CoreOpts {
     /// its own copy of the map, behind one set of streams [default: 1].
     #[arg(long)]
     pub trees: Option<usize>,
-    /// Leave out the pipeline registers (BlockRAM read data, result streams): two
-    /// cycles less latency, longer critical paths. For before/after timing.
-    #[arg(long)]
-    pub unpipelined: bool,
     /// One map banked over B BlockRAM banks (a power of two; --controller barrel)
     /// that every datapath reads through a crossbar: --trees replicas of the top
     /// levels, two datapaths each (docs/BANKING.md) [default: no banks, each tree
     /// holds the whole map].
     #[arg(long, value_name = "B")]
     pub banks: Option<u64>,
-    /// Levels of the tree replicated beside each pair of datapaths, with --banks
-    /// [default: 10, at least log2 B, below H].
-    #[arg(long, value_name = "L", requires = "banks")]
-    pub replicated_levels: Option<u32>,
-    /// How each bank's BlockRAM read ports are shared among the datapaths, with
-    /// --banks or --device (docs/HARDWARE.md, "The crossbar's area") [default:
-    /// shared].
-    #[arg(long, value_enum)]
-    pub bank_ports: Option<BankPorts>,
-    /// Result streams R: the datapaths' result packets leave on R streams, D / R
-    /// datapaths each (a divisor of D = 2 x --trees with --banks, else of 2); one
-    /// stream carries a beat a cycle, which about 8 busy datapaths fill at k = 32
-    /// [default: 1; with --device one per 4 datapaths].
-    #[arg(long, value_name = "R")]
-    pub result_streams: Option<usize>,
     /// Plan the banked barrel core this FPGA holds for the map (banks, replicated
     /// levels, datapaths: `device::plan`, docs/BANKING.md); refused, naming the
     /// largest map that fits, if the map does not.
     #[arg(
         long,
         value_enum,
-        conflicts_with_all = ["banks", "replicated_levels", "trees", "result_streams"]
+        conflicts_with_all = ["banks", "trees"]
     )]
     pub device: Option<DeviceArg>,
+    /// The options only export-verilog and the lab take ([`CoreDetail`]).
+    #[arg(skip)]
+    pub detail: CoreDetail,
+}
+
+/// The core's options that fix how it is built rather than which core it is:
+/// export-verilog (and the lab) take them, and `--core FILE` carries them to
+/// render and gather.
+#[derive(Args, Clone, Debug, Default)]
+pub struct CoreDetail {
+    /// Leave out the pipeline registers (BlockRAM read data, result streams): two
+    /// cycles less latency, longer critical paths. For before/after timing.
+    #[arg(long, conflicts_with = "core")]
+    pub unpipelined: bool,
+    /// Levels of the tree replicated beside each pair of datapaths, with --banks
+    /// [default: 10, at least log2 B, below H].
+    #[arg(long, value_name = "L", requires = "banks", conflicts_with = "core")]
+    pub replicated_levels: Option<u32>,
+    /// How each bank's BlockRAM read ports are shared among the datapaths, with
+    /// --banks or --device (docs/HARDWARE.md, "The crossbar's area") [default:
+    /// shared].
+    #[arg(long, value_enum, conflicts_with = "core")]
+    pub bank_ports: Option<BankPorts>,
+    /// Result streams R: the datapaths' result packets leave on R streams, D / R
+    /// datapaths each (a divisor of D = 2 x --trees with --banks, else of 2); one
+    /// stream carries a beat a cycle, which about 8 busy datapaths fill at k = 32
+    /// [default: 1; with --device one per 4 datapaths].
+    #[arg(long, value_name = "R", conflicts_with_all = ["core", "device"])]
+    pub result_streams: Option<usize>,
 }
 
 impl CoreOpts {
@@ -158,11 +164,14 @@ impl CoreOpts {
             (self.controller.is_some(), "--controller"),
             (self.queries_per_port.is_some(), "--queries-per-port"),
             (self.trees.is_some(), "--trees"),
-            (self.unpipelined, "--unpipelined"),
+            (self.detail.unpipelined, "--unpipelined"),
             (self.banks.is_some(), "--banks"),
-            (self.replicated_levels.is_some(), "--replicated-levels"),
-            (self.bank_ports.is_some(), "--bank-ports"),
-            (self.result_streams.is_some(), "--result-streams"),
+            (
+                self.detail.replicated_levels.is_some(),
+                "--replicated-levels",
+            ),
+            (self.detail.bank_ports.is_some(), "--bank-ports"),
+            (self.detail.result_streams.is_some(), "--result-streams"),
             (self.device.is_some(), "--device"),
         ]
         .into_iter()
@@ -189,18 +198,18 @@ impl CoreOpts {
             ("--banks", self.banks.map(|b| b as usize)),
             (
                 "--replicated-levels",
-                self.replicated_levels.map(|l| l as usize),
+                self.detail.replicated_levels.map(|l| l as usize),
             ),
-            ("--result-streams", self.result_streams),
+            ("--result-streams", self.detail.result_streams),
         ] {
             if let Some(v) = v {
                 out += &format!(" {flag} {v}");
             }
         }
-        if self.unpipelined {
+        if self.detail.unpipelined {
             out += " --unpipelined";
         }
-        if let Some(p) = &self.bank_ports {
+        if let Some(p) = &self.detail.bank_ports {
             out += &format!(" --bank-ports {}", name(p));
         }
         if let Some(d) = &self.device {
@@ -221,8 +230,8 @@ impl CoreOpts {
             .controller(controller)
             .traversal(self.traversal_for(controller))
             .trees(self.trees.unwrap_or(1))
-            .result_streams(self.result_streams.unwrap_or(1))
-            .pipelined(!self.unpipelined);
+            .result_streams(self.detail.result_streams.unwrap_or(1))
+            .pipelined(!self.detail.unpipelined);
         if let Some(q) = self.queries_per_port {
             b = b.queries_per_port(q);
         }
@@ -230,9 +239,9 @@ impl CoreOpts {
             let bits = Banking::bank_bits_for(banks).map_err(|_| {
                 Error::new(format!("--banks {banks}: a power of two from 2 to 1024"))
             })?;
-            b = b.banks(bits, self.replicated_levels);
+            b = b.banks(bits, self.detail.replicated_levels);
         }
-        if let Some(p) = self.bank_ports {
+        if let Some(p) = self.detail.bank_ports {
             if self.banks.is_none() && self.device.is_none() {
                 return Err(Error::new(format!(
                     "--bank-ports {}: without --banks or --device there are no banks",
@@ -276,6 +285,8 @@ pub struct CoreArgs {
     #[command(flatten)]
     pub opts: CoreOpts,
     #[command(flatten)]
+    pub detail: CoreDetail,
+    #[command(flatten)]
     pub file: CoreFileArg,
 }
 
@@ -303,7 +314,11 @@ impl CoreArgs {
             .k(self.k)
             .metric(self.metric)
             .radius_bits(self.radius_bits);
-        self.opts.builder(base, Controller::Modules)
+        let opts = CoreOpts {
+            detail: self.detail.clone(),
+            ..self.opts.clone()
+        };
+        opts.builder(base, Controller::Modules)
     }
 
     /// The core, planned for `--device` on a full map of 2^H − 1 photons.

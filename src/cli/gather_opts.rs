@@ -124,7 +124,7 @@ impl GatherOpts {
             None => return Ok(None),
         };
         if !self.backend.simulates() {
-            return Err(Error::new("--vcd needs --backend rtl or verilator"));
+            return Err(Error::new("--vcd needs --backend native or verilator"));
         }
         Ok(Some(Output::check(&path, inputs)?.stage()?))
     }
@@ -140,21 +140,21 @@ impl GatherOpts {
     pub fn check(&self) -> Result<()> {
         if self.backend == BackendKind::Float && self.bits.is_some() {
             return Err(Error::new(
-                "--bits sets the grid of the quantized backends (sw, rtl, verilator); \
+                "--bits sets the grid of the quantized backends (sw, native, verilator); \
                  --backend float searches the unquantized positions",
             ));
         }
         if self.backend == BackendKind::Float && self.core_file.file.is_some() {
             return Err(Error::new(
                 "--core sets the simulated core and its grid; --backend float searches the \
-                 unquantized positions (give --backend sw, rtl or verilator)",
+                 unquantized positions (give --backend sw, native or verilator)",
             ));
         }
         if !self.backend.simulates() {
             if let Some(flag) = self.core.hardware_option_given() {
                 return Err(Error::new(format!(
                     "{flag} configures the simulated core; --backend {} runs none \
-                     (give --backend rtl or verilator)",
+                     (give --backend native or verilator)",
                     self.backend
                 )));
             }

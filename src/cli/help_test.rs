@@ -62,3 +62,44 @@ fn every_value_of_every_enum_option_is_in_its_commands_help() {
         );
     }
 }
+
+/// The product's command line is a user's: its subcommands take at most 70 option
+/// slots between them (each subcommand's `--help` lines, help included); the
+/// measurement tools' options live in the lab's binary.
+#[test]
+fn the_product_takes_at_most_70_option_slots() {
+    let mut cli = super::Cli::command();
+    cli.build();
+    let slots: Vec<(String, usize)> = cli
+        .get_subcommands()
+        .map(|s| {
+            let n = s
+                .get_arguments()
+                .filter(|a| !a.is_hide_set() && !a.is_positional())
+                .count();
+            (s.get_name().to_string(), n)
+        })
+        .collect();
+    let total: usize = slots.iter().map(|(_, n)| n).sum();
+    assert!(total <= 70, "{total} option slots: {slots:?}");
+    assert!(slots.iter().all(|(_, n)| *n > 3), "{slots:?}");
+}
+
+/// `--backend native` runs rust-hdl's simulation; `rtl`, its earlier name, is an
+/// accepted alias that the help says is one.
+#[test]
+fn the_native_backend_keeps_its_earlier_name() {
+    use clap::Parser;
+    let old = super::Cli::try_parse_from(["photon-fpga", "render", "--backend", "rtl"]);
+    let new = super::Cli::try_parse_from(["photon-fpga", "render", "--backend", "native"]);
+    assert!(old.is_ok() && new.is_ok());
+    let help = super::Cli::command()
+        .find_subcommand_mut("render")
+        .unwrap()
+        .render_long_help()
+        .to_string();
+    assert!(
+        help.contains("- native") && help.contains("`rtl`, its earlier"),
+        "{help}"
+    );
+}

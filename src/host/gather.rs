@@ -31,10 +31,12 @@ pub enum BackendKind {
     /// The paper's search on the packed, quantized tree (the hardware's reference).
     #[default]
     Sw,
-    /// The photon-search core in rust-hdl's own simulation.
-    Rtl,
+    /// The photon-search core in rust-hdl's native simulation (`rtl`, its earlier
+    /// name, is still accepted).
+    #[cfg_attr(feature = "cli", value(alias = "rtl"))]
+    Native,
     /// The core's exported Verilog under Verilator (the same results and cycles as
-    /// rtl, much faster).
+    /// native, much faster).
     Verilator,
 }
 
@@ -43,7 +45,7 @@ impl fmt::Display for BackendKind {
         f.write_str(match self {
             BackendKind::Float => "float",
             BackendKind::Sw => "sw",
-            BackendKind::Rtl => "rtl",
+            BackendKind::Native => "native",
             BackendKind::Verilator => "verilator",
         })
     }
@@ -52,7 +54,7 @@ impl fmt::Display for BackendKind {
 impl BackendKind {
     /// Whether this backend simulates the hardware (and so can dump a waveform).
     pub fn simulates(self) -> bool {
-        matches!(self, BackendKind::Rtl | BackendKind::Verilator)
+        matches!(self, BackendKind::Native | BackendKind::Verilator)
     }
 }
 
@@ -186,12 +188,12 @@ pub fn make_backend(
     sim: &SimOptions,
 ) -> Result<Box<dyn GatherBackend>> {
     if !kind.simulates() && sim.vcd.is_some() {
-        return Err(Error::new("--vcd needs --backend rtl or verilator"));
+        return Err(Error::new("--vcd needs --backend native or verilator"));
     }
     Ok(match kind {
         BackendKind::Float => Box::new(FloatBackend::new(photons, params)?),
         BackendKind::Sw => Box::new(SwBackend::new(photons, params)?),
-        BackendKind::Rtl => Box::new(RtlBackend::new(photons, params, sim.clone())?),
+        BackendKind::Native => Box::new(RtlBackend::new(photons, params, sim.clone())?),
         BackendKind::Verilator => {
             let sim = SimOptions {
                 engine: Engine::Verilator,

@@ -1,7 +1,7 @@
-//! The banked core from the command line (`--banks`, `--replicated-levels`,
-//! `--device`): render through it is the software search's very image, its core
-//! file carries the banks, and what it cannot build is refused by name with exit
-//! status 2 and nothing written.
+//! The banked core from the command line (`--banks`, `--device`; the detail, as
+//! `--replicated-levels`, through export-verilog's core file): render through it
+//! is the software search's very image, its core file carries the banks, and what
+//! it cannot build is refused by name with exit status 2 and nothing written.
 
 use super::*;
 use photon_fpga::hw::config::core_file::{from_toml, CORE_FILE_NAME};
@@ -20,27 +20,58 @@ fn render_png(dir: &Path, name: &str, args: &[&str]) -> Vec<u8> {
 }
 
 /// rust-hdl's simulation of a banked core (two replicas, four datapaths, 8
-/// banks, two result streams) renders the image of the software search.
+/// banks, two result streams; then split bank ports), exported as a core file,
+/// renders the image of the software search on that core; and `--banks` alone
+/// (render's own option) does too.
 #[test]
 fn render_through_the_banked_core_is_the_sw_image() {
     let dir = tempfile::tempdir().unwrap();
-    let sw = render_png(dir.path(), "sw.png", &["--backend", "sw"]);
-    // Two replicas over 8 banks, with two result streams, then with split bank
-    // ports (even datapaths on a bank's first port, odd on its second).
-    let banked = |name: &str, extra: &[&str]| {
-        let base = ["--backend", "rtl", "--banks", "8", "--trees", "2"];
-        let args: Vec<&str> = base
-            .iter()
-            .copied()
-            .chain(["--replicated-levels", "4"])
-            .chain(extra.iter().copied())
-            .collect();
-        render_png(dir.path(), name, &args)
+    let core = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        bin()
+            .args([
+                "export-verilog",
+                "--controller",
+                "barrel",
+                "--traversal",
+                "cell",
+            ])
+            .args([
+                "--k",
+                "32",
+                "--bits",
+                "10",
+                "--address-bits",
+                "12",
+                "--metric",
+                "l2",
+            ])
+            .args(["--banks", "8", "--trees", "2", "--replicated-levels", "4"])
+            .args(extra)
+            .arg("--out")
+            .arg(&out)
+            .assert()
+            .success();
+        out.join(CORE_FILE_NAME).display().to_string()
     };
-    let hw = banked("rtl.png", &["--result-streams", "2"]);
+    // Two result streams, then split bank ports (even datapaths on a bank's first
+    // port, odd on its second).
+    for (name, extra) in [
+        ("streams", ["--result-streams", "2"]),
+        ("split", ["--bank-ports", "split"]),
+    ] {
+        let f = core(name, &extra);
+        let sw = render_png(dir.path(), "sw.png", &["--backend", "sw", "--core", &f]);
+        let hw = render_png(dir.path(), "rtl.png", &["--backend", "rtl", "--core", &f]);
+        assert!(sw == hw, "the {name} banked core's render differs from sw");
+    }
+    let sw = render_png(dir.path(), "sw.png", &["--backend", "sw"]);
+    let hw = render_png(
+        dir.path(),
+        "rtl.png",
+        &["--backend", "rtl", "--banks", "8", "--trees", "2"],
+    );
     assert!(sw == hw, "the banked core's render differs from sw");
-    let split = banked("split.png", &["--bank-ports", "split"]);
-    assert!(sw == split, "the split-port core's render differs from sw");
 }
 
 /// export-verilog --device writes a core file with banks that reads back as a
@@ -102,9 +133,10 @@ fn what_the_banked_core_cannot_build_is_refused() {
         .collect()
     };
     refused(dir.path(), &render(&["--banks", "6"]), "--banks 6");
+    let v = dir.path().join("v").display().to_string();
     refused(
         dir.path(),
-        &render(&["--bank-ports", "split"]),
+        &strings(&["export-verilog", "--bank-ports", "split", "--out", &v]),
         "--bank-ports split: without --banks or --device",
     );
     refused(
@@ -139,8 +171,28 @@ fn what_the_banked_core_cannot_build_is_refused() {
     // Result streams split the datapaths evenly (four here: 1, 2 or 4 streams).
     refused(
         dir.path(),
-        &render(&["--banks", "8", "--trees", "2", "--result-streams", "3"]),
+        &strings(&[
+            "export-verilog",
+            "--controller",
+            "barrel",
+            "--address-bits",
+            "12",
+            "--banks",
+            "8",
+            "--trees",
+            "2",
+            "--result-streams",
+            "3",
+            "--out",
+            &v,
+        ]),
         "result_streams = 3",
+    );
+    // Render takes the banked core's detail from a core file only.
+    refused(
+        dir.path(),
+        &render(&["--banks", "8", "--result-streams", "2"]),
+        "unexpected argument '--result-streams' found",
     );
     // The AXI4-Stream top has one result stream.
     let axis = dir.path().join("axis").display().to_string();

@@ -120,7 +120,7 @@ pub fn run(
         let max_k = base.core.chosen_controller().max_k();
         for &refine in ms.iter().filter(|m| m.is_none_or(|m| base.k + m <= max_k)) {
             let exact = ExactBackend::new(
-                BackendKind::Rtl,
+                BackendKind::Native,
                 photons,
                 &params,
                 refine,

@@ -62,7 +62,7 @@ pub fn check(kind: BackendKind, k: usize, refine: Option<usize>, max_k: usize) -
     if kind == BackendKind::Float {
         return Err(Error::new(
             "--exact refines a quantized backend's answers to the float search's; \
-             --backend float is exact already (give --backend sw, rtl or verilator)",
+             --backend float is exact already (give --backend sw, native or verilator)",
         ));
     }
     if let Some(m) = refine {
@@ -185,7 +185,7 @@ impl ExactBackend {
             }
         } else {
             if sim.vcd.is_some() {
-                return Err(Error::new("--vcd needs --backend rtl or verilator"));
+                return Err(Error::new("--vcd needs --backend native or verilator"));
             }
             Core::Sw
         };
@@ -351,7 +351,7 @@ impl ExactBackend {
 impl GatherBackend for ExactBackend {
     fn name(&self) -> &'static str {
         match self.kind {
-            BackendKind::Rtl => "rtl --exact",
+            BackendKind::Native => "native --exact",
             BackendKind::Verilator => "verilator --exact",
             _ => "sw --exact",
         }
