@@ -116,7 +116,8 @@ class CoreOptions:
         if not self.pipelined:
             a += ["--unpipelined"]
         if self.trees != 1:
-            a += ["--trees", str(self.trees)]
+            # A banked core's copies of the top levels are replicas, an array's trees.
+            a += ["--replicas" if self.banks is not None else "--trees", str(self.trees)]
         if self.banks is not None:
             a += ["--banks", str(self.banks)]
         if self.replicated_levels is not None:

@@ -40,7 +40,6 @@ pub struct CoreFileArg {
             "traversal",
             "queries_per_port",
             "trees",
-            "banks",
             "device",
         ]
     )]
@@ -72,24 +71,14 @@ pub struct CoreOpts {
     /// --controller barrel [default: 16].
     #[arg(long, value_name = "Q")]
     pub queries_per_port: Option<usize>,
-    /// Replicated trees T (the paper's future work): T copies of the core, each with
-    /// its own copy of the map, behind one set of streams [default: 1].
+    /// Trees T (the paper's future work): an array of T whole cores, each with its
+    /// own copy of the map, behind one set of streams [default: 1].
     #[arg(long)]
     pub trees: Option<usize>,
-    /// One map banked over B BlockRAM banks (a power of two; --controller barrel)
-    /// that every datapath reads through a crossbar: --trees replicas of the top
-    /// levels, two datapaths each (docs/BANKING.md) [default: no banks, each tree
-    /// holds the whole map].
-    #[arg(long, value_name = "B")]
-    pub banks: Option<u64>,
     /// Plan the banked barrel core this FPGA holds for the map (banks, replicated
     /// levels, datapaths: `device::plan`, docs/BANKING.md); refused, naming the
     /// largest map that fits, if the map does not.
-    #[arg(
-        long,
-        value_enum,
-        conflicts_with_all = ["banks", "trees"]
-    )]
+    #[arg(long, value_enum, conflicts_with = "trees")]
     pub device: Option<DeviceArg>,
     /// The options only export-verilog and the lab take ([`CoreDetail`]).
     #[arg(skip)]
@@ -105,6 +94,16 @@ pub struct CoreDetail {
     /// cycles less latency, longer critical paths. For before/after timing.
     #[arg(long, conflicts_with = "core")]
     pub unpipelined: bool,
+    /// One map banked over B BlockRAM banks (a power of two; --controller barrel)
+    /// that every datapath reads through a crossbar: --replicas copies of the top
+    /// levels, two datapaths each (docs/BANKING.md) [default: no banks, each tree
+    /// holds the whole map].
+    #[arg(long, value_name = "B", conflicts_with_all = ["core", "device", "trees"])]
+    pub banks: Option<u64>,
+    /// Replicas R of the top levels inside one banked core, two datapaths each,
+    /// with --banks [default: 1].
+    #[arg(long, value_name = "R", requires = "banks")]
+    pub replicas: Option<usize>,
     /// Levels of the tree replicated beside each pair of datapaths, with --banks
     /// [default: 10, at least log2 B, below H].
     #[arg(long, value_name = "L", requires = "banks", conflicts_with = "core")]
@@ -115,7 +114,7 @@ pub struct CoreDetail {
     #[arg(long, value_enum, conflicts_with = "core")]
     pub bank_ports: Option<BankPorts>,
     /// Result streams R: the datapaths' result packets leave on R streams, D / R
-    /// datapaths each (a divisor of D = 2 x --trees with --banks, else of 2); one
+    /// datapaths each (a divisor of D = 2 x --replicas with --banks, else of 2); one
     /// stream carries a beat a cycle, which about 8 busy datapaths fill at k = 32
     /// [default: 1; with --device one per 4 datapaths].
     #[arg(long, value_name = "R", conflicts_with_all = ["core", "device"])]
@@ -164,8 +163,9 @@ impl CoreOpts {
             (self.controller.is_some(), "--controller"),
             (self.queries_per_port.is_some(), "--queries-per-port"),
             (self.trees.is_some(), "--trees"),
+            (self.detail.replicas.is_some(), "--replicas"),
             (self.detail.unpipelined, "--unpipelined"),
-            (self.banks.is_some(), "--banks"),
+            (self.detail.banks.is_some(), "--banks"),
             (
                 self.detail.replicated_levels.is_some(),
                 "--replicated-levels",
@@ -195,7 +195,8 @@ impl CoreOpts {
         for (flag, v) in [
             ("--queries-per-port", self.queries_per_port),
             ("--trees", self.trees),
-            ("--banks", self.banks.map(|b| b as usize)),
+            ("--replicas", self.detail.replicas),
+            ("--banks", self.detail.banks.map(|b| b as usize)),
             (
                 "--replicated-levels",
                 self.detail.replicated_levels.map(|l| l as usize),
@@ -229,20 +230,20 @@ impl CoreOpts {
         let mut b = base
             .controller(controller)
             .traversal(self.traversal_for(controller))
-            .trees(self.trees.unwrap_or(1))
+            .trees(self.detail.replicas.or(self.trees).unwrap_or(1))
             .result_streams(self.detail.result_streams.unwrap_or(1))
             .pipelined(!self.detail.unpipelined);
         if let Some(q) = self.queries_per_port {
             b = b.queries_per_port(q);
         }
-        if let Some(banks) = self.banks {
+        if let Some(banks) = self.detail.banks {
             let bits = Banking::bank_bits_for(banks).map_err(|_| {
                 Error::new(format!("--banks {banks}: a power of two from 2 to 1024"))
             })?;
             b = b.banks(bits, self.detail.replicated_levels);
         }
         if let Some(p) = self.detail.bank_ports {
-            if self.banks.is_none() && self.device.is_none() {
+            if self.detail.banks.is_none() && self.device.is_none() {
                 return Err(Error::new(format!(
                     "--bank-ports {}: without --banks or --device there are no banks",
                     p.to_possible_value()

@@ -21,8 +21,7 @@ fn render_png(dir: &Path, name: &str, args: &[&str]) -> Vec<u8> {
 
 /// rust-hdl's simulation of a banked core (two replicas, four datapaths, 8
 /// banks, two result streams; then split bank ports), exported as a core file,
-/// renders the image of the software search on that core; and `--banks` alone
-/// (render's own option) does too.
+/// renders the image of the software search on that core.
 #[test]
 fn render_through_the_banked_core_is_the_sw_image() {
     let dir = tempfile::tempdir().unwrap();
@@ -46,7 +45,14 @@ fn render_through_the_banked_core_is_the_sw_image() {
                 "--metric",
                 "l2",
             ])
-            .args(["--banks", "8", "--trees", "2", "--replicated-levels", "4"])
+            .args([
+                "--banks",
+                "8",
+                "--replicas",
+                "2",
+                "--replicated-levels",
+                "4",
+            ])
             .args(extra)
             .arg("--out")
             .arg(&out)
@@ -65,13 +71,6 @@ fn render_through_the_banked_core_is_the_sw_image() {
         let hw = render_png(dir.path(), "rtl.png", &["--backend", "rtl", "--core", &f]);
         assert!(sw == hw, "the {name} banked core's render differs from sw");
     }
-    let sw = render_png(dir.path(), "sw.png", &["--backend", "sw"]);
-    let hw = render_png(
-        dir.path(),
-        "rtl.png",
-        &["--backend", "rtl", "--banks", "8", "--trees", "2"],
-    );
-    assert!(sw == hw, "the banked core's render differs from sw");
 }
 
 /// export-verilog --device writes a core file with banks that reads back as a
@@ -132,8 +131,22 @@ fn what_the_banked_core_cannot_build_is_refused() {
         .chain(["--out".to_string(), out.clone()])
         .collect()
     };
-    refused(dir.path(), &render(&["--banks", "6"]), "--banks 6");
     let v = dir.path().join("v").display().to_string();
+    let export = |extra: &[&str]| -> Vec<String> {
+        [
+            "export-verilog",
+            "--controller",
+            "barrel",
+            "--address-bits",
+            "12",
+        ]
+        .iter()
+        .chain(extra)
+        .map(|s| s.to_string())
+        .chain(["--out".to_string(), v.clone()])
+        .collect()
+    };
+    refused(dir.path(), &export(&["--banks", "6"]), "--banks 6");
     refused(
         dir.path(),
         &strings(&["export-verilog", "--bank-ports", "split", "--out", &v]),
@@ -141,7 +154,15 @@ fn what_the_banked_core_cannot_build_is_refused() {
     );
     refused(
         dir.path(),
-        &render(&["--banks", "8", "--controller", "modules"]),
+        &strings(&[
+            "export-verilog",
+            "--banks",
+            "8",
+            "--controller",
+            "modules",
+            "--out",
+            &v,
+        ]),
         "banks with controller modules",
     );
     refused(
@@ -171,29 +192,22 @@ fn what_the_banked_core_cannot_build_is_refused() {
     // Result streams split the datapaths evenly (four here: 1, 2 or 4 streams).
     refused(
         dir.path(),
-        &strings(&[
-            "export-verilog",
-            "--controller",
-            "barrel",
-            "--address-bits",
-            "12",
-            "--banks",
-            "8",
-            "--trees",
-            "2",
-            "--result-streams",
-            "3",
-            "--out",
-            &v,
-        ]),
+        &export(&["--banks", "8", "--replicas", "2", "--result-streams", "3"]),
         "result_streams = 3",
     );
-    // Render takes the banked core's detail from a core file only.
+    // Render takes a banked core from --device or a core file only; an array's
+    // trees are whole cores, a banked core's copies are replicas.
     refused(
         dir.path(),
-        &render(&["--banks", "8", "--result-streams", "2"]),
-        "unexpected argument '--result-streams' found",
+        &render(&["--banks", "8"]),
+        "unexpected argument '--banks' found",
     );
+    refused(
+        dir.path(),
+        &export(&["--banks", "8", "--trees", "2"]),
+        "the argument '--banks <B>' cannot be used with '--trees <TREES>'",
+    );
+    refused(dir.path(), &export(&["--replicas", "2"]), "--banks <B>");
     // The AXI4-Stream top has one result stream.
     let axis = dir.path().join("axis").display().to_string();
     refused(
@@ -208,7 +222,7 @@ fn what_the_banked_core_cannot_build_is_refused() {
             "12",
             "--banks",
             "8",
-            "--trees",
+            "--replicas",
             "2",
             "--result-streams",
             "2",

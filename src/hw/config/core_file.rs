@@ -48,8 +48,13 @@ pub struct CoreFile {
     /// spell it `modules_per_port` or `slots_per_port`, read the same).
     #[serde(alias = "modules_per_port", alias = "slots_per_port")]
     pub queries_per_port: usize,
-    /// Replicated trees T (with banks: replicas of the top levels, two datapaths each).
+    /// Trees T: an array of T whole cores, each its own copy of the map (1 with
+    /// banks).
     pub trees: usize,
+    /// With banks: the replicas of the top levels, two datapaths each (an earlier
+    /// export, without this key, wrote them as `trees`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub replicas: Option<usize>,
     /// The pipeline registers (BlockRAM read data, result streams).
     pub pipelined: bool,
     /// A banked store: the banks (a power of two) and the levels replicated beside
@@ -81,7 +86,8 @@ impl From<&CoreConfig> for CoreFile {
             address_bits: c.address_bits,
             metric: c.metric,
             queries_per_port: c.queries_per_port,
-            trees: c.trees,
+            trees: if c.banking.is_some() { 1 } else { c.trees },
+            replicas: c.banking.map(|_| c.trees),
             pipelined: c.pipelined,
             banks: c.banking.map(|b| 1u64 << b.bank_bits),
             replicated_levels: c.banking.map(|b| b.replicated_levels),
@@ -120,7 +126,7 @@ impl CoreFile {
             .k(self.k)
             .metric(self.metric)
             .pipelined(self.pipelined)
-            .trees(self.trees)
+            .trees(self.trees()?)
             .traversal(self.traversal)
             .controller(self.controller)
             .result_streams(self.result_streams.unwrap_or(1))
@@ -146,6 +152,25 @@ impl CoreFile {
             _ => {}
         }
         b.build()
+    }
+}
+
+impl CoreFile {
+    /// The core's copies: whole trees, or a banked core's replicas.
+    fn trees(&self) -> Result<usize, HwError> {
+        match (self.banks, self.replicas) {
+            (Some(_), Some(_)) if self.trees != 1 => Err(HwError::Config(format!(
+                "trees = {} with banks: a banked core is one tree, its copies of the top \
+                 levels are replicas",
+                self.trees
+            ))),
+            (Some(_), Some(r)) => Ok(r),
+            (None, Some(r)) => Err(HwError::Config(format!(
+                "replicas = {r} without banks: only a banked store replicates its top levels"
+            ))),
+            // Without banks, whole trees; an earlier export wrote replicas as trees.
+            (_, None) => Ok(self.trees),
+        }
     }
 }
 
