@@ -335,31 +335,3 @@ impl CoreArgs {
         Ok(self.opts.for_device(spec, photons, word_bits)?.build()?)
     }
 }
-
-/// "2 x 21 QueryModules" or "2 x 16 query slots": a port's Q under its name
-/// (per tree of an array; and the banks and result streams of a banked store).
-pub fn describe_q(cfg: &CoreConfig) -> String {
-    let what = match cfg.controller {
-        Controller::Modules => "QueryModules",
-        Controller::Barrel => "query slots",
-    };
-    let banks = cfg.banking.map_or(String::new(), |b| {
-        format!(
-            ", {} banks ({}) below {} replicated levels",
-            1u64 << b.bank_bits,
-            b.ports,
-            b.replicated_levels
-        )
-    });
-    let streams = match cfg.result_streams {
-        1 => String::new(),
-        r => format!(", {r} result streams"),
-    };
-    // An array's trees are whole cores, each with these ports.
-    let per_tree = if cfg.is_array() { " per tree" } else { "" };
-    format!(
-        "{} x {} {what}{per_tree}{banks}{streams}",
-        cfg.datapaths(),
-        cfg.queries_per_port
-    )
-}

@@ -1,7 +1,7 @@
 //! `photon-fpga export-verilog`: the configured core's Verilog, its glitch-free
 //! rewrite for event-driven simulators and optionally a registered shell.
 
-use crate::cli::core_args::{describe_q, CoreArgs};
+use crate::cli::core_args::CoreArgs;
 use crate::host::error::{Error, Result};
 use crate::host::output::Output;
 use crate::hw::export::axis_top::axis_top;
@@ -109,18 +109,6 @@ pub fn export(args: &ExportArgs) -> Result<()> {
             println!("wrote {}: {what}", p.display());
         }
     }
-    println!(
-        "wrote {}: {} controller, {} traversal, T = {} tree(s), H = {}, K = {}, {}, {}-bit coordinates, {} metric, {}-bit distances",
-        path.display(),
-        cfg.controller,
-        cfg.traversal,
-        cfg.trees,
-        cfg.address_bits,
-        cfg.k,
-        describe_q(&cfg),
-        cfg.layout.bits[0],
-        cfg.metric,
-        cfg.dist_bits()
-    );
+    println!("wrote {}: {cfg}", path.display());
     Ok(())
 }

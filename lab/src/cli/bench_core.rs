@@ -3,7 +3,7 @@
 //! kiddo and the software search timed on the same queries.
 
 use clap::{Args, ValueEnum};
-use photon_fpga::cli::core_args::{describe_q, CoreArgs};
+use photon_fpga::cli::core_args::CoreArgs;
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::limits;
 use photon_fpga::hw::sim::native::{Engine, SimOptions};
@@ -233,18 +233,11 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         .map(|r| format!("{:.3}", *r as f64 / st.busy_cycles.max(1) as f64))
         .collect();
     println!(
-        "core: {} controller, T = {} tree(s), H = {}, K = {}, {}, {} metric, {}-bit distances, {} traversal, issue interval {}; radius {} on the grid",
-        cfg.controller,
-        cfg.trees,
-        cfg.address_bits,
-        cfg.k,
-        describe_q(&cfg),
-        cfg.metric,
-        cfg.dist_bits(),
-        cfg.traversal,
+        "core: {cfg}; issue interval {}; radius {} on the grid",
         cfg.issue_interval(),
-        args.radius
-            .map_or("unbounded".to_string(), |r| format!("{max} ({r} world units)"))
+        args.radius.map_or("unbounded".to_string(), |r| format!(
+            "{max} ({r} world units)"
+        ))
     );
     println!(
         "{} photons, {} queries, {} cycles after the load ({} load cycles)",

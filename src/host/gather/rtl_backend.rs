@@ -59,41 +59,18 @@ impl GatherBackend for RtlBackend {
     }
 
     fn describe(&self) -> Option<String> {
-        let c = &self.config;
-        let q = match c.controller {
-            crate::hw::config::controller::Controller::Modules => "QueryModules",
-            crate::hw::config::controller::Controller::Barrel => "query slots",
-        };
         let fitted = if self.fit_q {
-            format!("Q fitted to the queries, at most {}", c.queries_per_port)
+            format!(
+                " (Q fitted to the queries, at most {})",
+                self.config.queries_per_port
+            )
         } else {
-            format!("Q = {}", c.queries_per_port)
-        };
-        // A banked core's trees are replicas of its top levels, two datapaths each.
-        let store = match c.banking {
-            Some(b) => format!(
-                "{} banks below {} replicated levels, {} result stream(s)",
-                1u64 << b.bank_bits,
-                b.replicated_levels,
-                c.result_streams
-            ),
-            None => format!("{} result stream(s)", c.result_streams),
+            String::new()
         };
         Some(format!(
-            "{}\ncore: {} controller, T = {} tree(s), H = {}, K = {}, {} x Q {q} ({fitted}), {store}, {} metric, {}-bit distances, {} traversal",
+            "{}\ncore: {}{fitted}",
             self.map.describe(),
-            c.controller,
-            c.trees,
-            c.address_bits,
-            c.k,
-            if c.is_array() {
-                crate::hw::config::core_config::PORTS
-            } else {
-                c.datapaths()
-            },
-            c.metric,
-            c.dist_bits(),
-            c.traversal
+            self.config
         ))
     }
 

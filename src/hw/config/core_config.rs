@@ -486,3 +486,63 @@ macro_rules! dispatch_widths {
     }};
 }
 pub use dispatch_widths;
+
+/// One line that names a core, the same wherever a core is described (export,
+/// render and gather on a simulated core, the lab's bench-core): controller,
+/// traversal, copies, H, K, Q per port under its name, the banked store, grid,
+/// metric and distance width.
+impl std::fmt::Display for CoreConfig {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let q = match self.controller {
+            Controller::Modules => "QueryModules",
+            Controller::Barrel => "query slots",
+        };
+        write!(
+            f,
+            "{} controller, {} traversal, ",
+            self.controller, self.traversal
+        )?;
+        match self.banking {
+            // A banked core is one tree: its copies are replicas of the top levels.
+            Some(b) => write!(
+                f,
+                "{} replica(s) of the top {} levels over {} banks ({})",
+                self.trees,
+                b.replicated_levels,
+                1u64 << b.bank_bits,
+                b.ports
+            )?,
+            None => write!(f, "T = {} tree(s)", self.trees)?,
+        }
+        // An array's trees are whole cores, each with its own two ports.
+        let (ports, per_tree) = if self.is_array() {
+            (PORTS, " per tree")
+        } else {
+            (self.datapaths(), "")
+        };
+        write!(
+            f,
+            ", H = {}, K = {}, {ports} x {} {q}{per_tree}",
+            self.address_bits, self.k, self.queries_per_port
+        )?;
+        if self.result_streams != 1 {
+            write!(f, ", {} result streams", self.result_streams)?;
+        }
+        let [x, y, z] = self.layout.bits;
+        if x == y && y == z {
+            write!(f, ", {x}-bit coordinates")?;
+        } else {
+            write!(f, ", {x}/{y}/{z}-bit coordinates")?;
+        }
+        write!(
+            f,
+            ", {} metric, {}-bit distances",
+            self.metric,
+            self.dist_bits()
+        )?;
+        if !self.pipelined {
+            write!(f, ", unpipelined")?;
+        }
+        Ok(())
+    }
+}
