@@ -114,7 +114,7 @@ fn rtl_render_runs_the_chosen_core() {
     let arr = renders_with(&runs, "12x10", "1200", "5");
     assert!(core(&arr[0].1).contains("T = 2 tree(s)"), "{}", arr[0].1);
     assert!(
-        core(&arr[0].1).contains("2 x 6 QueryModules per tree"),
+        core(&arr[0].1).contains("2 x 6 query slots per tree"),
         "{}",
         arr[0].1
     );
