@@ -58,6 +58,17 @@ pub fn cornell_image(
     bits: u32,
     settings: &RenderSettings,
 ) -> Workload {
+    cornell_image_pixels(emitted, max_photons, bits, settings).0
+}
+
+/// [`cornell_image`] and the pixel of each of its queries (the bank model replays
+/// the stream in image orders).
+pub fn cornell_image_pixels(
+    emitted: usize,
+    max_photons: usize,
+    bits: u32,
+    settings: &RenderSettings,
+) -> (Workload, Vec<u32>) {
     cornell_on(emitted, max_photons, settings, |world| {
         Quantizer::from_points(world, bits)
     })
@@ -73,6 +84,7 @@ pub fn cornell_image_on(
     cornell_on(emitted, usize::MAX, settings, |world| {
         Quantizer::for_layout(world, layout)
     })
+    .0
 }
 
 fn cornell_on(
@@ -80,7 +92,7 @@ fn cornell_on(
     max_photons: usize,
     settings: &RenderSettings,
     grid: impl FnOnce(&[Point]) -> photon_fpga::host::error::Result<Quantizer>,
-) -> Workload {
+) -> (Workload, Vec<u32>) {
     let scene = Scene::cornell_box();
     let mut photons = trace_photons(&scene, emitted, settings.seed, false);
     photons.truncate(max_photons);
@@ -88,17 +100,19 @@ fn cornell_on(
     let quant = grid(&world).expect("a Cornell-box photon map");
     let points: Vec<[u32; 3]> = world.iter().map(|&p| quant.quantize(p)).collect();
     let (eye, _) = eye_queries(&scene, settings);
-    let queries = render::query_points(&eye)
+    let (queries, pixels) = render::query_points(&eye)
         .into_iter()
-        .filter_map(|q| match quant.grid(q) {
-            Ok(GridPoint::Inside(c)) => Some(c),
+        .zip(&eye)
+        .filter_map(|(q, e)| match quant.grid(q) {
+            Ok(GridPoint::Inside(c)) => Some((c, e.pixel)),
             _ => None,
         })
-        .collect();
-    Workload {
+        .unzip();
+    let w = Workload {
         tree: PackedTree::from_tree(&KdTree::build(&points), quant.layout),
         points,
         queries,
         step: quant.step,
-    }
+    };
+    (w, pixels)
 }

@@ -4,12 +4,10 @@
 //! module docs), so the stream is the hardware's own, only its interleaving across
 //! slots and datapaths is left to the bank model.
 
-use photon_fpga::host::map::kdtree::{KdTree, PackedTree};
+use crate::workload;
+use photon_fpga::host::map::kdtree::PackedTree;
 use photon_fpga::host::map::knn::{search_with, NodeSource};
-use photon_fpga::host::map::quantize::{GridPoint, Quantizer};
-use photon_fpga::host::render::photons::trace_photons;
-use photon_fpga::host::render::scene::Scene;
-use photon_fpga::host::render::{self, eye_queries, RenderSettings};
+use photon_fpga::host::render::RenderSettings;
 use photon_fpga::hw::config::metric::Metric;
 use photon_fpga::hw::config::traversal::Traversal;
 use rayon::prelude::*;
@@ -80,22 +78,13 @@ impl ImageStream {
         metric: Metric,
         traversal: Traversal,
     ) -> Self {
-        let scene = Scene::cornell_box();
-        let photons = trace_photons(&scene, emitted, settings.seed, false);
-        let world = render::photon_points(&photons);
-        let quant = Quantizer::from_points(&world, bits).expect("a Cornell-box photon map");
-        let points: Vec<[u32; 3]> = world.iter().map(|&p| quant.quantize(p)).collect();
-        let tree = PackedTree::from_tree(&KdTree::build(&points), quant.layout);
-        let (eye, _) = eye_queries(&scene, settings);
-        let queries: Vec<ImageQuery> = eye
-            .iter()
-            .filter_map(|q| match quant.grid(q.pos.as_dvec3().to_array()) {
-                Ok(GridPoint::Inside(c)) => Some(ImageQuery {
-                    coords: c,
-                    pixel: q.pixel,
-                }),
-                _ => None,
-            })
+        let (w, pixels) = workload::cornell_image_pixels(emitted, usize::MAX, bits, settings);
+        let tree = w.tree;
+        let queries: Vec<ImageQuery> = w
+            .queries
+            .into_iter()
+            .zip(pixels)
+            .map(|(coords, pixel)| ImageQuery { coords, pixel })
             .collect();
         let reads = queries
             .par_iter()
