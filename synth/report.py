@@ -109,10 +109,9 @@ class CoreOptions:
              "--metric", self.metric]
         if self.queries_per_port is not None:
             a += ["--queries-per-port", str(self.queries_per_port)]
-        if self.traversal != "remember":
-            a += ["--traversal", self.traversal]
-        if self.controller != "modules":
-            a += ["--controller", self.controller]
+        # Every row names its controller and traversal: export-verilog's defaults
+        # (the best core measured) are not the paper's.
+        a += ["--controller", self.controller, "--traversal", self.traversal]
         if not self.pipelined:
             a += ["--unpipelined"]
         if self.trees != 1:

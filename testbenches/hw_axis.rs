@@ -268,12 +268,12 @@ fn axis_top_is_clean_verilog() {
 }
 
 /// `export-verilog --interface axis` writes the top and its JSON beside the core, and
-/// the README's table is the default export's.
+/// the README's table is the paper's core's (`--paper`).
 #[test]
 fn cli_writes_the_axis_top_and_the_readme_table_is_current() {
     let dir = tempfile::tempdir().unwrap();
     let out = Command::new(env!("CARGO_BIN_EXE_photon-fpga"))
-        .args(["export-verilog", "--interface", "axis", "--out"])
+        .args(["export-verilog", "--interface", "axis", "--paper", "--out"])
         .arg(dir.path())
         .output()
         .unwrap();
@@ -296,7 +296,7 @@ fn cli_writes_the_axis_top_and_the_readme_table_is_current() {
         |f: &str| std::fs::read_to_string(format!("{}/{f}", env!("CARGO_MANIFEST_DIR"))).unwrap();
     assert!(
         doc("docs/AXIS.md").contains(&table),
-        "docs/AXIS.md's layout table differs from the default export's; replace it with:\n{table}"
+        "docs/AXIS.md's layout table differs from the paper's core's; replace it with:\n{table}"
     );
     // The README's one row per stream, from the same layout (the JSON written).
     let json: serde_json::Value = serde_json::from_str(
@@ -328,7 +328,7 @@ fn cli_writes_the_axis_top_and_the_readme_table_is_current() {
     }
     assert!(
         doc("README.md").contains(&summary),
-        "README.md's AXI4-Stream table differs from the default export's; replace it with:\n{summary}"
+        "README.md's AXI4-Stream table differs from the paper's core's; replace it with:\n{summary}"
     );
     // Without --interface only the core is written.
     let bare = tempfile::tempdir().unwrap();

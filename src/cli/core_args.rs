@@ -56,9 +56,8 @@ impl CoreFileArg {
 /// The core's options that do not follow from the photon map.
 #[derive(Args, Clone, Debug, Default)]
 pub struct CoreOpts {
-    /// Who runs a port's queries [default: barrel for render, gather and study (the
-    /// best core measured, synth/REPORT.md); modules (the paper's) for export-verilog
-    /// and bench-core].
+    /// Who runs a port's queries [default: barrel, the best core measured
+    /// (synth/REPORT.md); modules, the paper's, with export-verilog --paper].
     #[arg(long, value_enum)]
     pub controller: Option<Controller>,
     /// How the search climbs back up the tree (changes read counts, never
@@ -256,27 +255,31 @@ impl CoreOpts {
     }
 }
 
-/// A whole core: its grid, K and metric (the paper's by default) and [`CoreOpts`],
-/// or a core description file.
+/// K of the default core: the render's k.
+pub const DEFAULT_K: usize = 32;
+
+/// A whole core: its grid, K and metric and [`CoreOpts`] (the best core measured
+/// by default, the paper's with `--paper`), or a core description file.
 #[derive(Args)]
 pub struct CoreArgs {
-    /// Found-list depth K (the largest k a query may ask for).
-    #[arg(long, default_value_t = CoreConfig::paper().k, conflicts_with = "core")]
-    k: usize,
+    /// The paper's Table-2 core: K = 10, L1, the modules controller with Q the
+    /// issue interval (10-bit coordinates and H = 10 as by default); the options
+    /// given beside it change it.
+    #[arg(long, conflicts_with = "core")]
+    paper: bool,
+    /// Found-list depth K (the largest k a query may ask for) [default: 32, the
+    /// render's k; 10 with --paper].
+    #[arg(long, conflicts_with = "core")]
+    k: Option<usize>,
     /// Coordinate bits on every axis.
     #[arg(long, default_value_t = CoreConfig::paper().layout.bits[0], conflicts_with = "core")]
     bits: u32,
     /// Tree height H: the TreeModule holds 2^H photon words.
     #[arg(long, default_value_t = CoreConfig::paper().address_bits, conflicts_with = "core")]
     address_bits: u32,
-    /// Distance metric (the default, l1, is the paper's 12-bit distance).
-    #[arg(
-        long,
-        value_enum,
-        default_value_t = CoreConfig::paper().metric.into(),
-        conflicts_with = "core"
-    )]
-    metric: Metric,
+    /// Distance metric [default: l2; l1, the paper's 12-bit distance, with --paper].
+    #[arg(long, value_enum, conflicts_with = "core")]
+    metric: Option<Metric>,
     /// Distance bits for the largest initial radius the core is to answer (radii
     /// below 2^b − 1 in the metric on the grid; larger distances saturate):
     /// narrower found lists and bounds for a scene that gathers within a radius
@@ -309,17 +312,28 @@ impl CoreArgs {
                 self.bits
             )));
         }
+        // The paper's core (the builder's default), or the best measured: the
+        // barrel controller (with the cell traversal), K = 32, L2.
+        let (k, metric, controller) = if self.paper {
+            (
+                CoreConfig::paper().k,
+                CoreConfig::paper().metric,
+                Controller::Modules,
+            )
+        } else {
+            (DEFAULT_K, Metric::L2, Controller::Barrel)
+        };
         let base = CoreConfig::builder()
             .layout(PhotonLayout::new([self.bits; 3]))
             .address_bits(self.address_bits)
-            .k(self.k)
-            .metric(self.metric)
+            .k(self.k.unwrap_or(k))
+            .metric(self.metric.unwrap_or(metric))
             .radius_bits(self.radius_bits);
         let opts = CoreOpts {
             detail: self.detail.clone(),
             ..self.opts.clone()
         };
-        opts.builder(base, Controller::Modules)
+        opts.builder(base, controller)
     }
 
     /// The core, planned for `--device` on a full map of 2^H − 1 photons.

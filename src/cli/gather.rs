@@ -1,5 +1,6 @@
 //! `photon-fpga gather`: the k nearest photons of every query of a CSV photon map.
 
+use crate::cli::core_args::DEFAULT_K;
 use crate::cli::gather_opts::GatherOpts;
 use crate::cli::set_threads;
 use crate::host::csvio;
@@ -27,7 +28,7 @@ pub struct GatherArgs {
 pub fn gather(args: &GatherArgs) -> Result<()> {
     set_threads(args.opts.threads)?;
     args.opts.check()?;
-    let params = args.opts.params(10)?;
+    let params = args.opts.params(DEFAULT_K)?;
     params.validate(1)?;
     // The core file is an input too: no output may replace it.
     let mut inputs = vec![args.photons.as_path(), args.queries.as_path()];

@@ -23,8 +23,8 @@ use std::path::PathBuf;
 /// Options every gather shares.
 #[derive(Args, Clone, Debug)]
 pub struct GatherOpts {
-    /// Photons gathered per query [default: 10 for gather, 32 for render: the core's
-    /// largest found list; with --core, the file's k].
+    /// Photons gathered per query [default: 32, the default core's found list; with
+    /// --core, the file's k].
     #[arg(long)]
     pub k: Option<usize>,
     /// Upper search radius in world units (inclusive); unbounded if absent.

@@ -1,6 +1,7 @@
 //! `photon-fpga render` (the default command): a scene rendered with photon mapping,
 //! its gathers on the chosen backend.
 
+use crate::cli::core_args::DEFAULT_K;
 use crate::cli::gather_opts::GatherOpts;
 use crate::cli::set_threads;
 use crate::host::error::{Error, Result};
@@ -69,7 +70,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     set_threads(args.opts.threads)?;
     // A radiance estimate wants more photons than a plain gather.
     args.opts.check()?;
-    let params = args.opts.params(32)?;
+    let params = args.opts.params(DEFAULT_K)?;
     params.validate(1)?;
     // Everything that can be refused is refused before any photon is traced.
     check_photons_and_spp(args.photons, args.spp)?;

@@ -42,8 +42,8 @@ trap 'rm -rf "$work"' EXIT
 # both simulators; in Verilator also the paper's controller (QueryModules, one
 # photon a beat; Q = 4 keeps the model's build short) with the other metric and
 # 12-bit coordinates (a 38-bit word in an 8-byte beat).
-"$bin" export-verilog --interface axis --controller barrel --out "$work/axis" >/dev/null
-"$bin" export-verilog --interface axis --queries-per-port 4 --metric l2 --bits 12 \
+"$bin" export-verilog --interface axis --paper --controller barrel --out "$work/axis" >/dev/null
+"$bin" export-verilog --interface axis --paper --queries-per-port 4 --metric l2 --bits 12 \
   --out "$work/modules" >/dev/null
 
 export PYTHONDONTWRITEBYTECODE=1
