@@ -271,7 +271,8 @@ pub struct CoreArgs {
     /// render's k; 10 with --paper].
     #[arg(long, conflicts_with = "core")]
     k: Option<usize>,
-    /// Coordinate bits on every axis.
+    /// Coordinate bits on the grid's longest axis, as render's and gather's --bits
+    /// (with no map to size the others, every axis).
     #[arg(long, default_value_t = CoreConfig::paper().layout.bits[0], conflicts_with = "core")]
     bits: u32,
     /// Tree height H: the TreeModule holds 2^H photon words.

@@ -12,8 +12,10 @@ use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct GatherArgs {
-    /// Photon positions: `x,y,z` per line (optional header, extra columns ignored).
-    #[arg(long)]
+    /// The photon map: `x,y,z` per line (optional header, extra columns ignored).
+    /// (`--photons`, its earlier name, is still accepted; render's --photons is a
+    /// count.)
+    #[arg(long = "map", value_name = "P.csv", alias = "photons")]
     pub photons: PathBuf,
     /// Query positions, same format.
     #[arg(long)]
