@@ -8,6 +8,7 @@ mod cli;
 mod exact;
 mod knn;
 mod layers;
+mod refusals;
 mod render;
 mod rtl;
 mod stability;

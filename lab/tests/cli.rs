@@ -1,5 +1,6 @@
 //! Running the lab binary in the tests: its refusals leave the directory as it was.
 
+use crate::refusals::refused_by;
 use assert_cmd::Command;
 use std::path::Path;
 
@@ -11,28 +12,9 @@ pub fn strings(args: &[&str]) -> Vec<String> {
     args.iter().map(|s| s.to_string()).collect()
 }
 
-/// The names in `dir`, hidden files included.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
-        .collect();
-    v.sort();
-    v
-}
-
-/// Run `args` and assert the failure: status 2, the message, no panic, and `dir`
-/// exactly as it was (no output, no temporary file).
+/// Run `args` and assert the refusal ([`refused_by`]).
 pub fn refused(dir: &Path, args: &[String], message: &str) {
-    let before = listing(dir);
-    let assert = bin().args(args).assert().code(2);
-    let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
-    assert!(
-        stderr.contains(message),
-        "stderr {stderr:?} lacks {message:?}"
-    );
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    assert_eq!(listing(dir), before, "a failed run left files behind");
+    refused_by(bin(), dir, args, message);
 }
 
 /// Run `args`, which must succeed; its standard output.

@@ -7,6 +7,10 @@
 #[path = "../../testbenches/common/mod.rs"]
 mod common;
 
+// The product's check of a refused run, shared.
+#[path = "../../tests/refusals.rs"]
+mod refusals;
+
 mod bank_map;
 mod banking;
 mod bench_banks;

@@ -1,6 +1,7 @@
 //! `photon-fpga gather`: exact answers on a user's CSV, and a clear error, exit
 //! status 2 and no output file for every bad input; `export-verilog`'s files and errors.
 
+use crate::refusals::{listing, refused_by};
 use assert_cmd::Command;
 use rand::{Rng, SeedableRng};
 use std::path::{Path, PathBuf};
@@ -26,28 +27,9 @@ fn points_csv(points: &[[f64; 3]], header: bool) -> String {
     s
 }
 
-/// The names in `dir`, hidden files included.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
-        .collect();
-    v.sort();
-    v
-}
-
-/// Run `args` and assert the failure: status 2, the message, no panic, and `dir`
-/// exactly as it was (no output, no temporary file).
+/// Run `args` and assert the refusal ([`refused_by`]).
 fn refused(dir: &Path, args: &[String], message: &str) {
-    let before = listing(dir);
-    let assert = bin().args(args).assert().code(2);
-    let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
-    assert!(
-        stderr.contains(message),
-        "stderr {stderr:?} lacks {message:?}"
-    );
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    assert_eq!(listing(dir), before, "a failed run left files behind");
+    refused_by(bin(), dir, args, message);
 }
 
 /// Run gather and assert the failure: status 2, the message, no output file.
