@@ -50,9 +50,10 @@ pub struct GatherOpts {
     /// VCD file (also: env PHOTON_FPGA_VCD=path).
     #[arg(long)]
     pub vcd: Option<PathBuf>,
-    /// With --backend sw, rtl or verilator: the float search's exact answers, from
-    /// k + m grid candidates per query re-ranked by exact distance on the host
-    /// (certified per query; the float search answers the rest).
+    /// With --backend sw, native or verilator: the float search's exact answers,
+    /// from k + m grid candidates per query re-ranked by exact distance on the host
+    /// (certified per query; the float search answers the rest). Not with --core:
+    /// the exact grid is the map's own, and a core file fixes its grid and K.
     #[arg(long, conflicts_with = "core")]
     pub exact: bool,
     /// With --exact: m, the extra grid candidates per query [default: chosen on a
