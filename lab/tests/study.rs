@@ -15,6 +15,12 @@ use rand::{Rng, SeedableRng};
 use std::collections::BTreeMap;
 use std::path::Path;
 
+/// The repository (the lab crate is one folder below it): the study reads
+/// synth/results.json and writes docs/ from there.
+fn repo() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
 fn bin() -> Command {
     Command::cargo_bin("photon-fpga-lab").unwrap()
 }
@@ -33,7 +39,7 @@ const TEXT: [&str; 8] = [
 
 fn run_quick(out: &Path, threads: &str) -> Vec<BTreeMap<String, String>> {
     bin()
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(repo())
         .args(["study", "--quick", "--threads", threads, "--out"])
         .arg(out)
         .assert()
@@ -169,16 +175,14 @@ fn quick_study_runs_and_costs_the_chosen_core() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("barrel");
     bin()
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(repo())
         .args(["study", "--quick", "--controller", "barrel", "--out"])
         .arg(&out)
         .assert()
         .success();
-    let json: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/synth/results.json"))
-            .unwrap(),
-    )
-    .unwrap();
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(repo().join("synth/results.json")).unwrap())
+            .unwrap();
     let barrel = json["rows"]
         .as_array()
         .unwrap()
@@ -300,7 +304,7 @@ fn study_refuses_bad_input_before_any_work_and_leaves_nothing() {
     ];
     for (args, msg) in cases {
         let a = bin()
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .current_dir(repo())
             .arg("study")
             .arg("--quick")
             .args(&args)
@@ -373,7 +377,7 @@ fn error_measures_against_hand_and_brute_force() {
 }
 
 fn results() -> SynthResults {
-    SynthResults::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("synth/results.json")).unwrap()
+    SynthResults::read(&repo().join("synth/results.json")).unwrap()
 }
 
 #[test]
@@ -497,9 +501,7 @@ fn a_larger_k_row_costs_the_k_it_holds_and_says_so() {
 #[test]
 fn committed_study_used_these_results() {
     let rows = results().study_rows(Traversal::Cell, STUDY_CONTROLLER);
-    let mut r =
-        csv::Reader::from_path(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/study.csv"))
-            .unwrap();
+    let mut r = csv::Reader::from_path(repo().join("docs/study.csv")).unwrap();
     let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
     let col = |n: &str| header.iter().position(|h| h == n).unwrap();
     let mut checked = 0;
@@ -536,7 +538,7 @@ fn committed_study_used_these_results() {
 fn python3(args: &[&str]) -> std::process::Output {
     std::process::Command::new("python3")
         .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(repo())
         .output()
         .unwrap_or_else(|e| panic!("python3 is needed to check synth/report.py: {e}"))
 }

@@ -1,16 +1,11 @@
 //! The study's `--exact` series: the quick study's exact.csv and STUDY.md section
-//! (called from `study`'s quick run), `render --exact` against `--backend float` at
-//! the series' points, and the plots' readable ticks and labels that never overlap.
+//! (called from `study`'s quick run) and the plots' readable ticks and labels that
+//! never overlap.
 
-use assert_cmd::Command;
 use photon_fpga_lab::study::plot_axes::{count, log_ticks, percent, Placer};
 use rand::{Rng, SeedableRng};
 use std::collections::BTreeMap;
 use std::path::Path;
-
-fn bin() -> Command {
-    Command::cargo_bin("photon-fpga-lab").unwrap()
-}
 
 type Record = BTreeMap<String, String>;
 
@@ -96,44 +91,6 @@ pub(crate) fn check_exact_series(out: &Path, md: &str) {
         md.contains("At 10 bits, k = 10: `--exact` (m = ") && md.contains("(exact.png)"),
         "{md}"
     );
-}
-
-/// `render --exact` writes the float render's bytes on the quick study's scene,
-/// photons and image, at the series' coarsest grid (the most fallbacks) with no
-/// extra candidates, a few, and the chosen m: the exact image error against float
-/// is zero, measured here apart from the study's own check.
-#[test]
-fn render_exact_is_the_float_render_at_the_series_points() {
-    let dir = tempfile::tempdir().unwrap();
-    let run = |name: &str, extra: &[&str]| {
-        let out = dir.path().join(name);
-        bin()
-            .args([
-                "render",
-                "--photons",
-                "3000",
-                "--size",
-                "32x32",
-                "--spp",
-                "1",
-            ])
-            .args(["--k", "10", "--out", out.to_str().unwrap()])
-            .args(extra)
-            .assert()
-            .success();
-        std::fs::read(&out).unwrap()
-    };
-    let float = run("float.png", &["--backend", "float"]);
-    let quantized = run("sw.png", &["--bits", "8"]);
-    assert!(quantized != float, "8 bits without --exact should differ");
-    for refine in [Some("0"), Some("4"), None] {
-        let mut args = vec!["--bits", "8", "--exact"];
-        if let Some(m) = refine {
-            args.extend(["--refine", m]);
-        }
-        let exact = run("exact.png", &args);
-        assert!(exact == float, "--exact {refine:?} differs from float");
-    }
 }
 
 /// Ticks a person reads, and labels that never overlap.

@@ -231,3 +231,41 @@ fn exact_refusals_come_before_any_work() {
         "--k must be at least 1",
     );
 }
+
+/// `render --exact` writes the float render's bytes on the study's quick scene,
+/// photons and image (the lab's `--exact` series points), at the series' coarsest grid (the most fallbacks) with no
+/// extra candidates, a few, and the chosen m: the exact image error against float
+/// is zero, measured here apart from the study's own check.
+#[test]
+fn render_exact_is_the_float_render_at_the_series_points() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        bin()
+            .args([
+                "render",
+                "--photons",
+                "3000",
+                "--size",
+                "32x32",
+                "--spp",
+                "1",
+            ])
+            .args(["--k", "10", "--out", out.to_str().unwrap()])
+            .args(extra)
+            .assert()
+            .success();
+        std::fs::read(&out).unwrap()
+    };
+    let float = run("float.png", &["--backend", "float"]);
+    let quantized = run("sw.png", &["--bits", "8"]);
+    assert!(quantized != float, "8 bits without --exact should differ");
+    for refine in [Some("0"), Some("4"), None] {
+        let mut args = vec!["--bits", "8", "--exact"];
+        if let Some(m) = refine {
+            args.extend(["--refine", m]);
+        }
+        let exact = run("exact.png", &args);
+        assert!(exact == float, "--exact {refine:?} differs from float");
+    }
+}
