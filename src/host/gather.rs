@@ -18,9 +18,9 @@ use std::fmt;
 use std::sync::Mutex;
 
 mod fixed_core;
-mod rtl_backend;
+mod sim_backend;
 pub use fixed_core::FixedCore;
-pub use rtl_backend::{run_core, RtlBackend};
+pub use sim_backend::{run_core, SimBackend};
 
 /// Which implementation answers the gathers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -77,7 +77,7 @@ pub struct GatherParams {
     pub traversal: Traversal,
     /// Largest photon map accepted.
     pub capacity: usize,
-    /// The simulated core's options (rtl, verilator): controller, Q, trees,
+    /// The simulated core's options (native, verilator): controller, Q, trees,
     /// pipelining. Its grid and H follow the map; K, metric and traversal are the
     /// fields above.
     pub core: CoreBuilder,
@@ -179,7 +179,7 @@ pub trait GatherBackend: Sync {
 /// Build the backend `kind` over `photons`. Quantized backends put their grid over
 /// the photons alone, so no query changes another's answer; a query outside the
 /// photon box is answered exactly by the host (see [`QuantizedMap::search_outside`]).
-/// `sim` configures the `rtl` simulation (waveform dump); other backends refuse a
+/// `sim` configures the `native` simulation (waveform dump); other backends refuse a
 /// waveform request rather than ignore it.
 pub fn make_backend(
     kind: BackendKind,
@@ -193,13 +193,13 @@ pub fn make_backend(
     Ok(match kind {
         BackendKind::Float => Box::new(FloatBackend::new(photons, params)?),
         BackendKind::Sw => Box::new(SwBackend::new(photons, params)?),
-        BackendKind::Native => Box::new(RtlBackend::new(photons, params, sim.clone())?),
+        BackendKind::Native => Box::new(SimBackend::new(photons, params, sim.clone())?),
         BackendKind::Verilator => {
             let sim = SimOptions {
                 engine: Engine::Verilator,
                 ..sim.clone()
             };
-            Box::new(RtlBackend::new(photons, params, sim)?)
+            Box::new(SimBackend::new(photons, params, sim)?)
         }
     })
 }

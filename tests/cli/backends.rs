@@ -12,7 +12,7 @@ fn each_backend_has_its_own_photon_limit() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("r.png").display().to_string();
     let render = |extra: &[&str]| cmdline(&["render", "--out", &out], extra);
-    for backend in ["rtl", "verilator"] {
+    for backend in ["native", "verilator"] {
         refused(
             dir.path(),
             &render(&["--backend", backend, "--capacity", "2000000"]),

@@ -269,7 +269,7 @@ fn export_verilog_files_and_errors() {
     let export = |extra: &[&str]| cmdline(&["export-verilog", "--out", &bad], extra);
     refused(
         dir.path(),
-        &export(&["--k", "65"]),
+        &export(&["--paper", "--k", "65"]),
         "K = 65 unsupported by the modules controller (1..=64)",
     );
 

@@ -6,7 +6,7 @@
 //! *assumed*).
 
 use photon_fpga::host::error::{Error, Result};
-use photon_fpga::host::gather::{GatherBackend, GatherParams, RtlBackend};
+use photon_fpga::host::gather::{GatherBackend, GatherParams, SimBackend};
 use photon_fpga::host::map::knn;
 use photon_fpga::host::map::quantize::{GridPoint, Point};
 use photon_fpga::hw::config::controller::Controller;
@@ -107,7 +107,7 @@ pub fn simulate(
         engine,
         ..SimOptions::default()
     };
-    let backend = RtlBackend::new(photons, params, options)?;
+    let backend = SimBackend::new(photons, params, options)?;
     let m = &backend.map;
     let inside: Vec<(Point, [u32; 3])> = queries
         .iter()

@@ -1,4 +1,4 @@
-//! The `rtl` and `verilator` backends: every gather through a simulation of the
+//! The `native` and `verilator` backends: every gather through a simulation of the
 //! photon-search core built for the map (or planned for `--device`, or the fixed
 //! core of `--core FILE`).
 
@@ -9,7 +9,7 @@ use crate::host::device::banked_core;
 /// native one for `rtl`, the exported Verilog under Verilator for `verilator`),
 /// with the options of `GatherParams::core` built for this map ("model only what
 /// the scene needs": `CoreBuilder::build_for`).
-pub struct RtlBackend {
+pub struct SimBackend {
     pub map: QuantizedMap,
     pub config: CoreConfig,
     /// Q was not given: it is sized from each batch of queries
@@ -20,7 +20,7 @@ pub struct RtlBackend {
     pub stats: Mutex<Vec<SimStats>>,
 }
 
-impl RtlBackend {
+impl SimBackend {
     pub fn new(photons: &[Point], params: &GatherParams, options: SimOptions) -> Result<Self> {
         let map = QuantizedMap::new(photons, params)?;
         let config = match &params.fixed {
@@ -40,7 +40,7 @@ impl RtlBackend {
             .build_for(map.tree.image())?,
         };
         map.check_radius(&config, params.fixed.as_ref())?;
-        Ok(RtlBackend {
+        Ok(SimBackend {
             map,
             config,
             fit_q: params.fixed.is_none() && params.core.given_queries_per_port().is_none(),
@@ -50,7 +50,7 @@ impl RtlBackend {
     }
 }
 
-impl GatherBackend for RtlBackend {
+impl GatherBackend for SimBackend {
     fn name(&self) -> &'static str {
         match self.options.engine {
             Engine::Native => "rtl",
