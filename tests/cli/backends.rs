@@ -43,7 +43,7 @@ fn core_options_are_refused_by_name() {
     let v = dir.path().join("v").display().to_string();
     let render = |extra: &[&str]| cmdline(&["render", "--out", &out, "--backend", "rtl"], extra);
     // Q has one name for both controllers; the old two are gone.
-    for old in ["--queries-per-port", "--queries-per-port"] {
+    for old in ["--modules-per-port", "--slots-per-port"] {
         refused(
             dir.path(),
             &render(&[old, "4"]),
