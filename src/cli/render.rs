@@ -9,7 +9,8 @@ use photon_fpga::host::limits::{self, MAX_EMITTED};
 use photon_fpga::host::output::Output;
 use photon_fpga::host::render::photons;
 use photon_fpga::host::render::scene::Scene;
-use photon_fpga::host::render::{self, RenderSettings};
+use photon_fpga::host::render::two_pass::{self, PhotonMaps};
+use photon_fpga::host::render::{self, caustics, RenderMethod, RenderSettings};
 use photon_fpga::host::stages::StageTimes;
 use std::path::PathBuf;
 
@@ -40,6 +41,14 @@ pub struct RenderArgs {
     /// Eye samples per pixel.
     #[arg(long, default_value_t = 4)]
     pub spp: u32,
+    /// How photons become pixels. With two-pass and no --radius, every lookup is
+    /// capped at 5 % of the photon map's longest extent.
+    #[arg(long, value_enum, default_value_t = RenderMethod::Direct)]
+    pub method: RenderMethod,
+    /// With --method two-pass: final-gather rays per shading point, 1..=4096
+    /// [default: 16].
+    #[arg(long)]
+    pub gather_rays: Option<u32>,
     /// Seed of every random choice; the same seed gives the same image.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -69,10 +78,11 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     set_threads(args.opts.threads)?;
     // A radiance estimate wants more photons than a plain gather.
     args.opts.check()?;
-    let params = args.opts.params(32)?;
+    let mut params = args.opts.params(32)?;
     params.validate(1)?;
     // Everything that can be refused is refused before any photon is traced.
     check_photons_and_spp(args.photons, args.spp)?;
+    let gather_rays = check_method(args)?;
     limits::check_photon_memory(params.capacity)?;
     if let Some(e) = args.exposure {
         limits::check_positive("--exposure", e as f64)?;
@@ -101,10 +111,12 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     if let Some(e) = args.exposure {
         settings.exposure = e;
     }
+    settings.method = args.method;
+    settings.gather_rays = gather_rays;
     let mut t = StageTimes::default();
-    let photons = t
+    let (photons, caustic) = t
         .time("photon emission", || {
-            photons::trace_photons_capped(&scene, args.photons, args.seed, true, params.capacity)
+            photons::trace_photon_paths(&scene, args.photons, args.seed, true, params.capacity)
         })
         .ok_or_else(|| {
             Error::new(match &params.fixed {
@@ -122,18 +134,51 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     if photons.is_empty() {
         return Err(Error::new("no photon reached a diffuse surface"));
     }
+    if args.method == RenderMethod::TwoPass && params.radius.is_none() {
+        params.radius = Some(two_pass::default_radius(&photons));
+    }
     let positions = render::photon_points(&photons);
     let backend = t.time("kd-tree build", || {
         args.opts.backend(&positions, &params, &args.opts.sim(&vcd))
     })?;
-    let pass = render::render_image(
-        &scene,
-        &settings,
-        &photons,
-        backend.as_ref(),
-        &params,
-        &mut t,
-    )?;
+    let pass = match args.method {
+        RenderMethod::Direct => render::render_image(
+            &scene,
+            &settings,
+            &photons,
+            backend.as_ref(),
+            &params,
+            &mut t,
+        )?,
+        RenderMethod::TwoPass => {
+            let caustic = caustics::caustic_photons(&photons, &caustic);
+            let caustic_backend = match caustic.is_empty() {
+                true => None,
+                false => Some(t.time("kd-tree build", || {
+                    let positions = render::photon_points(&caustic);
+                    args.opts
+                        .backend(&positions, &params, &args.opts.sim(&None))
+                })?),
+            };
+            let maps = PhotonMaps {
+                global: (backend.as_ref(), &photons),
+                caustic: caustic_backend.as_deref().map(|b| (b, caustic.as_slice())),
+            };
+            let (pass, stats) =
+                two_pass::render_two_pass(&scene, &settings, &maps, &params, &mut t)?;
+            println!(
+                "two-pass: {} shading points; {} caustic photons, {} caustic lookups; \
+                 {gather_rays} gather rays per point, {} final-gather lookups; lookup radius \
+                 cap {:.6}",
+                stats.shading_points,
+                caustic.len(),
+                stats.caustic_lookups,
+                stats.gather_lookups,
+                params.radius.unwrap_or(f64::INFINITY)
+            );
+            pass
+        }
+    };
     t.time("other", || render::save_png(&pass.image, &out))?;
     if let Some(v) = vcd {
         v.commit()?;
@@ -156,6 +201,33 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     println!("{t}");
     println!("wrote {}", args.out.display());
     Ok(())
+}
+
+/// `--method` and `--gather-rays`: the final-gather rays per shading point of a
+/// two-pass render; refused before any photon is traced.
+fn check_method(args: &RenderArgs) -> Result<u32> {
+    match (args.method, args.gather_rays) {
+        (RenderMethod::Direct, Some(_)) => Err(Error::new(
+            "--gather-rays sets the final gather of --method two-pass; --method direct \
+             gathers none",
+        )),
+        (RenderMethod::Direct, None) => Ok(render::DEFAULT_GATHER_RAYS),
+        (RenderMethod::TwoPass, n) => {
+            let n = n.unwrap_or(render::DEFAULT_GATHER_RAYS);
+            if !(1..=4096).contains(&n) {
+                return Err(Error::new(format!(
+                    "--gather-rays must be in 1..=4096, got {n}"
+                )));
+            }
+            if args.opts.vcd.is_some() {
+                return Err(Error::new(
+                    "--vcd records one simulation of one map; --method two-pass gathers from \
+                     two maps in many batches (give --method direct)",
+                ));
+            }
+            Ok(n)
+        }
+    }
 }
 
 /// `--photons` and `--spp` of a traced scene (render, banking): refused before any

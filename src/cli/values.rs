@@ -116,6 +116,7 @@ pub fn all_value_lists() -> Vec<Vec<String>> {
         names::<BankPortsArg>(),
         names::<EngineArg>(),
         names::<photon_fpga::host::gather::BackendKind>(),
+        names::<photon_fpga::host::render::RenderMethod>(),
         names::<super::bench_core::WorkloadKind>(),
         names::<super::export::InterfaceArg>(),
         names::<DeviceArg>(),
