@@ -4,6 +4,7 @@
 //! backends and thread counts, and its image against an independent path tracer.
 
 use assert_cmd::Command;
+use glam::Vec3;
 use photon_fpga::host::exact::ExactBackend;
 use photon_fpga::host::gather::{
     make_backend, BackendKind, FloatBackend, GatherBackend, GatherParams, Gathered, SwBackend,
@@ -13,7 +14,11 @@ use photon_fpga::host::render::caustics::caustic_photons;
 use photon_fpga::host::render::final_gather::gather_hit;
 use photon_fpga::host::render::photons::{trace_photon_paths, Photon};
 use photon_fpga::host::render::scene::{Ray, Scene, Surface};
-use photon_fpga::host::render::{eye_queries, photon_points, RenderSettings};
+use photon_fpga::host::render::two_pass::{default_radius, render_two_pass, PhotonMaps};
+use photon_fpga::host::render::{
+    eye_queries, photon_points, render_image, RenderMethod, RenderSettings,
+};
+use photon_fpga::host::stages::StageTimes;
 use photon_fpga::hw::metric::Metric;
 use photon_fpga::hw::rtl::native::SimOptions;
 use rand::{Rng, SeedableRng};
@@ -404,4 +409,116 @@ fn two_pass_options_refuse_bad_input() {
         assert!(!stderr.contains("panicked"), "{stderr}");
         assert!(!out.exists() && !vcd.exists());
     }
+}
+#[path = "two_pass_reference.rs"]
+mod reference;
+
+/// Relative RMS error of linear radiance against `reference`, over all channels.
+fn rel_rmse(img: &[Vec3], reference: &[Vec3]) -> f64 {
+    let (mut err, mut norm) = (0.0f64, 0.0f64);
+    for (a, b) in img.iter().zip(reference) {
+        for c in 0..3 {
+            err += ((a[c] - b[c]) as f64).powi(2);
+            norm += (b[c] as f64).powi(2);
+        }
+    }
+    (err / norm).sqrt()
+}
+
+/// Each pixel's reflected radiance: `linear` less the emission its eye paths saw
+/// before any diffuse point (the same in every method; the reference leaves it out,
+/// since the light's antialiasing noise at its edges would swamp the comparison).
+fn reflected(scene: &Scene, settings: &RenderSettings, linear: &[Vec3]) -> Vec<Vec3> {
+    let (_, emitted) = eye_queries(scene, settings);
+    linear.iter().zip(&emitted).map(|(l, e)| *l - *e).collect()
+}
+
+/// Against an independent path tracer, at matched photon lookups (the direct
+/// method gets at least as many eye samples as the two-pass render makes caustic
+/// and final-gather lookups), two-pass is closer than the direct visualization on a
+/// sparse map (20,000 emitted photons): final gathering averages the map's
+/// blotches away, where the direct method shows them however many samples it
+/// takes.
+#[test]
+fn two_pass_beats_direct_at_matched_lookups_against_a_path_tracer() {
+    let scene = Scene::cornell_box();
+    let (w, h) = (32, 32);
+    let reference = reference::path_trace(&scene, w, h, 4096, 77, usize::MAX);
+    let (photons, caustic) = trace(&scene, 20_000, 2);
+    let params = GatherParams {
+        k: 32,
+        radius: Some(default_radius(&photons)),
+        ..GatherParams::default()
+    };
+    let global = FloatBackend::new(&photon_points(&photons), &params).unwrap();
+    let caustic = caustic_photons(&photons, &caustic);
+    let caustic_map = FloatBackend::new(&photon_points(&caustic), &params).unwrap();
+    let two = RenderSettings {
+        width: w,
+        height: h,
+        spp: 16,
+        seed: 2,
+        method: RenderMethod::TwoPass,
+        gather_rays: 16,
+        ..RenderSettings::default()
+    };
+    let maps = PhotonMaps {
+        global: (&global, &photons),
+        caustic: Some((&caustic_map, &caustic)),
+    };
+    let mut t = StageTimes::default();
+    let (two_pass, stats) = render_two_pass(&scene, &two, &maps, &params, &mut t).unwrap();
+    let lookups = stats.caustic_lookups + stats.gather_lookups;
+    assert_eq!(two_pass.queries as u64, lookups);
+    // Eye samples that escape make no query: a few more samples than lookups.
+    let spp = (1.05 * lookups as f64 / (w * h) as f64).ceil() as u32;
+    let direct = RenderSettings {
+        width: w,
+        height: h,
+        spp,
+        seed: 2,
+        ..RenderSettings::default()
+    };
+    let unbounded = GatherParams {
+        k: 32,
+        ..GatherParams::default()
+    };
+    let direct_map = FloatBackend::new(&photon_points(&photons), &unbounded).unwrap();
+    let pass = render_image(&scene, &direct, &photons, &direct_map, &unbounded, &mut t).unwrap();
+    assert!(
+        pass.queries as u64 >= lookups,
+        "{} < {lookups}",
+        pass.queries
+    );
+    let e_two = rel_rmse(&reflected(&scene, &two, &two_pass.linear), &reference);
+    let e_direct = rel_rmse(&reflected(&scene, &direct, &pass.linear), &reference);
+    assert!(
+        e_two < 0.85 * e_direct,
+        "two-pass {e_two:.4} vs direct {e_direct:.4} at {lookups} lookups (direct spp {spp})"
+    );
+}
+
+/// The two-pass direct term (shadow rays) against the path tracer stopped at its
+/// first diffuse vertex (next-event estimation there, nothing after): both are
+/// unbiased estimates of the same direct light, so they agree up to noise.
+#[test]
+fn direct_light_matches_path_traced_direct_light() {
+    let scene = Scene::cornell_box();
+    let (w, h) = (24, 24);
+    let reference = reference::path_trace(&scene, w, h, 1024, 5, 1);
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        spp: 64,
+        ..RenderSettings::default()
+    };
+    let (points, _) = eye_queries(&scene, &settings);
+    let direct = photon_fpga::host::render::direct_light::direct_light(&scene, &points, 1);
+    let zero = vec![Vec3::ZERO; (w * h) as usize];
+    let img = photon_fpga::host::render::pixel_radiance(w, h, &points, &direct, &zero);
+    let mean = |v: &[Vec3]| v.iter().map(|c| c.element_sum() as f64).sum::<f64>();
+    let (a, b) = (mean(&img), mean(&reference));
+    assert!((a - b).abs() < 0.01 * b, "mean {a} vs reference {b}");
+    let e = rel_rmse(&img, &reference);
+    assert!(e < 0.05, "rel. RMSE {e:.4}");
 }
