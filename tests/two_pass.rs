@@ -522,3 +522,39 @@ fn direct_light_matches_path_traced_direct_light() {
     let e = rel_rmse(&img, &reference);
     assert!(e < 0.05, "rel. RMSE {e:.4}");
 }
+
+/// `--out NAME.pfm` writes the linear radiance the PNG of the same render encodes:
+/// exposed, clamped and gamma-encoded, each PFM value gives the PNG's byte.
+#[test]
+fn pfm_output_is_the_linear_radiance_of_the_png() {
+    let (png, _) = two_pass_png(&[]);
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r.pfm");
+    bin()
+        .args([
+            "render", "--method", "two-pass", "--size", "10x8", "--spp", "1",
+        ])
+        .args(["--photons", "3000", "--k", "8", "--gather-rays", "4"])
+        .args(["--out", out.to_str().unwrap()])
+        .assert()
+        .success();
+    let bytes = std::fs::read(&out).unwrap();
+    let header = b"PF\n10 8\n-1.0\n";
+    assert_eq!(&bytes[..header.len()], header);
+    let floats: Vec<f32> = bytes[header.len()..]
+        .chunks(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    assert_eq!(floats.len(), 10 * 8 * 3);
+    let img = image::load_from_memory(&png).unwrap().to_rgb8();
+    let exposure = photon_fpga::host::render::DEFAULT_EXPOSURE;
+    for (y, row) in floats.chunks(10 * 3).rev().enumerate() {
+        for (x, c) in row.chunks(3).enumerate() {
+            let want = img.get_pixel(x as u32, y as u32).0;
+            for (v, w) in c.iter().zip(want) {
+                let e = ((v * exposure).clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0 + 0.5) as u8;
+                assert_eq!(e, w, "pixel ({x}, {y})");
+            }
+        }
+    }
+}

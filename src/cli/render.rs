@@ -55,7 +55,7 @@ pub struct RenderArgs {
     /// Exposure multiplier applied before tone mapping.
     #[arg(long, allow_negative_numbers = true)]
     pub exposure: Option<f32>,
-    /// Output PNG.
+    /// Output PNG; a name ending in .pfm writes linear radiance (PFM) instead.
     #[arg(long, default_value = "render.png")]
     pub out: PathBuf,
 }
@@ -179,7 +179,10 @@ pub fn render(args: &RenderArgs) -> Result<()> {
             pass
         }
     };
-    t.time("other", || render::save_png(&pass.image, &out))?;
+    t.time("other", || match render::pfm::is_pfm(&args.out) {
+        true => render::pfm::save_pfm(w, h, &pass.linear, &out),
+        false => render::save_png(&pass.image, &out),
+    })?;
     if let Some(v) = vcd {
         v.commit()?;
     }

@@ -8,6 +8,7 @@ pub mod final_gather;
 pub mod geometry;
 pub mod l1_area;
 pub mod lookup;
+pub mod pfm;
 pub mod photons;
 pub mod renderer;
 pub mod scene;
