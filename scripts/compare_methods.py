@@ -10,8 +10,9 @@ Mitsuba 3's path tracer, each against the converged Mitsuba reference.
 writes OUT.md (the table), OUT.csv and OUT.png (error against time, the
 non-dominated front drawn). Error: relative RMS error of linear RGB radiance over
 the whole image, sqrt(sum (x - ref)^2 / sum ref^2); also over the pixels where the
-reference does not see the light (its maximum channel below 5: the light's own
-pixels, ~30 to 60, weigh more than the rest of the image together). Time: the
+reference does not see the light, directly or in the mirror, nor does a neighbour
+(`light_mask`: the light's own pixels, ~30 to 60, weigh more than the rest of the
+image together, and the error there is the antialiasing of its edges). Time: the
 wall time of the whole `render` process (photon trace, kd-tree build, eye pass,
 output) for photon-fpga, and of `mi.render` alone (scene loaded) for Mitsuba, on the
 same threads.
@@ -41,9 +42,21 @@ def read_pfm(path):
     return a[::-1].astype(np.float64)
 
 
+def light_mask(reference):
+    """True where the reference does not see the light (maximum channel below 5),
+    nor does any of the pixel's 8 neighbours: a pixel the light's edge crosses is
+    partly covered, and a few eye samples make it all light or none."""
+    bright = reference.max(axis=2) >= 5.0
+    grown = bright.copy()
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            grown |= np.roll(np.roll(bright, dy, axis=0), dx, axis=1)
+    return ~grown
+
+
 def errors(img, reference):
     full = np.sqrt(((img - reference) ** 2).sum() / (reference**2).sum())
-    mask = (reference.max(axis=2) < 5.0)[:, :, None]
+    mask = light_mask(reference)[:, :, None]
     masked = np.sqrt((((img - reference) ** 2) * mask).sum() / ((reference**2) * mask).sum())
     return full, masked
 
@@ -89,10 +102,10 @@ def main():
         print(f"{method:10} {setting:28} {t:7.2f} s  {full:.4f}  {masked:.4f}", flush=True)
 
     photons = 200_000
-    for spp in [1, 4, 16, 64, 256]:
+    for spp in [1, 4, 16, 64, 256, 1024]:
         t, img = run_render(a.bin, size, a.threads, "direct", spp, 0, photons, 1)
         add("direct", f"spp {spp}, {photons} photons", t, img)
-    for spp, rays in [(1, 4), (1, 16), (4, 4), (4, 16), (16, 4), (16, 16), (64, 4)]:
+    for spp, rays in [(1, 4), (1, 16), (4, 4), (4, 16), (16, 4), (16, 16), (64, 4), (256, 4)]:
         t, img = run_render(a.bin, size, a.threads, "two-pass", spp, rays, photons, 1)
         add("two-pass", f"spp {spp}, {rays} rays, {photons} photons", t, img)
     import mitsuba as mi
@@ -103,13 +116,16 @@ def main():
 
     with open(a.scene, "rb") as f:
         scene = tomllib.load(f)
-    for spp in [4, 16, 64, 256, 1024]:
+    for spp in [4, 16, 64, 256, 1024, 4096]:
         s = mi.load_dict(ref.scene_dict(mi, scene, (size, size), spp))
         t0 = time.perf_counter()
         img = np.array(mi.render(s, seed=987654, spp=spp), dtype=np.float64)[:, :, :3]
         add("mitsuba", f"path tracer, spp {spp}", time.perf_counter() - t0, img)
 
-    front = set(pareto(rows))
+    # A point is on the front if no other is at least as fast and at least as good,
+    # on either error.
+    front = set(pareto(rows)) | set(
+        pareto([dict(r, error=r["masked"]) for r in rows]))
     with open(a.out + ".csv", "w") as f:
         f.write("method,setting,seconds,rel_rmse,rel_rmse_without_light,front\n")
         for i, r in enumerate(rows):
@@ -121,7 +137,7 @@ def main():
         f.write(f"Cornell box, {size}x{size}, {a.threads} threads, against "
                 f"`{a.reference}` (Mitsuba 3 path tracer; scripts/mitsuba_reference.py).\n\n")
         f.write("| method | setting | wall s | rel. RMSE | without the light's pixels | "
-                "non-dominated |\n|---|---|---:|---:|---:|---|\n")
+                "non-dominated (either error) |\n|---|---|---:|---:|---:|---|\n")
         for i, r in enumerate(sorted(rows, key=lambda r: r["time"])):
             f.write(f"| {r['method']} | {r['setting']} | {r['time']:.2f} | {r['error']:.4f} | "
                     f"{r['masked']:.4f} | {'yes' if rows.index(r) in front else ''} |\n")
@@ -135,14 +151,15 @@ def main():
         return
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     for method, marker in [("direct", "o"), ("two-pass", "s"), ("mitsuba", "^")]:
-        pts = sorted((r["time"], r["error"]) for r in rows if r["method"] == method)
+        pts = sorted((r["time"], r["masked"]) for r in rows if r["method"] == method)
         ax.plot(*zip(*pts), marker=marker, label=method)
-    fr = sorted((rows[i]["time"], rows[i]["error"]) for i in front)
+    masked_rows = [dict(r, error=r["masked"]) for r in rows]
+    fr = sorted((masked_rows[i]["time"], masked_rows[i]["error"]) for i in pareto(masked_rows))
     ax.step(*zip(*fr), where="post", color="k", linestyle=":", label="non-dominated front")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel(f"wall time, s ({a.threads} threads)")
-    ax.set_ylabel("rel. RMSE of linear radiance")
+    ax.set_ylabel("rel. RMSE of linear radiance, without the light's pixels")
     ax.set_title(f"Cornell box {size}x{size} against a Mitsuba 3 reference")
     ax.legend()
     fig.tight_layout()
