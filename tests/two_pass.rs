@@ -394,7 +394,7 @@ fn two_pass_options_refuse_bad_input() {
                 "--vcd",
                 vcd.to_str().unwrap(),
             ],
-            "--vcd records one simulation of one map",
+            "--vcd (or PHOTON_FPGA_VCD) records one simulation of one map",
         ),
     ];
     for (args, message) in cases {

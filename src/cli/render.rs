@@ -222,10 +222,11 @@ fn check_method(args: &RenderArgs) -> Result<u32> {
                     "--gather-rays must be in 1..=4096, got {n}"
                 )));
             }
-            if args.opts.vcd.is_some() {
+            let env_vcd = std::env::var_os(photon_fpga::hw::rtl::native::VCD_ENV).is_some();
+            if args.opts.vcd.is_some() || (env_vcd && args.opts.backend.simulates()) {
                 return Err(Error::new(
-                    "--vcd records one simulation of one map; --method two-pass gathers from \
-                     two maps in many batches (give --method direct)",
+                    "--vcd (or PHOTON_FPGA_VCD) records one simulation of one map; --method \
+                     two-pass gathers from two maps in many batches (give --method direct)",
                 ));
             }
             Ok(n)

@@ -48,7 +48,7 @@ pub fn caustic_light(
         return Ok((Vec::new(), 0));
     }
     let gathered = times.time("kd-tree search", || {
-        gather_sorted(backend, &query_points(points))
+        gather_sorted(backend, &query_points(points), params.k)
     })?;
     let visited = gathered.iter().map(|g| g.visited as u64).sum();
     let l = times.time("other", || {

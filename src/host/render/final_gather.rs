@@ -29,7 +29,7 @@
 
 use crate::host::error::Result;
 use crate::host::gather::{GatherBackend, GatherParams};
-use crate::host::render::lookup::{gather_sorted, MAX_BATCH};
+use crate::host::render::lookup::{gather_sorted, max_batch};
 use crate::host::render::photons::{stream_rng, Photon};
 use crate::host::render::renderer::{query_points, radiance, QueryPoint, MAX_EYE_DEPTH};
 use crate::host::render::scene::{
@@ -119,7 +119,7 @@ fn trace_gather_rays(
 /// Indirect radiance reflected toward the eye at each shading point, in `points`'
 /// order, from `rays` gather rays each; the lookups go through `backend` (the
 /// global map over `photons`, built with `params`) in Morton-sorted batches of at
-/// most [`MAX_BATCH`]. Ray tracing is charged to "ray emission", the lookups to
+/// most [`max_batch`]. Ray tracing is charged to "ray emission", the lookups to
 /// "kd-tree search", the estimates to "other" (paper Fig. 2's stages).
 ///
 /// Deterministic for any thread count: each point's rays come from its own RNG
@@ -141,7 +141,7 @@ pub fn indirect_light(
     if rays == 0 {
         return Ok((vec![Vec3::ZERO; points.len()], stats));
     }
-    let block = (MAX_BATCH / rays as usize).max(1);
+    let block = (max_batch(params.k) / rays as usize).max(1);
     for (b, chunk) in points.chunks(block).enumerate() {
         let first = b * block;
         let hits: Vec<Vec<Option<DiffuseHit>>> = times.time("ray emission", || {
@@ -174,7 +174,7 @@ pub fn indirect_light(
             continue;
         }
         let gathered = times.time("kd-tree search", || {
-            gather_sorted(backend, &query_points(&lookups))
+            gather_sorted(backend, &query_points(&lookups), params.k)
         })?;
         stats.lookups += lookups.len() as u64;
         stats.visited += gathered.iter().map(|g| g.visited as u64).sum::<u64>();

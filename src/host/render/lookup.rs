@@ -14,9 +14,15 @@ use crate::host::error::Result;
 use crate::host::gather::{GatherBackend, Gathered};
 use crate::host::map::quantize::Point;
 
-/// Most lookups in one batch: bounds the memory of the gathered photons (k = 32:
-/// about 140 MB) whatever the image size and gather-ray count.
-pub const MAX_BATCH: usize = 1 << 18;
+/// Most gathered photons held at once (16 bytes each: 128 MiB), whatever the image
+/// size, the gather-ray count and k.
+const MAX_NEIGHBOURS: usize = 1 << 23;
+
+/// Most lookups in one batch of `k`-nearest gathers: [`MAX_NEIGHBOURS`] / k (2^18
+/// at k = 32), at least one.
+pub fn max_batch(k: usize) -> usize {
+    (MAX_NEIGHBOURS / k.max(1)).max(1)
+}
 
 /// Morton code bits per axis (30-bit codes): finer than any image's hits need to
 /// group them.
@@ -62,15 +68,20 @@ pub fn morton_codes(points: &[Point]) -> Vec<u32> {
         .collect()
 }
 
-/// Gather `points` through `backend` in Morton order (ties by position in
-/// `points`, so the order is a function of the points alone), at most
-/// [`MAX_BATCH`] per backend call; the answers in `points`' order.
-pub fn gather_sorted(backend: &dyn GatherBackend, points: &[Point]) -> Result<Vec<Gathered>> {
+/// Gather `points` through `backend` (whose gathers return at most `k` photons) in
+/// Morton order (ties by position in `points`, so the order is a function of the
+/// points alone), at most [`max_batch`] per backend call; the answers in `points`'
+/// order.
+pub fn gather_sorted(
+    backend: &dyn GatherBackend,
+    points: &[Point],
+    k: usize,
+) -> Result<Vec<Gathered>> {
     let codes = morton_codes(points);
     let mut order: Vec<u32> = (0..points.len() as u32).collect();
     order.sort_unstable_by_key(|&i| (codes[i as usize], i));
     let mut out = vec![Gathered::default(); points.len()];
-    for chunk in order.chunks(MAX_BATCH) {
+    for chunk in order.chunks(max_batch(k)) {
         let batch: Vec<Point> = chunk.iter().map(|&i| points[i as usize]).collect();
         for (&i, g) in chunk.iter().zip(backend.gather(&batch)?) {
             out[i as usize] = g;
@@ -114,7 +125,10 @@ mod tests {
             .collect();
         let codes = morton_codes(&queries);
         assert!(codes.windows(2).any(|w| w[0] > w[1]), "already sorted");
-        let sorted = gather_sorted(&backend, &queries).unwrap();
-        assert_eq!(sorted, backend.gather(&queries).unwrap());
+        let want = backend.gather(&queries).unwrap();
+        assert_eq!(gather_sorted(&backend, &queries, 5).unwrap(), want);
+        // Many batches (k beyond the budget: one query each) give the same answers.
+        assert_eq!(max_batch(usize::MAX), 1);
+        assert_eq!(gather_sorted(&backend, &queries, usize::MAX).unwrap(), want);
     }
 }
