@@ -490,8 +490,17 @@ fn two_pass_beats_direct_at_matched_lookups_against_a_path_tracer() {
         "{} < {lookups}",
         pass.queries
     );
-    let e_two = rel_rmse(&reflected(&scene, &two, &two_pass.linear), &reference);
+    let two_pass = reflected(&scene, &two, &two_pass.linear);
+    let e_two = rel_rmse(&two_pass, &reference);
     let e_direct = rel_rmse(&reflected(&scene, &direct, &pass.linear), &reference);
+    // No path counted twice or missed: the image's total light is the reference's
+    // (a doubled direct or caustic term would add tens of percent).
+    let total = |v: &[Vec3]| v.iter().map(|c| c.element_sum() as f64).sum::<f64>();
+    let (a, b) = (total(&two_pass), total(&reference));
+    assert!(
+        (a - b).abs() < 0.03 * b,
+        "two-pass total {a} vs reference {b}"
+    );
     assert!(
         e_two < 0.85 * e_direct,
         "two-pass {e_two:.4} vs direct {e_direct:.4} at {lookups} lookups (direct spp {spp})"
