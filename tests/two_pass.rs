@@ -314,12 +314,20 @@ fn two_pass_rtl_render_is_byte_identical_to_sw() {
     assert!(rtl == sw, "two-pass: rtl and sw renders differ");
 }
 
+/// Through the exported Verilog under Verilator: `sw`'s image, and with `--exact`
+/// `float`'s.
 #[test]
 #[cfg_attr(not(has_verilator), ignore = "needs verilator")]
-fn two_pass_verilator_render_is_byte_identical_to_sw() {
+fn two_pass_verilator_render_is_byte_identical_to_sw_and_exact_to_float() {
     let (sw, _) = two_pass_png(&["--backend", "sw"]);
     let (v, _) = two_pass_png(&["--backend", "verilator"]);
     assert!(v == sw, "two-pass: verilator and sw renders differ");
+    let (float, _) = two_pass_png(&["--backend", "float"]);
+    let (exact, out) = two_pass_png(&["--backend", "verilator", "--exact"]);
+    assert!(
+        exact == float,
+        "two-pass: verilator --exact and float differ: {out}"
+    );
 }
 
 #[test]

@@ -9,8 +9,8 @@ use photon_fpga::host::limits::{self, MAX_EMITTED};
 use photon_fpga::host::output::Output;
 use photon_fpga::host::render::photons;
 use photon_fpga::host::render::scene::Scene;
-use photon_fpga::host::render::two_pass::{self, PhotonMaps};
-use photon_fpga::host::render::{self, caustics, RenderMethod, RenderSettings};
+use photon_fpga::host::render::two_pass;
+use photon_fpga::host::render::{self, RenderMethod, RenderSettings};
 use photon_fpga::host::stages::StageTimes;
 use std::path::PathBuf;
 
@@ -141,44 +141,29 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     let backend = t.time("kd-tree build", || {
         args.opts.backend(&positions, &params, &args.opts.sim(&vcd))
     })?;
-    let pass = match args.method {
-        RenderMethod::Direct => render::render_image(
-            &scene,
-            &settings,
-            &photons,
-            backend.as_ref(),
-            &params,
-            &mut t,
-        )?,
-        RenderMethod::TwoPass => {
-            let caustic = caustics::caustic_photons(&photons, &caustic);
-            let caustic_backend = match caustic.is_empty() {
-                true => None,
-                false => Some(t.time("kd-tree build", || {
-                    let positions = render::photon_points(&caustic);
-                    args.opts
-                        .backend(&positions, &params, &args.opts.sim(&None))
-                })?),
-            };
-            let maps = PhotonMaps {
-                global: (backend.as_ref(), &photons),
-                caustic: caustic_backend.as_deref().map(|b| (b, caustic.as_slice())),
-            };
-            let (pass, stats) =
-                two_pass::render_two_pass(&scene, &settings, &maps, &params, &mut t)?;
-            println!(
-                "two-pass: {} shading points; {} caustic photons, {} caustic lookups; \
-                 {gather_rays} gather rays per point, {} final-gather lookups; lookup radius \
-                 cap {:.6}",
-                stats.shading_points,
-                caustic.len(),
-                stats.caustic_lookups,
-                stats.gather_lookups,
-                params.radius.unwrap_or(f64::INFINITY)
-            );
-            pass
-        }
-    };
+    let sim = args.opts.sim(&None);
+    let (pass, two_pass) = two_pass::render_method(
+        &scene,
+        &settings,
+        &photons,
+        &caustic,
+        backend.as_ref(),
+        &|p| args.opts.backend(p, &params, &sim),
+        &params,
+        &mut t,
+    )?;
+    if let Some(s) = two_pass {
+        println!(
+            "two-pass: {} shading points; {} caustic photons, {} caustic lookups; \
+             {gather_rays} gather rays per point, {} final-gather lookups; lookup radius cap \
+             {:.6}",
+            s.shading_points,
+            s.caustic_photons,
+            s.caustic_lookups,
+            s.gather_lookups,
+            params.radius.unwrap_or(f64::INFINITY)
+        );
+    }
     t.time("other", || match render::pfm::is_pfm(&args.out) {
         true => render::pfm::save_pfm(w, h, &pass.linear, &out),
         false => render::save_png(&pass.image, &out),

@@ -23,11 +23,15 @@
 
 use crate::host::error::Result;
 use crate::host::gather::{GatherBackend, GatherParams};
-use crate::host::render::caustics::caustic_light;
+use crate::host::map::quantize::Point;
+use crate::host::render::caustics::{caustic_light, caustic_photons};
 use crate::host::render::direct_light::direct_light;
 use crate::host::render::final_gather::indirect_light;
 use crate::host::render::photons::Photon;
-use crate::host::render::renderer::{encode, eye_queries, pixel_radiance, EyePass, RenderSettings};
+use crate::host::render::renderer::{
+    encode, eye_queries, photon_points, pixel_radiance, render_image, EyePass, RenderMethod,
+    RenderSettings,
+};
 use crate::host::render::scene::Scene;
 use crate::host::stages::StageTimes;
 
@@ -66,6 +70,8 @@ pub struct PhotonMaps<'a> {
 /// What the two-pass eye pass did, beside the image.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct TwoPassStats {
+    /// Photons in the caustic map.
+    pub caustic_photons: u64,
     /// Shading points (eye paths that reached a diffuse surface).
     pub shading_points: u64,
     /// Caustic-map lookups (one per shading point when there is a caustic map).
@@ -114,6 +120,7 @@ pub fn render_two_pass(
         encode(settings.width, settings.height, &linear, settings.exposure)
     });
     let stats = TwoPassStats {
+        caustic_photons: maps.caustic.map_or(0, |c| c.1.len() as u64),
         shading_points: points.len() as u64,
         caustic_lookups: if maps.caustic.is_some() {
             points.len() as u64
@@ -132,4 +139,40 @@ pub fn render_two_pass(
         },
         stats,
     ))
+}
+
+/// Loads a photon map (positions) into a gather backend, as the caller's options
+/// build them.
+pub type BuildBackend<'a> = dyn Fn(&[Point]) -> Result<Box<dyn GatherBackend>> + 'a;
+
+/// Pass 2 by `settings.method` on the photon map `photons` (already loaded in
+/// `global`; `caustic` flags its specular-only photons): the direct method's
+/// [`render_image`], or the two-pass render with a caustic map that `build` loads
+/// into a backend like `global` (charged to "kd-tree build"), and its statistics.
+#[allow(clippy::too_many_arguments)]
+pub fn render_method(
+    scene: &Scene,
+    settings: &RenderSettings,
+    photons: &[Photon],
+    caustic: &[bool],
+    global: &dyn GatherBackend,
+    build: &BuildBackend,
+    params: &GatherParams,
+    times: &mut StageTimes,
+) -> Result<(EyePass, Option<TwoPassStats>)> {
+    if settings.method == RenderMethod::Direct {
+        let pass = render_image(scene, settings, photons, global, params, times)?;
+        return Ok((pass, None));
+    }
+    let caustic = caustic_photons(photons, caustic);
+    let caustic_map = match caustic.is_empty() {
+        true => None,
+        false => Some(times.time("kd-tree build", || build(&photon_points(&caustic)))?),
+    };
+    let maps = PhotonMaps {
+        global: (global, photons),
+        caustic: caustic_map.as_deref().map(|b| (b, caustic.as_slice())),
+    };
+    let (pass, stats) = render_two_pass(scene, settings, &maps, params, times)?;
+    Ok((pass, Some(stats)))
 }
