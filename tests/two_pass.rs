@@ -575,3 +575,20 @@ fn pfm_output_is_the_linear_radiance_of_the_png() {
         }
     }
 }
+
+/// A scene without mirrors or glass has no caustic photons: no caustic map, no
+/// caustic lookups, and the render still succeeds.
+#[test]
+fn two_pass_without_specular_surfaces_has_no_caustic_map() {
+    let text = include_str!("../scenes/cornell.toml");
+    let cut = text.find("[[sphere]]").unwrap();
+    let light = text.find("# A 0.25 x 0.25 square").unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("plain.toml");
+    std::fs::write(&scene, format!("{}{}", &text[..cut], &text[light..])).unwrap();
+    let (_, out) = two_pass_png(&["--scene", scene.to_str().unwrap()]);
+    assert!(
+        out.contains("0 caustic photons, 0 caustic lookups"),
+        "{out}"
+    );
+}
