@@ -199,3 +199,44 @@ pub fn indirect_light(
     }
     Ok((out, stats))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::host::render::photons::stream_rng;
+
+    fn floor_point(x: f32, z: f32) -> QueryPoint {
+        QueryPoint {
+            pixel: 0,
+            pos: Vec3::new(x, 0.0, z),
+            normal: Vec3::Y,
+            albedo: Vec3::splat(0.75),
+            weight: Vec3::ONE,
+        }
+    }
+
+    #[test]
+    fn gather_rays_end_at_diffuse_surfaces_and_count_nothing_from_the_light() {
+        let scene = Scene::cornell_box();
+        let mut rng = stream_rng(1, 0);
+        // Straight up from under the light: the light, which is the direct term.
+        let under = floor_point(0.5, 0.5);
+        assert_eq!(gather_hit(&scene, &under, Vec3::Y, &mut rng), None);
+        // Straight up elsewhere: the ceiling, its normal turned toward the ray.
+        let aside = floor_point(0.1, 0.9);
+        let hit = gather_hit(&scene, &aside, Vec3::Y, &mut rng).unwrap();
+        assert!(
+            (hit.pos - Vec3::new(0.1, 1.0, 0.9)).length() < 1e-4,
+            "{hit:?}"
+        );
+        assert_eq!(hit.normal, -Vec3::Y);
+        assert_eq!(hit.albedo, Vec3::splat(0.75));
+        // At the mirror sphere's centre: reflected straight back to the floor point.
+        let (mirror, _) = scene.spheres[0];
+        let x = floor_point(mirror.center.x + 0.3, mirror.center.z);
+        let dir = (mirror.center - x.pos).normalize();
+        let back = gather_hit(&scene, &x, dir, &mut rng).unwrap();
+        assert!((back.pos - x.pos).length() < 1e-3, "{back:?}");
+        assert_eq!(back.normal, Vec3::Y);
+    }
+}
