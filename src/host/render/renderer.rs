@@ -46,7 +46,7 @@ pub enum RenderMethod {
     Direct,
     /// Jensen's two-pass method: direct light by shadow rays, caustics from a
     /// caustic map, indirect light by final gathering from the global map
-    /// (`two_pass.rs`).
+    /// (docs/TWO_PASS.md).
     TwoPass,
 }
 
