@@ -102,10 +102,15 @@ def main():
         print(f"{method:10} {setting:28} {t:7.2f} s  {full:.4f}  {masked:.4f}", flush=True)
 
     photons = 200_000
-    for spp in [1, 4, 16, 64, 256, 1024]:
+    # The same sample budgets per image at every size: 64x64 at the most samples per
+    # pixel, fewer for larger images (time, and render's memory limit on the direct
+    # method's gathered photons).
+    fits = lambda spp, most: spp * size * size <= most * 64 * 64  # noqa: E731
+    for spp in [s for s in [1, 4, 16, 64, 256, 1024] if fits(s, 1024)]:
         t, img = run_render(a.bin, size, a.threads, "direct", spp, 0, photons, 1)
         add("direct", f"spp {spp}, {photons} photons", t, img)
-    for spp, rays in [(1, 4), (1, 16), (4, 4), (4, 16), (16, 4), (16, 16), (64, 4), (256, 4)]:
+    two_pass = [(1, 4), (1, 16), (4, 4), (4, 16), (16, 4), (16, 16), (64, 4), (256, 4)]
+    for spp, rays in [(s, r) for s, r in two_pass if fits(s, 256)]:
         t, img = run_render(a.bin, size, a.threads, "two-pass", spp, rays, photons, 1)
         add("two-pass", f"spp {spp}, {rays} rays, {photons} photons", t, img)
     import mitsuba as mi
@@ -116,7 +121,7 @@ def main():
 
     with open(a.scene, "rb") as f:
         scene = tomllib.load(f)
-    for spp in [4, 16, 64, 256, 1024, 4096]:
+    for spp in [s for s in [4, 16, 64, 256, 1024, 4096] if fits(s, 4096)]:
         s = mi.load_dict(ref.scene_dict(mi, scene, (size, size), spp))
         t0 = time.perf_counter()
         img = np.array(mi.render(s, seed=987654, spp=spp), dtype=np.float64)[:, :, :3]
