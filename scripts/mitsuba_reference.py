@@ -5,6 +5,7 @@ Mitsuba 3's path tracer, the scene converted from the project's TOML.
     python3 -m venv venv && venv/bin/pip install mitsuba==3.9.1 numpy
     venv/bin/python scripts/mitsuba_reference.py [--scene scenes/cornell.toml] \
         [--size 64] [--spp 16384] --out docs/reference/cornell_64.pfm
+    (docs/reference/cornell_128.pfm: --size 128)
 
 writes linear RGB radiance as a PFM (the format of `photon-fpga render --out X.pfm`).
 
