@@ -1,8 +1,8 @@
-//! The host-side tests in one test binary: the banked store's model, the software
-//! kNN against brute force, the exact re-ranking against the float search, the
-//! renderer, the CLI (end to end through the binary, with its error paths), the
-//! `rtl` backend through the CLI, the layering of the source tree, numerical
-//! stability of the radiance estimate and `photon-fpga-lab study`.
+//! The host-side tests in one test binary: the software kNN against brute force,
+//! the exact re-ranking against the float search, the renderer, the CLI (end to
+//! end through the binary, with its error paths), the simulated backends through
+//! the CLI, the layering of the source tree, numerical
+//! stability of the radiance estimate and the two-pass render.
 
 mod cli;
 mod exact;
@@ -12,3 +12,4 @@ mod refusals;
 mod render;
 mod rtl;
 mod stability;
+mod two_pass;

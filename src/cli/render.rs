@@ -9,6 +9,8 @@ use crate::host::limits::{self, MAX_EMITTED};
 use crate::host::output::Output;
 use crate::host::render::photons;
 use crate::host::render::scene::Scene;
+use crate::host::render::two_pass;
+use crate::host::render::RenderMethod;
 use crate::host::render::{self, RenderSettings};
 use crate::host::stages::StageTimes;
 use clap::{Args, Parser};
@@ -41,13 +43,21 @@ pub struct RenderArgs {
     /// Eye samples per pixel.
     #[arg(long, default_value_t = 4)]
     pub spp: u32,
+    /// How photons become pixels. With two-pass and no --radius, every lookup is
+    /// capped at 5 % of the photon map's longest extent.
+    #[arg(long, value_enum, default_value_t = RenderMethod::Direct)]
+    pub method: RenderMethod,
+    /// With --method two-pass: final-gather rays per shading point, 1..=4096
+    /// [default: 16].
+    #[arg(long)]
+    pub gather_rays: Option<u32>,
     /// Seed of every random choice; the same seed gives the same image.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Exposure multiplier applied before tone mapping.
     #[arg(long, allow_negative_numbers = true)]
     pub exposure: Option<f32>,
-    /// Output PNG.
+    /// Output PNG; a name ending in .pfm writes linear radiance (PFM) instead.
     #[arg(long, default_value = "render.png")]
     pub out: PathBuf,
 }
@@ -70,10 +80,11 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     set_threads(args.opts.threads)?;
     // A radiance estimate wants more photons than a plain gather.
     args.opts.check()?;
-    let params = args.opts.params(DEFAULT_K)?;
+    let mut params = args.opts.params(DEFAULT_K)?;
     params.validate(1)?;
     // Everything that can be refused is refused before any photon is traced.
     check_photons_and_spp(args.photons, args.spp)?;
+    let gather_rays = check_method(args)?;
     limits::check_photon_memory(params.capacity)?;
     if let Some(e) = args.exposure {
         limits::check_positive("--exposure", e as f64)?;
@@ -104,10 +115,12 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     if let Some(e) = args.exposure {
         settings.exposure = e;
     }
+    settings.method = args.method;
+    settings.gather_rays = gather_rays;
     let mut t = StageTimes::default();
-    let photons = t
+    let (photons, caustic) = t
         .time("photon emission", || {
-            photons::trace_photons_capped(&scene, args.photons, args.seed, true, params.capacity)
+            photons::trace_photon_paths(&scene, args.photons, args.seed, true, params.capacity)
         })
         .ok_or_else(|| {
             Error::new(match &params.fixed {
@@ -125,19 +138,40 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     if photons.is_empty() {
         return Err(Error::new("no photon reached a diffuse surface"));
     }
+    if args.method == RenderMethod::TwoPass && params.radius.is_none() {
+        params.radius = Some(two_pass::default_radius(&photons));
+    }
     let positions = render::photon_points(&photons);
     let backend = t.time("kd-tree build", || {
         args.opts.backend(&positions, &params, &args.opts.sim(&vcd))
     })?;
-    let pass = render::render_image(
+    let sim = args.opts.sim(&None);
+    let (pass, two_pass) = two_pass::render_method(
         &scene,
         &settings,
         &photons,
+        &caustic,
         backend.as_ref(),
+        &|p| args.opts.backend(p, &params, &sim),
         &params,
         &mut t,
     )?;
-    t.time("other", || render::save_png(&pass.image, &out))?;
+    if let Some(s) = two_pass {
+        println!(
+            "two-pass: {} shading points; {} caustic photons, {} caustic lookups; \
+             {gather_rays} gather rays per point, {} final-gather lookups; lookup radius cap \
+             {:.6}",
+            s.shading_points,
+            s.caustic_photons,
+            s.caustic_lookups,
+            s.gather_lookups,
+            params.radius.unwrap_or(f64::INFINITY)
+        );
+    }
+    t.time("other", || match render::pfm::is_pfm(&args.out) {
+        true => render::pfm::save_pfm(w, h, &pass.linear, &out),
+        false => render::save_png(&pass.image, &out),
+    })?;
     if let Some(v) = vcd {
         v.commit()?;
     }
@@ -159,6 +193,34 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     println!("{t}");
     println!("wrote {}", args.out.display());
     Ok(())
+}
+
+/// `--method` and `--gather-rays`: the final-gather rays per shading point of a
+/// two-pass render; refused before any photon is traced.
+fn check_method(args: &RenderArgs) -> Result<u32> {
+    match (args.method, args.gather_rays) {
+        (RenderMethod::Direct, Some(_)) => Err(Error::new(
+            "--gather-rays sets the final gather of --method two-pass; --method direct \
+             gathers none",
+        )),
+        (RenderMethod::Direct, None) => Ok(render::DEFAULT_GATHER_RAYS),
+        (RenderMethod::TwoPass, n) => {
+            let n = n.unwrap_or(render::DEFAULT_GATHER_RAYS);
+            if !(1..=4096).contains(&n) {
+                return Err(Error::new(format!(
+                    "--gather-rays must be in 1..=4096, got {n}"
+                )));
+            }
+            let env_vcd = std::env::var_os(crate::hw::sim::native::VCD_ENV).is_some();
+            if args.opts.vcd.is_some() || (env_vcd && args.opts.backend.simulates()) {
+                return Err(Error::new(
+                    "--vcd (or PHOTON_FPGA_VCD) records one simulation of one map; --method \
+                     two-pass gathers from two maps in many batches (give --method direct)",
+                ));
+            }
+            Ok(n)
+        }
+    }
 }
 
 /// `--photons` and `--spp` of a traced scene (render, banking): refused before any

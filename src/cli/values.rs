@@ -49,6 +49,7 @@ pub fn all_value_lists() -> Vec<Vec<String>> {
         names::<BankPorts>(),
         names::<Engine>(),
         names::<crate::host::gather::BackendKind>(),
+        names::<crate::host::render::RenderMethod>(),
         names::<super::export::InterfaceArg>(),
         names::<DeviceArg>(),
     ]

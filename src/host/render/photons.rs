@@ -70,6 +70,21 @@ pub fn trace_photons_capped(
     progress: bool,
     cap: usize,
 ) -> Option<Vec<Photon>> {
+    trace_photon_paths(scene, emitted, seed, progress, cap).map(|(photons, _)| photons)
+}
+
+/// [`trace_photons_capped`] with, per stored photon, whether it is a caustic photon:
+/// one that reached this diffuse surface from the light through one or more mirror
+/// or glass bounces and no diffuse one (Jensen's L S+ D paths, the caustic photon
+/// map of the two-pass method). The photons are [`trace_photons_capped`]'s, bit for
+/// bit: the flag is only recorded, it draws no random number.
+pub fn trace_photon_paths(
+    scene: &Scene,
+    emitted: usize,
+    seed: u64,
+    progress: bool,
+    cap: usize,
+) -> Option<(Vec<Photon>, Vec<bool>)> {
     use std::sync::atomic::{AtomicUsize, Ordering};
     let stored_so_far = AtomicUsize::new(0);
     let chunks = emitted.div_ceil(CHUNK);
@@ -86,36 +101,47 @@ pub fn trace_photons_capped(
         ProgressBar::hidden()
     };
     let power = scene.light.power / emitted.max(1) as f32;
-    let per_chunk: Vec<Vec<Photon>> = (0..chunks)
+    let per_chunk: Vec<(Vec<Photon>, Vec<bool>)> = (0..chunks)
         .into_par_iter()
         .map(|c| {
             let range = c * CHUNK..((c + 1) * CHUNK).min(emitted);
             if stored_so_far.load(Ordering::Relaxed) > cap {
-                return Vec::new();
+                return (Vec::new(), Vec::new());
             }
             let mut stored = Vec::with_capacity(range.len() * 2);
+            let mut caustic = Vec::with_capacity(range.len() * 2);
             for i in range.clone() {
                 let mut rng = stream_rng(seed, i as u64);
-                trace_one(scene, power, &mut rng, &mut stored);
+                trace_one(scene, power, &mut rng, &mut stored, &mut caustic);
             }
             stored_so_far.fetch_add(stored.len(), Ordering::Relaxed);
             bar.inc(range.len() as u64);
-            stored
+            (stored, caustic)
         })
         .collect();
     bar.finish_and_clear();
     if stored_so_far.into_inner() > cap {
         return None;
     }
-    Some(per_chunk.concat())
+    let (photons, caustic): (Vec<Vec<Photon>>, Vec<Vec<bool>>) = per_chunk.into_iter().unzip();
+    Some((photons.concat(), caustic.concat()))
 }
 
-/// Follow one photon, appending a photon to `stored` at every diffuse hit.
-fn trace_one(scene: &Scene, mut power: Vec3, rng: &mut Pcg64Mcg, stored: &mut Vec<Photon>) {
+/// Follow one photon, appending a photon to `stored` at every diffuse hit and to
+/// `caustic` whether its path so far was specular only (see [`trace_photon_paths`]).
+fn trace_one(
+    scene: &Scene,
+    mut power: Vec3,
+    rng: &mut Pcg64Mcg,
+    stored: &mut Vec<Photon>,
+    caustic: &mut Vec<bool>,
+) {
     let light = &scene.light;
     let origin = light.quad.point(rng.gen(), rng.gen());
     let dir = cosine_direction(light.quad.normal, rng.gen(), rng.gen());
     let mut ray = Ray::spawn(origin, light.quad.normal, dir, scene.epsilon);
+    // (specular bounce seen, diffuse bounce seen) since the light.
+    let (mut specular, mut diffuse) = (false, false);
     for _ in 0..MAX_PHOTON_DEPTH {
         let Some(hit) = scene.intersect(&ray) else {
             // Escaped through the open side of the scene.
@@ -134,6 +160,8 @@ fn trace_one(scene: &Scene, mut power: Vec3, rng: &mut Pcg64Mcg, stored: &mut Ve
                     power,
                     dir: ray.dir,
                 });
+                caustic.push(specular && !diffuse);
+                diffuse = true;
                 // Russian roulette: survive with p = max albedo and divide by p,
                 // which keeps the expected reflected flux at albedo × power while
                 // ending paths early where the surface absorbs much.
@@ -150,8 +178,14 @@ fn trace_one(scene: &Scene, mut power: Vec3, rng: &mut Pcg64Mcg, stored: &mut Ve
                 };
                 cosine_direction(n, rng.gen(), rng.gen())
             }
-            Material::Mirror => reflect(ray.dir, hit.normal),
-            Material::Glass { ior } => glass_scatter(ray.dir, hit.normal, ior, rng.gen()),
+            Material::Mirror => {
+                specular = true;
+                reflect(ray.dir, hit.normal)
+            }
+            Material::Glass { ior } => {
+                specular = true;
+                glass_scatter(ray.dir, hit.normal, ior, rng.gen())
+            }
         };
         ray = Ray::spawn(hit.pos, hit.normal, new_dir, scene.epsilon);
     }

@@ -28,9 +28,28 @@ pub const DEFAULT_EXPOSURE: f32 = 0.35;
 /// Eye-path bounces through mirrors and glass before giving up on a pixel sample.
 pub const MAX_EYE_DEPTH: usize = 16;
 
+/// Final-gather rays per shading point of the two-pass method: pbrt-v2's photon
+/// map integrator defaults to 32; 16 with the default 4 samples per pixel gives 64
+/// gather rays per pixel.
+pub const DEFAULT_GATHER_RAYS: u32 = 16;
+
 /// Seed-stream offset separating the eye pass's pixel RNGs from the photon pass's
 /// per-photon RNGs, so pixel i never replays photon i's random numbers.
 const EYE_STREAM: u64 = 0xE7E_0000_0000_0000;
+
+/// How the eye pass turns photons into pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+pub enum RenderMethod {
+    /// The paper's method: the photon map seen directly, one k-nearest gather at
+    /// each eye path's first diffuse hit.
+    #[default]
+    Direct,
+    /// Jensen's two-pass method: direct light by shadow rays, caustics from a
+    /// caustic map, indirect light by final gathering from the global map
+    /// (docs/TWO_PASS.md).
+    TwoPass,
+}
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
@@ -41,6 +60,9 @@ pub struct RenderSettings {
     pub seed: u64,
     /// Linear scale on radiance before clamping and gamma.
     pub exposure: f32,
+    pub method: RenderMethod,
+    /// Final-gather rays per shading point (`RenderMethod::TwoPass`).
+    pub gather_rays: u32,
 }
 
 impl Default for RenderSettings {
@@ -51,6 +73,8 @@ impl Default for RenderSettings {
             spp: 4,
             seed: 1,
             exposure: DEFAULT_EXPOSURE,
+            method: RenderMethod::Direct,
+            gather_rays: DEFAULT_GATHER_RAYS,
         }
     }
 }
@@ -231,6 +255,22 @@ pub fn resolve(
     emitted: &[Vec3],
     exposure: f32,
 ) -> image::RgbImage {
+    encode(
+        width,
+        height,
+        &pixel_radiance(width, height, queries, radiance, emitted),
+        exposure,
+    )
+}
+
+/// Each pixel's linear radiance: its emission plus its queries' weighted radiance.
+pub fn pixel_radiance(
+    width: u32,
+    height: u32,
+    queries: &[QueryPoint],
+    radiance: &[Vec3],
+    emitted: &[Vec3],
+) -> Vec<Vec3> {
     let pixels = (width * height) as usize;
     assert_eq!(emitted.len(), pixels, "one emitted value per pixel");
     assert_eq!(queries.len(), radiance.len(), "one radiance per query");
@@ -239,6 +279,11 @@ pub fn resolve(
     for (q, l) in queries.iter().zip(radiance) {
         sum[q.pixel as usize] += q.weight * *l;
     }
+    sum
+}
+
+/// Linear pixel radiance to 8-bit RGB: exposure, clamp, gamma 2.2.
+pub fn encode(width: u32, height: u32, sum: &[Vec3], exposure: f32) -> image::RgbImage {
     let encode = |c: f32| {
         let v = (c * exposure).clamp(0.0, 1.0).powf(1.0 / 2.2);
         (v * 255.0 + 0.5) as u8
@@ -252,6 +297,8 @@ pub fn resolve(
 /// What the eye pass made, beside the image.
 pub struct EyePass {
     pub image: image::RgbImage,
+    /// Each pixel's linear radiance, row by row (what `image` encodes).
+    pub linear: Vec<Vec3>,
     /// Query points gathered (eye samples that reached a diffuse surface).
     pub queries: usize,
     /// Photons the backend read, summed over all queries.
@@ -271,7 +318,7 @@ pub fn render_image(
 ) -> Result<EyePass> {
     let (queries, emitted) = times.time("ray emission", || eye_queries(scene, settings));
     let gathered = times.time("kd-tree search", || backend.gather(&query_points(&queries)))?;
-    let image = times.time("other", || {
+    let linear = times.time("other", || {
         let radiance = radiance(
             &queries,
             photons,
@@ -280,17 +327,20 @@ pub fn render_image(
             params.radius,
             params.metric,
         );
-        resolve(
+        pixel_radiance(
             settings.width,
             settings.height,
             &queries,
             &radiance,
             &emitted,
-            settings.exposure,
         )
+    });
+    let image = times.time("other", || {
+        encode(settings.width, settings.height, &linear, settings.exposure)
     });
     Ok(EyePass {
         image,
+        linear,
         queries: queries.len(),
         visited: gathered.iter().map(|g| g.visited as u64).sum(),
     })
