@@ -27,7 +27,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-const LAYERS: [(&str, usize); 29] = [
+const LAYERS: [(&str, usize); 30] = [
     ("hw::config::core_config", 0),
     ("hw::error", 0),
     ("hw::primitives", 1),
@@ -55,6 +55,7 @@ const LAYERS: [(&str, usize); 29] = [
     ("cli", 12),
     ("lab::workload", 13),
     ("lab::cpu_ref", 13),
+    ("lab::lookups", 13),
     ("lab::banking", 14),
     ("lab::study", 14),
     ("lab::cli", 15),

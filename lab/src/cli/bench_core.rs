@@ -8,6 +8,10 @@ use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::limits;
 use photon_fpga::hw::sim::native::{Engine, SimOptions};
 
+/// Final-gather rays per eye hit of the `two-pass` workload: the render's default
+/// (`render --gather-rays`).
+const FINAL_GATHER_RAYS: u32 = 16;
+
 /// The query streams `bench-core` can run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum WorkloadKind {
@@ -15,6 +19,9 @@ pub enum WorkloadKind {
     Uniform,
     /// A Cornell-box photon map with eye-ray queries.
     Cornell,
+    /// The same map queried by the two-pass render's final gathers (16 gather rays
+    /// per eye hit, capped at the render's default radius unless --radius is given).
+    TwoPass,
 }
 
 #[derive(Args)]
@@ -22,8 +29,8 @@ pub struct BenchCoreArgs {
     #[command(flatten)]
     core: CoreArgs,
     /// Queries to stream through the core, at least 1 [default: 400 uniform ones; with
-    /// `--workload cornell` every eye-ray query of the image, or an even sample of
-    /// this many].
+    /// `--workload cornell` or `two-pass` every query of the image, or an even sample
+    /// of this many].
     #[arg(long)]
     queries: Option<usize>,
     /// Seed of the random photon map (2^H − 1 photons) and queries.
@@ -96,7 +103,8 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     let fixed = args.core.fixed()?;
     let spec = args.core.builder()?;
     let mut cfg = args.core.config_of(spec)?;
-    let w = if args.workload == WorkloadKind::Cornell {
+    let mut radius = args.radius;
+    let w = if args.workload != WorkloadKind::Uniform {
         let settings = photon_fpga::host::render::RenderSettings {
             width: args.cornell_size.0,
             height: args.cornell_size.1,
@@ -105,6 +113,27 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
             ..Default::default()
         };
         let w = match &fixed {
+            _ if args.workload == WorkloadKind::TwoPass => {
+                let (w, r) = crate::lookups::cornell_final_gathers(
+                    args.cornell_photons,
+                    cfg.layout.bits[0],
+                    &settings,
+                    FINAL_GATHER_RAYS,
+                    cfg.k,
+                )?;
+                radius = radius.or(Some(r));
+                let map = w.tree.image();
+                if let Some(f) = &fixed {
+                    f.check_map(map)?;
+                } else {
+                    cfg = args
+                        .core
+                        .opts
+                        .for_device(spec, map.len(), map.layout.word_bits())?
+                        .build_for(map)?;
+                }
+                w
+            }
             // A fixed core: the map goes onto its grid and must fit its H.
             Some(f) => {
                 let w = workload::cornell_image_on(args.cornell_photons, cfg.layout, &settings);
@@ -140,7 +169,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     let n = tree.len();
     // Every query's initial radius: an inclusive bound on the grid (the search's
     // and the core's), the grid's diagonal when unbounded.
-    let max = match args.radius {
+    let max = match radius {
         Some(r) => {
             limits::check_non_negative("--radius", r)?;
             cfg.metric.radius_bound(r, w.step, cfg.max_dist())
@@ -150,10 +179,9 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     if max > cfg.max_radius() {
         return Err(Error::new(format!(
             "{} is beyond the core: {}; give a --radius it answers",
-            args.radius
-                .map_or("an unbounded gather (no --radius)".into(), |r| format!(
-                    "--radius {r} ({max} on the grid)"
-                )),
+            radius.map_or("an unbounded gather (no --radius)".into(), |r| format!(
+                "--radius {r} ({max} on the grid)"
+            )),
             cfg.radius_limit()
         )));
     }
@@ -235,7 +263,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     println!(
         "core: {cfg}; issue interval {}; radius {} on the grid",
         cfg.issue_interval(),
-        args.radius.map_or("unbounded".to_string(), |r| format!(
+        radius.map_or("unbounded".to_string(), |r| format!(
             "{max} ({r} world units)"
         ))
     );

@@ -1,0 +1,97 @@
+//! The lookups of Jensen's two-pass render (`render --method two-pass`) as a
+//! measured workload: the final gathers that dominate it (Fig. 2's search stage,
+//! tens of lookups per shading point), recorded as the renderer asks them and put on
+//! the global map's grid, so the core is measured on the stream a photon mapper
+//! really gives it rather than on eye-ray hits alone.
+
+use crate::workload::Workload;
+use photon_fpga::host::error::Result;
+use photon_fpga::host::gather::{make_backend, BackendKind, GatherBackend, GatherParams, Gathered};
+use photon_fpga::host::map::kdtree::{KdTree, PackedTree};
+use photon_fpga::host::map::quantize::{GridPoint, Point, Quantizer};
+use photon_fpga::host::render::final_gather::indirect_light;
+use photon_fpga::host::render::photons::trace_photons;
+use photon_fpga::host::render::scene::Scene;
+use photon_fpga::host::render::two_pass::default_radius;
+use photon_fpga::host::render::{self, eye_queries, RenderSettings};
+use photon_fpga::host::stages::StageTimes;
+use photon_fpga::hw::sim::native::SimOptions;
+use std::sync::Mutex;
+
+/// A gather backend that answers as `inner` and keeps every query it was asked,
+/// in the order asked.
+struct Recorder {
+    inner: Box<dyn GatherBackend>,
+    asked: Mutex<Vec<Point>>,
+}
+
+impl GatherBackend for Recorder {
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+    fn gather(&self, queries: &[Point]) -> Result<Vec<Gathered>> {
+        self.asked
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .extend_from_slice(queries);
+        self.inner.gather(queries)
+    }
+}
+
+/// The Cornell box's final-gather lookups: `gather_rays` per eye hit of
+/// `settings`' image (as `render --method two-pass --gather-rays N` asks them, in
+/// its batches' Morton order), on a `bits`-bit grid over the global map of
+/// `emitted` emitted photons; and the render's lookup radius in world units (its
+/// default cap, `two_pass::default_radius`).
+pub fn cornell_final_gathers(
+    emitted: usize,
+    bits: u32,
+    settings: &RenderSettings,
+    gather_rays: u32,
+    k: usize,
+) -> Result<(Workload, f64)> {
+    let scene = Scene::cornell_box();
+    let photons = trace_photons(&scene, emitted, settings.seed, false);
+    let world = render::photon_points(&photons);
+    let radius = default_radius(&photons);
+    let params = GatherParams {
+        k,
+        radius: Some(radius),
+        ..GatherParams::default()
+    };
+    let recorder = Recorder {
+        inner: make_backend(BackendKind::Sw, &world, &params, &SimOptions::default())?,
+        asked: Mutex::new(Vec::new()),
+    };
+    let (eye, _) = eye_queries(&scene, settings);
+    let mut times = StageTimes::default();
+    indirect_light(
+        &scene,
+        &eye,
+        gather_rays,
+        settings.seed,
+        &photons,
+        &recorder,
+        &params,
+        &mut times,
+    )?;
+    let quant = Quantizer::from_points(&world, bits)?;
+    let points: Vec<[u32; 3]> = world.iter().map(|&p| quant.quantize(p)).collect();
+    let queries = recorder
+        .asked
+        .into_inner()
+        .unwrap_or_else(|e| e.into_inner())
+        .into_iter()
+        .filter_map(|q| match quant.grid(q) {
+            Ok(GridPoint::Inside(c)) => Some(c),
+            _ => None,
+        })
+        .collect();
+    let w = Workload {
+        tree: PackedTree::from_tree(&KdTree::build(&points), quant.layout),
+        points,
+        queries,
+        step: quant.step,
+    };
+    Ok((w, radius))
+}
