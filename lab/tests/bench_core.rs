@@ -137,3 +137,29 @@ fn bench_core_runs_the_core_of_a_file() {
         "traversal = reread with controller barrel",
     );
 }
+
+/// `bench-core --workload two-pass`: the two-pass render's final gathers, capped
+/// at the render's radius, through the core; every answer equals the software
+/// search's.
+#[test]
+fn bench_core_runs_the_two_pass_lookups() {
+    let bench = stdout_of(&strings(&[
+        "bench-core",
+        "--workload",
+        "two-pass",
+        "--cornell-photons",
+        "400",
+        "--cornell-size",
+        "6x5",
+        "--queries",
+        "40",
+        "--k",
+        "6",
+        "--metric",
+        "l2",
+    ]));
+    assert!(bench.contains("equal per query"), "{bench}");
+    assert!(bench.contains(" 40 queries,"), "{bench}");
+    let core = bench.lines().find(|l| l.starts_with("core: ")).unwrap();
+    assert!(core.contains("world units) on the grid"), "{core}");
+}
