@@ -33,7 +33,7 @@ use crate::host::render::lookup::{gather_sorted, max_batch};
 use crate::host::render::photons::{stream_rng, Photon};
 use crate::host::render::renderer::{query_points, radiance, QueryPoint, MAX_EYE_DEPTH};
 use crate::host::render::scene::{
-    cosine_direction, glass_scatter, reflect, Material, Ray, Scene, Surface,
+    cosine_direction, facing, glass_scatter, reflect, Material, Ray, Scene, Surface,
 };
 use crate::host::stages::StageTimes;
 use glam::Vec3;
@@ -71,11 +71,7 @@ pub fn gather_hit(
         };
         let new_dir = match material {
             Material::Diffuse { albedo } => {
-                let normal = if hit.normal.dot(ray.dir) < 0.0 {
-                    hit.normal
-                } else {
-                    -hit.normal
-                };
+                let normal = facing(hit.normal, ray.dir);
                 return Some(DiffuseHit {
                     pos: hit.pos,
                     normal,

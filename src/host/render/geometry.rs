@@ -213,6 +213,16 @@ pub struct Hit {
     pub surface: Surface,
 }
 
+/// The surface normal `n` turned to the side a ray of direction `d` arrived from
+/// (a diffuse bounce, a gather and a shading point all leave on that side).
+pub fn facing(n: Vec3, d: Vec3) -> Vec3 {
+    if n.dot(d) < 0.0 {
+        n
+    } else {
+        -n
+    }
+}
+
 /// Mirror reflection of direction `d` about the unit normal `n` (either side).
 pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
     d - n * (2.0 * d.dot(n))

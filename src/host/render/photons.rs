@@ -9,7 +9,7 @@
 //! traced, never what it produces or where it lands.
 
 use crate::host::render::scene::{
-    cosine_direction, glass_scatter, reflect, Material, Ray, Scene, Surface,
+    cosine_direction, facing, glass_scatter, reflect, Material, Ray, Scene, Surface,
 };
 use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -171,11 +171,7 @@ fn trace_one(
                 }
                 power *= albedo / survive;
                 // Diffuse bounce leaves on the side the photon arrived from.
-                let n = if hit.normal.dot(ray.dir) < 0.0 {
-                    hit.normal
-                } else {
-                    -hit.normal
-                };
+                let n = facing(hit.normal, ray.dir);
                 cosine_direction(n, rng.gen(), rng.gen())
             }
             Material::Mirror => {

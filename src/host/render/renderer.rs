@@ -13,7 +13,7 @@ use crate::host::map::quantize::Point;
 use crate::host::output::Output;
 use crate::host::render::l1_area::l1_section_area;
 use crate::host::render::photons::{stream_rng, Photon};
-use crate::host::render::scene::{glass_scatter, reflect, Material, Ray, Scene, Surface};
+use crate::host::render::scene::{facing, glass_scatter, reflect, Material, Ray, Scene, Surface};
 use crate::host::stages::StageTimes;
 use crate::hw::config::metric::Metric;
 use glam::Vec3;
@@ -131,11 +131,7 @@ pub fn eye_queries(scene: &Scene, settings: &RenderSettings) -> (Vec<QueryPoint>
                     };
                     let new_dir = match material {
                         Material::Diffuse { albedo } => {
-                            let normal = if hit.normal.dot(ray.dir) < 0.0 {
-                                hit.normal
-                            } else {
-                                -hit.normal
-                            };
+                            let normal = facing(hit.normal, ray.dir);
                             queries.push(QueryPoint {
                                 pixel,
                                 pos: hit.pos,

@@ -44,8 +44,8 @@
 //! ```
 
 pub use crate::host::render::geometry::{
-    cosine_direction, glass_scatter, reflect, AreaLight, Camera, Hit, Material, Quad, Ray, Sphere,
-    Surface, RAY_EPSILON,
+    cosine_direction, facing, glass_scatter, reflect, AreaLight, Camera, Hit, Material, Quad, Ray,
+    Sphere, Surface, RAY_EPSILON,
 };
 
 #[derive(Clone, Debug, PartialEq)]
