@@ -30,7 +30,7 @@ fn params(k: usize, radius: Option<f64>, bits: u32, metric: Metric) -> GatherPar
 }
 
 /// The neighbours as comparable bits: (photon, distance bits) per query.
-fn bits_of(g: &[Gathered]) -> Vec<Vec<(u32, u64)>> {
+pub(crate) fn bits_of(g: &[Gathered]) -> Vec<Vec<(u32, u64)>> {
     g.iter()
         .map(|g| {
             g.neighbours
