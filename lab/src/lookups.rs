@@ -4,11 +4,10 @@
 //! the global map's grid, so the core is measured on the stream a photon mapper
 //! really gives it rather than on eye-ray hits alone.
 
-use crate::workload::Workload;
+use crate::workload::{on_grid, Workload};
 use photon_fpga::host::error::Result;
 use photon_fpga::host::gather::{make_backend, BackendKind, GatherBackend, GatherParams, Gathered};
-use photon_fpga::host::map::kdtree::{KdTree, PackedTree};
-use photon_fpga::host::map::quantize::{GridPoint, Point, Quantizer};
+use photon_fpga::host::map::quantize::{Point, Quantizer};
 use photon_fpga::host::render::final_gather::indirect_light;
 use photon_fpga::host::render::photons::trace_photons;
 use photon_fpga::host::render::scene::Scene;
@@ -76,22 +75,9 @@ pub fn cornell_final_gathers(
         &mut times,
     )?;
     let quant = Quantizer::from_points(&world, bits)?;
-    let points: Vec<[u32; 3]> = world.iter().map(|&p| quant.quantize(p)).collect();
-    let queries = recorder
+    let asked = recorder
         .asked
         .into_inner()
-        .unwrap_or_else(|e| e.into_inner())
-        .into_iter()
-        .filter_map(|q| match quant.grid(q) {
-            Ok(GridPoint::Inside(c)) => Some(c),
-            _ => None,
-        })
-        .collect();
-    let w = Workload {
-        tree: PackedTree::from_tree(&KdTree::build(&points), quant.layout),
-        points,
-        queries,
-        step: quant.step,
-    };
-    Ok((w, radius))
+        .unwrap_or_else(|e| e.into_inner());
+    Ok((on_grid(&world, &quant, &asked).0, radius))
 }

@@ -98,13 +98,22 @@ fn cornell_on(
     photons.truncate(max_photons);
     let world = render::photon_points(&photons);
     let quant = grid(&world).expect("a Cornell-box photon map");
-    let points: Vec<[u32; 3]> = world.iter().map(|&p| quant.quantize(p)).collect();
     let (eye, _) = eye_queries(&scene, settings);
-    let (queries, pixels) = render::query_points(&eye)
-        .into_iter()
-        .zip(&eye)
-        .filter_map(|(q, e)| match quant.grid(q) {
-            Ok(GridPoint::Inside(c)) => Some((c, e.pixel)),
+    let (w, kept) = on_grid(&world, &quant, &render::query_points(&eye));
+    let pixels = kept.into_iter().map(|i| eye[i].pixel).collect();
+    (w, pixels)
+}
+
+/// The photons `world` and the `queries` on `quant`'s grid: the packed tree, and
+/// the queries inside the photons' box (none of the renderer's fall outside it)
+/// with the index in `queries` of each one kept.
+pub fn on_grid(world: &[Point], quant: &Quantizer, queries: &[Point]) -> (Workload, Vec<usize>) {
+    let points: Vec<[u32; 3]> = world.iter().map(|&p| quant.quantize(p)).collect();
+    let (queries, kept) = queries
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &q)| match quant.grid(q) {
+            Ok(GridPoint::Inside(c)) => Some((c, i)),
             _ => None,
         })
         .unzip();
@@ -114,5 +123,5 @@ fn cornell_on(
         queries,
         step: quant.step,
     };
-    (w, pixels)
+    (w, kept)
 }

@@ -112,50 +112,41 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
             seed: args.seed,
             ..Default::default()
         };
-        let w = match &fixed {
-            _ if args.workload == WorkloadKind::TwoPass => {
-                let (w, r) = crate::lookups::cornell_final_gathers(
-                    args.cornell_photons,
-                    cfg.layout.bits[0],
-                    &settings,
-                    FINAL_GATHER_RAYS,
-                    cfg.k,
-                )?;
-                radius = radius.or(Some(r));
-                let map = w.tree.image();
-                if let Some(f) = &fixed {
-                    f.check_map(map)?;
-                } else {
-                    cfg = args
-                        .core
-                        .opts
-                        .for_device(spec, map.len(), map.layout.word_bits())?
-                        .build_for(map)?;
-                }
-                w
-            }
-            // A fixed core: the map goes onto its grid and must fit its H.
+        let w = if args.workload == WorkloadKind::TwoPass {
+            let (w, r) = crate::lookups::cornell_final_gathers(
+                args.cornell_photons,
+                cfg.layout.bits[0],
+                &settings,
+                FINAL_GATHER_RAYS,
+                cfg.k,
+            )?;
+            radius = radius.or(Some(r));
+            w
+        } else if fixed.is_some() {
+            // A fixed core: the map goes onto its grid.
+            workload::cornell_image_on(args.cornell_photons, cfg.layout, &settings)
+        } else {
+            workload::cornell_image(
+                args.cornell_photons,
+                usize::MAX,
+                cfg.layout.bits[0],
+                &settings,
+            )
+        };
+        // The map must fit a fixed core's H; else the core is built for it.
+        let map = w.tree.image();
+        match &fixed {
             Some(f) => {
-                let w = workload::cornell_image_on(args.cornell_photons, cfg.layout, &settings);
-                f.check_map(w.tree.image())?;
-                w
+                f.check_map(map)?;
             }
             None => {
-                let w = workload::cornell_image(
-                    args.cornell_photons,
-                    usize::MAX,
-                    cfg.layout.bits[0],
-                    &settings,
-                );
-                let map = w.tree.image();
                 cfg = args
                     .core
                     .opts
                     .for_device(spec, map.len(), map.layout.word_bits())?
-                    .build_for(map)?;
-                w
+                    .build_for(map)?
             }
-        };
+        }
         // Every query of the image, or an even sample of --queries of them.
         let want = args.queries.unwrap_or(w.queries.len());
         let step = (w.queries.len() / want.max(1)).max(1);
