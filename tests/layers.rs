@@ -299,7 +299,14 @@ fn the_hardware_uses_clap_only_behind_the_cli_feature() {
 fn no_source_file_is_longer_than_600_lines() {
     let mut files = vec![];
     // The product's sources and tests, the lab's (its benches live in lab/benches).
-    for dir in ["src", "tests", "testbenches", "lab/src", "lab/tests", "lab/benches"] {
+    for dir in [
+        "src",
+        "tests",
+        "testbenches",
+        "lab/src",
+        "lab/tests",
+        "lab/benches",
+    ] {
         let d = root().join(dir);
         assert!(d.is_dir(), "{} is not a folder", d.display());
         rust_files(&d, &mut files);
