@@ -123,7 +123,7 @@ fn bench_core_runs_the_core_of_a_file() {
     refused(
         dir.path(),
         &strings(&["bench-core", "--core", &f, "--address-bits", "6"]),
-        "the argument '--core <FILE>' cannot be used with '--address-bits",
+        &format!("--address-bits cannot be used with --core {f}: the file gives the whole core"),
     );
     refused(
         dir.path(),

@@ -1,12 +1,12 @@
 //! `photon-fpga gather`: the k nearest photons of every query of a CSV photon map.
 
-use crate::cli::core_args::DEFAULT_K;
 use crate::cli::gather_opts::GatherOpts;
 use crate::cli::set_threads;
 use crate::host::csvio;
 use crate::host::error::{Error, Result};
 use crate::host::limits::{self};
 use crate::host::output::Output;
+use crate::hw::config::core_spec::DEFAULT_K;
 use clap::Args;
 use std::path::PathBuf;
 

@@ -2,7 +2,7 @@
 //! backend, capacity, VCD, threads and the core's options; validated before any
 //! work starts.
 
-use super::core_args::{CoreFileArg, CoreOpts};
+use super::core_args::{hardware_option_given, CoreFileArg, DeviceOpt};
 use crate::host::error::{Error, Result};
 use crate::host::exact::ExactBackend;
 use crate::host::gather::{
@@ -11,11 +11,12 @@ use crate::host::gather::{
 use crate::host::limits::MEMORY_CAPACITY;
 use crate::host::map::quantize::Point;
 use crate::host::output::{Output, Staged};
+use crate::hw::config::config_builder::CoreBuilder;
 use crate::hw::config::controller::Controller;
-use crate::hw::config::core_config::{CoreConfig, MAX_ADDRESS_BITS, MAX_HW_COORD_BITS};
+use crate::hw::config::core_config::{MAX_ADDRESS_BITS, MAX_HW_COORD_BITS};
+use crate::hw::config::core_spec::{CoreBuild, CoreChoice, CoreSpec};
 use crate::hw::config::metric::Metric;
 use crate::hw::config::photon_word::PhotonLayout;
-use crate::hw::config::traversal::Traversal;
 use crate::hw::sim::native::SimOptions;
 use clap::Args;
 use std::path::PathBuf;
@@ -67,13 +68,28 @@ pub struct GatherOpts {
     /// follow the photon map and the gather. --traversal also steers the software
     /// searches.
     #[command(flatten, next_help_heading = "Core options")]
-    pub core: CoreOpts,
+    pub core: CoreChoice,
+    #[command(flatten, next_help_heading = "Core options")]
+    pub device: DeviceOpt,
     // `--core FILE`: the whole core from a core description file.
     #[command(flatten, next_help_heading = "Core options")]
     pub core_file: CoreFileArg,
 }
 
 impl GatherOpts {
+    /// The core options given, as a spec.
+    fn choice(&self) -> CoreSpec {
+        CoreSpec {
+            choice: self.core.clone(),
+            ..CoreSpec::default()
+        }
+    }
+
+    /// The controller chosen, or the default core's.
+    fn controller(&self) -> Controller {
+        self.core.controller.unwrap_or(Controller::Barrel)
+    }
+
     /// Photons gathered per query as the memory sees them: k, or with `--exact` the
     /// most candidates the core may return.
     pub fn gathered_k(&self, k: usize) -> Result<usize> {
@@ -82,7 +98,7 @@ impl GatherOpts {
                 self.backend,
                 k,
                 self.refine,
-                self.core.controller_or(Controller::Barrel).max_k(),
+                self.controller().max_k(),
             )
         } else {
             Ok(k)
@@ -139,6 +155,7 @@ impl GatherOpts {
 
     /// Options the chosen backend would ignore are errors, not silently dropped.
     pub fn check(&self) -> Result<()> {
+        self.core_file.check_alone(&self.choice())?;
         if self.backend == BackendKind::Float && self.bits.is_some() {
             return Err(Error::new(
                 "--bits sets the grid of the quantized backends (sw, native, verilator); \
@@ -152,7 +169,7 @@ impl GatherOpts {
             ));
         }
         if !self.backend.simulates() {
-            if let Some(flag) = self.core.hardware_option_given() {
+            if let Some(flag) = hardware_option_given(&self.core, &self.device) {
                 return Err(Error::new(format!(
                     "{flag} configures the simulated core; --backend {} runs none \
                      (give --backend native or verilator)",
@@ -167,24 +184,33 @@ impl GatherOpts {
     /// they can be before the photon map exists: a core that cannot be built for
     /// any map (a bad combination, K, Q, T out of range) is refused now.
     pub fn params(&self, default_k: usize) -> Result<GatherParams> {
-        if let Some(fixed) = self.core_file.read()? {
+        if let Some(fixed) = self.core_file.read(&self.choice())? {
             return self.fixed_params(fixed);
         }
         let hw = self.backend.simulates();
         let k = self.k.unwrap_or(default_k);
         let metric = self.metric;
         let bits = self.bits.unwrap_or(10);
-        let controller = self.core.controller_or(Controller::Barrel);
+        let controller = self.controller();
         let traversal = if hw {
-            self.core.traversal_for(controller)
+            self.core
+                .traversal
+                .unwrap_or(controller.default_traversal())
         } else {
-            self.core.traversal.map_or(Traversal::default(), Into::into)
+            self.core.traversal.unwrap_or_default()
         };
         if self.exact {
             crate::host::exact::check(self.backend, k, self.refine, controller.max_k())?;
         }
-        let base = CoreConfig::builder().k(k).metric(metric);
-        let core = self.core.builder(base, controller)?;
+        // The core chosen, its K and metric the gather's.
+        let core = CoreBuilder::from_spec(&CoreSpec {
+            choice: self.core.clone(),
+            build: CoreBuild {
+                k: Some(k),
+                metric: Some(metric),
+                ..CoreBuild::default()
+            },
+        })?;
         let capacity = match (self.capacity, hw) {
             (Some(c), true) if c > HW_CAPACITY => {
                 return Err(Error::new(format!(
@@ -208,7 +234,7 @@ impl GatherOpts {
                 .result_streams(1)
                 .build()?;
             // A device plans the barrel core: a controller that cannot wait is refused now.
-            self.core.for_device(core, 1, 1)?;
+            self.device.for_device(core, 1, 1)?;
         }
         Ok(GatherParams {
             k,
@@ -219,7 +245,7 @@ impl GatherOpts {
             capacity,
             core,
             fixed: None,
-            device: self.core.device.map(|d| d.device()),
+            device: self.device.device.map(|d| d.device()),
         })
     }
 

@@ -1,7 +1,6 @@
 //! `photon-fpga render` (the default command): a scene rendered with photon mapping,
 //! its gathers on the chosen backend.
 
-use crate::cli::core_args::DEFAULT_K;
 use crate::cli::gather_opts::GatherOpts;
 use crate::cli::set_threads;
 use crate::host::error::{Error, Result};
@@ -13,6 +12,7 @@ use crate::host::render::two_pass;
 use crate::host::render::RenderMethod;
 use crate::host::render::{self, RenderSettings};
 use crate::host::stages::StageTimes;
+use crate::hw::config::core_spec::DEFAULT_K;
 use clap::{Args, Parser};
 use std::path::PathBuf;
 

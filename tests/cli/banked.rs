@@ -146,7 +146,11 @@ fn what_the_banked_core_cannot_build_is_refused() {
         .chain(["--out".to_string(), v.clone()])
         .collect()
     };
-    refused(dir.path(), &export(&["--banks", "6"]), "--banks 6");
+    refused(
+        dir.path(),
+        &export(&["--banks", "6"]),
+        "banks = 6: unsupported (a power of two",
+    );
     refused(
         dir.path(),
         &strings(&["export-verilog", "--bank-ports", "split", "--out", &v]),
@@ -205,9 +209,13 @@ fn what_the_banked_core_cannot_build_is_refused() {
     refused(
         dir.path(),
         &export(&["--banks", "8", "--trees", "2"]),
-        "the argument '--banks <B>' cannot be used with '--trees <TREES>'",
+        "the argument '--banks <B>' cannot be used with '--trees <T>'",
     );
-    refused(dir.path(), &export(&["--replicas", "2"]), "--banks <B>");
+    refused(
+        dir.path(),
+        &export(&["--replicas", "2"]),
+        "replicas = 2 without banks",
+    );
     // The AXI4-Stream top has one result stream.
     let axis = dir.path().join("axis").display().to_string();
     refused(

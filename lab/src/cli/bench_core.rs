@@ -142,7 +142,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
             None => {
                 cfg = args
                     .core
-                    .opts
+                    .device
                     .for_device(spec, map.len(), map.layout.word_bits())?
                     .build_for(map)?
             }

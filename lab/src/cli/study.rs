@@ -7,11 +7,12 @@ use crate::study::report::{self, OutDir};
 use crate::study::{exact_series, figures, sweep};
 use clap::Args;
 use indicatif::ProgressBar;
-use photon_fpga::cli::core_args::CoreOpts;
+use photon_fpga::cli::core_args::flags;
 use photon_fpga::cli::set_threads;
 use photon_fpga::host::error::Result;
 use photon_fpga::host::render::scene::Scene;
 use photon_fpga::hw::config::core_config::CoreConfig;
+use photon_fpga::hw::config::core_spec::{CoreChoice, CoreSpec};
 use photon_fpga::hw::config::metric::Metric;
 use photon_fpga::hw::sim::native::Engine;
 use std::path::{Path, PathBuf};
@@ -41,7 +42,7 @@ pub struct StudyArgs {
     /// with these options (one tree, pipelined); K, grid and metric follow each
     /// point of the sweep.
     #[command(flatten)]
-    pub core: CoreOpts,
+    pub core: CoreChoice,
     /// Output directory: study.csv, STUDY.md, exact.csv, pareto.png, exact.png,
     /// fig3.png … fig6.png.
     #[arg(long)]
@@ -59,10 +60,21 @@ pub fn study(args: &StudyArgs) -> Result<()> {
     // scene, the output directory.
     // The study simulates the chosen core: only rows of that core give it a clock
     // and an area.
-    let controller = args.core.controller_or(STUDY_CONTROLLER);
-    let traversal = args.core.traversal_for(controller);
-    let core = args.core.builder(CoreConfig::builder(), controller)?;
-    core.traversal(traversal).build()?;
+    let controller = args.core.controller.unwrap_or(STUDY_CONTROLLER);
+    let traversal = args
+        .core
+        .traversal
+        .unwrap_or(controller.default_traversal());
+    let choice = CoreSpec {
+        choice: CoreChoice {
+            controller: Some(controller),
+            traversal: Some(traversal),
+            ..args.core.clone()
+        },
+        ..CoreSpec::default()
+    };
+    let core = CoreConfig::builder().with_spec(&choice)?;
+    core.build()?;
     let rows = SynthResults::read(&args.report)?.study_rows(traversal, controller);
     let scene = match &args.scene {
         Some(p) => {
@@ -122,7 +134,10 @@ pub fn study(args: &StudyArgs) -> Result<()> {
     if args.quick {
         command += " --quick";
     }
-    command += &args.core.flags();
+    command += &flags(&CoreSpec {
+        choice: args.core.clone(),
+        ..CoreSpec::default()
+    });
     command += &format!(" --out {}", args.out.display());
     report::write_all(out.staging(), &plan, &result, &exact, &figs, &command)?;
     out.commit()?;

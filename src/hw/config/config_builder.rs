@@ -6,7 +6,10 @@
 
 use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::controller::Controller;
-use crate::hw::config::core_config::{Banking, CoreConfig, BARREL_SLOTS, MAX_QUERIES_PER_PORT};
+use crate::hw::config::core_config::{
+    Banking, CoreConfig, BARREL_SLOTS, MAX_HW_COORD_BITS, MAX_QUERIES_PER_PORT,
+};
+use crate::hw::config::core_spec::CoreSpec;
 use crate::hw::config::metric::Metric;
 use crate::hw::config::photon_word::{PhotonLayout, TreeImage};
 use crate::hw::config::traversal::Traversal;
@@ -148,6 +151,90 @@ impl CoreBuilder {
             ..self
         }
     }
+    /// The core `spec` describes: each field it leaves out is the default core's
+    /// ([`CoreSpec::default_core`]; the traversal and Q its controller's
+    /// defaults, the grid and H the builder's). Checked together when built.
+    pub fn from_spec(spec: &CoreSpec) -> Result<Self, HwError> {
+        CoreBuilder::default().with_spec(&spec.or(&CoreSpec::default_core()))
+    }
+
+    /// The fields `spec` gives, set on this builder (a given controller without
+    /// a traversal or Q brings its own defaults). Combinations that belong to no
+    /// core (replicas or bank options without banks, trees with banks) and
+    /// widths out of range are refused, named as the file names them.
+    pub fn with_spec(self, spec: &CoreSpec) -> Result<Self, HwError> {
+        let fail = |m: String| Err(HwError::Config(m));
+        let (c, b) = (&spec.choice, &spec.build);
+        let mut out = self;
+        if let Some(controller) = c.controller {
+            out = out.controller(controller).default_queries_per_port();
+            out.traversal = controller.default_traversal();
+        }
+        if let Some(t) = c.traversal {
+            out = out.traversal(t);
+        }
+        if let Some(q) = c.queries_per_port {
+            out = out.queries_per_port(q);
+        }
+        if let Some(w) = b.coordinate_bits {
+            if !w.0.iter().all(|b| (1..=MAX_HW_COORD_BITS).contains(b)) {
+                return fail(format!(
+                    "coordinate_bits = {:?}: each width must be 1..={MAX_HW_COORD_BITS}",
+                    w.0
+                ));
+            }
+            out = out.layout(PhotonLayout::new(w.0));
+        }
+        if let Some(h) = b.address_bits {
+            out = out.address_bits(h);
+        }
+        if let Some(k) = b.k {
+            out = out.k(k);
+        }
+        if let Some(m) = b.metric {
+            out = out.metric(m);
+        }
+        if let Some(r) = b.radius_bits {
+            out = out.radius_bits(Some(r));
+        }
+        if let Some(p) = b.pipelined {
+            out = out.pipelined(p);
+        }
+        if let Some(r) = b.result_streams {
+            out = out.result_streams(r);
+        }
+        match (b.banks, c.trees, b.replicas) {
+            (Some(_), Some(t), _) if t != 1 => {
+                return fail(format!(
+                    "trees = {t} with banks: a banked core is one tree, its copies of the \
+                     top levels are replicas"
+                ))
+            }
+            (Some(banks), _, r) => {
+                out = out
+                    .banks(Banking::bank_bits_for(banks)?, b.replicated_levels)
+                    .trees(r.unwrap_or(1));
+            }
+            (None, t, None) => out = out.trees(t.unwrap_or(out.trees)),
+            (None, _, Some(r)) => {
+                return fail(format!(
+                    "replicas = {r} without banks: only a banked store replicates its top levels"
+                ))
+            }
+        }
+        if b.banks.is_none() {
+            if let Some(l) = b.replicated_levels {
+                return fail(format!(
+                    "replicated_levels = {l} without banks: only a banked store replicates levels"
+                ));
+            }
+        }
+        if let Some(p) = b.bank_ports {
+            out = out.bank_ports(p);
+        }
+        Ok(out)
+    }
+
     /// The grid of `tree`: its coordinate widths and the smallest H that holds it
     /// ("model only what the scene needs").
     pub fn for_map(self, tree: TreeImage<'_>) -> Self {

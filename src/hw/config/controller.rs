@@ -7,6 +7,7 @@
 //! ([`BarrelPort`](crate::hw::barrel::barrel_port::BarrelPort)): the same reads, a
 //! fraction of the logic (a core's QueryModules hold nearly all of its LUTs).
 
+use crate::hw::config::traversal::Traversal;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -23,6 +24,18 @@ pub enum Controller {
     /// fifth of the LUTs for nearly the same queries/s. Needs a traversal that
     /// remembers the path (remember, cell).
     Barrel,
+}
+
+impl Controller {
+    /// The traversal a core of this controller has unless one is chosen: the cell
+    /// bound for the barrel controller (the best core measured), else
+    /// [`Traversal::default`].
+    pub fn default_traversal(self) -> Traversal {
+        match self {
+            Controller::Barrel => Traversal::Cell,
+            Controller::Modules => Traversal::default(),
+        }
+    }
 }
 
 impl fmt::Display for Controller {

@@ -3,8 +3,10 @@
 //! absolute distance, or squared L2), the traversal (§2.2: the ascent), the
 //! controller, the banked store's shape, and [`config::CoreConfig`], the one
 //! elaborated description every block reads its widths and counts from. A core is
-//! made only by the validating [`config_builder::CoreBuilder`]; `core_file` is the
-//! same description as a TOML file (`--core`).
+//! made only by the validating [`config_builder::CoreBuilder`], from code or from a
+//! [`core_spec::CoreSpec`], the one description a user writes: the command line's
+//! core options, the TOML core file (`core_file`, `--core`) and the core of each
+//! synth/results.json record.
 
 pub mod bank_config;
 pub mod config_builder;
@@ -12,6 +14,7 @@ pub mod config_widths;
 pub mod controller;
 pub mod core_config;
 pub mod core_file;
+pub mod core_spec;
 pub mod metric;
 pub mod photon_word;
 pub mod traversal;
