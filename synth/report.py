@@ -8,13 +8,14 @@
     report.py render --check  exit 1 if REPORT.md or README.md's results section
                               differ from the render of synth/results.json
 
-synth/results.json is the data: one record per configuration with its core options,
+synth/results.json is the data: one record per configuration with its core (the core
+file export-verilog wrote for it: every key of CoreSpec, src/hw/config/core_spec.rs),
 the tools, the resources, the fmax of every seed, the simulated figures, kiddo's
 timing, the date, and for every group of numbers its provenance (simulated,
 synthesised, placed-and-routed, measured on the CPU, assumed, or from the paper).
 REPORT.md and README.md's headline table are rendered from it and from nothing else.
 """
-import filecmp, hashlib, json, os, re, subprocess, sys, tempfile, threading, time
+import filecmp, hashlib, json, os, re, subprocess, sys, tempfile, threading, time, tomllib
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass, field, replace
 from typing import Optional
@@ -28,7 +29,7 @@ RESULTS = os.path.join(ROOT, "synth", "results.json")
 REPORT = os.path.join(ROOT, "synth", "REPORT.md")
 README = os.path.join(ROOT, "README.md")
 BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
-SCHEMA = 1
+SCHEMA = 2
 # PHOTON_FPGA_SEEDS=1,2 overrides the nextpnr seeds of the paper row.
 SEEDS = [int(x) for x in os.environ.get("PHOTON_FPGA_SEEDS", "1,2,3").split(",")]
 # PHOTON_FPGA_EVERY_SEED=1: arrays and banked cores run every seed too (the best
@@ -53,6 +54,10 @@ ROUTER1_CONTROLLERS = ("barrel",)
 SIM_QUERIES = 3000
 # The Cornell workload's image (one query per eye ray that hits a diffuse surface).
 CORNELL_SIZE = "256x256"
+# The core file export-verilog writes beside the Verilog, and the row's own (its
+# keys only) that it is exported from.
+CORE_FILE = "photon_search_core.toml"
+ROW_FILE = "row_core.toml"
 # PHOTON_FPGA_STEPS=sim: only the simulations (minutes), then the report.
 SIM_ONLY = os.environ.get("PHOTON_FPGA_STEPS") == "sim"
 # PHOTON_FPGA_STEPS=ecp5: the simulations and ECP5 place and route only, without the
@@ -74,75 +79,33 @@ ASSUMED = "assumed"
 PAPER_SRC = "the paper (Table 2, §5)"
 
 
-@dataclass(frozen=True)
-class CoreOptions:
-    """A core's elaboration-time options, as export-verilog and bench-core take them.
-    `queries_per_port` None: the default (the issue interval; 16 slots for barrel)."""
-    k: int = 10
-    bits: int = 10
-    address_bits: int = 10
-    queries_per_port: Optional[int] = None
-    metric: str = "l1"
-    traversal: str = "remember"
-    controller: str = "modules"
-    trees: int = 1
-    pipelined: bool = True
-    # A banked store (`--banks`, `--replicated-levels`) and the result streams.
-    banks: Optional[int] = None
-    replicated_levels: Optional[int] = None
-    result_streams: int = 1
-    # The banks' ports: "shared" (the default), "split" or "one" (`--bank-ports`).
-    bank_ports: Optional[str] = None
-    # Queries simulated (None: SIM_QUERIES); a wide core needs more to fill its slots.
-    sim_queries: Optional[int] = None
-    # The simulation's workload: None, random queries on a full random map; else a
-    # Cornell-box map from this many emitted photons (on the exported core's grid,
-    # `bench-core --core`), queried at the eye-ray hits of a CORNELL_SIZE image.
-    cornell_photons: Optional[int] = None
-    # A gather radius (world units, `bench-core --radius`) and the distance bits the
-    # core is built for (`--radius-bits`: the fewest that answer that radius).
-    radius: Optional[float] = None
-    radius_bits: Optional[int] = None
+def toml_text(core):
+    """A row's core as a core file (flat keys: strings, integers, booleans, lists)."""
+    def val(v):
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, list):
+            return "[" + ", ".join(val(x) for x in v) + "]"
+        return json.dumps(v) if isinstance(v, str) else str(v)
+    return "".join(f"{k} = {val(v)}\n" for k, v in core.items())
 
-    def cli(self):
-        a = ["--k", str(self.k), "--bits", str(self.bits), "--address-bits", str(self.address_bits),
-             "--metric", self.metric]
-        if self.queries_per_port is not None:
-            a += ["--queries-per-port", str(self.queries_per_port)]
-        # Every row names its controller and traversal: export-verilog's defaults
-        # (the best core measured) are not the paper's.
-        a += ["--controller", self.controller, "--traversal", self.traversal]
-        if not self.pipelined:
-            a += ["--unpipelined"]
-        if self.trees != 1:
-            # A banked core's copies of the top levels are replicas, an array's trees.
-            a += ["--replicas" if self.banks is not None else "--trees", str(self.trees)]
-        if self.banks is not None:
-            a += ["--banks", str(self.banks)]
-        if self.replicated_levels is not None:
-            a += ["--replicated-levels", str(self.replicated_levels)]
-        if self.result_streams != 1:
-            a += ["--result-streams", str(self.result_streams)]
-        if self.bank_ports is not None:
-            a += ["--bank-ports", self.bank_ports]
-        if self.radius_bits is not None:
-            a += ["--radius-bits", str(self.radius_bits)]
-        return a
 
-    def sim_cli(self, d):
-        """bench-core's options for the row exported into `d`."""
-        if self.cornell_photons is None:
-            return self.cli()
-        radius = [] if self.radius is None else ["--radius", str(self.radius)]
-        return ["--core", os.path.join(d, "photon_search_core.toml"), "--workload", "cornell",
-                "--cornell-photons", str(self.cornell_photons), "--cornell-size", CORNELL_SIZE,
-                "--cornell-spp", "1"] + radius
+def copies(core):
+    """A core's copies of the map's top: a banked core's replicas, else its trees."""
+    return core.get("replicas", 1) if core.get("banks") else core.get("trees", 1)
 
 
 @dataclass(frozen=True)
 class Config:
     name: str
-    options: CoreOptions
+    # The core file's keys (a key left out is the default core's: export-verilog's
+    # defaults), exported with `export-verilog --core`.
+    core: dict
+    # bench-core's workload: none given, random queries on a full random map; else a
+    # Cornell-box map from `cornell_photons` emitted photons (on the core's grid),
+    # queried at the eye-ray hits of a CORNELL_SIZE image; `radius` (world units)
+    # for every query; `sim_queries` (default SIM_QUERIES) for a wide core's slots.
+    bench: dict = field(default_factory=dict)
     # In README.md's headline table.
     headline: bool = False
     # Synthesised by parts (PARTS) instead of whole: a core too large for one yosys
@@ -155,95 +118,94 @@ class Config:
     nowidelut: bool = False
 
 
-# The paper's core (K = 10, 10-bit coordinates, L1, H = 10) with Q fitted to the paper
-# workload (`CoreConfig::fit_queries_per_port`: 12 per port for uniform L1 10-NN
-# queries, testbenches/hw_throughput.rs), and with the worst case Q = 21 of the
-# paper's Verilog (the issue interval).
-PAPER = CoreOptions(queries_per_port=12)
-PAPER21 = CoreOptions(queries_per_port=21)
+# The paper's Table-2 core (K = 10, 10-bit coordinates, L1, H = 10, QueryModules
+# with the remembering traversal), with Q fitted to the paper workload
+# (`CoreConfig::fit_queries_per_port`: 12 per port for uniform L1 10-NN queries,
+# testbenches/hw_throughput.rs), and with the worst case Q = 21 of the paper's
+# Verilog (the issue interval).
+PAPER_CORE = {"controller": "modules", "traversal": "remember", "k": 10, "metric": "l1"}
+PAPER = {**PAPER_CORE, "queries_per_port": 12}
+PAPER21 = {**PAPER_CORE, "queries_per_port": 21}
 # The cell-distance traversal: fewer reads per query, more LUTs per QueryModule; Q
 # fitted to this traversal's read interval (bench-core --fit-q).
-PAPER_CELL = CoreOptions(queries_per_port=14, traversal="cell")
+PAPER_CELL = {**PAPER_CORE, "queries_per_port": 14, "traversal": "cell"}
 # The barrel port: 16 query slots per port behind one pipelined datapath.
-BARREL_CELL = CoreOptions(queries_per_port=16, traversal="cell", controller="barrel")
+BARREL_CELL = {**PAPER_CORE, "queries_per_port": 16, "traversal": "cell", "controller": "barrel"}
+# A banked core (docs/HARDWARE.md): barrel datapaths, K = 32, squared L2, 16 banks
+# with split ports under 10 replicated levels; its replicas per row.
+BANKED = {**BARREL_CELL, "k": 32, "metric": "l2", "address_bits": 16, "banks": 16,
+          "replicated_levels": 10, "bank_ports": "split"}
 CONFIGS = [
     Config("paper (K=10, 10-bit, L1, 2x12: Q fitted)", PAPER, headline=True),
     Config("paper, worst-case Q (2x21)", PAPER21),
     Config("paper, cell traversal (2x14: Q fitted)", PAPER_CELL, headline=True),
     # The paper's ascent: every parent read again on the way up.
-    Config("paper, re-read ascent (2x21)", replace(PAPER21, traversal="reread")),
+    Config("paper, re-read ascent (2x21)", {**PAPER21, "traversal": "reread"}),
     # No register on the BlockRAM read data nor on the result streams.
-    Config("paper, unpipelined (2x21)", replace(PAPER21, pipelined=False)),
-    Config("K=50", CoreOptions(k=50)),
-    Config("12-bit coordinates", CoreOptions(bits=12)),
-    Config("squared L2", CoreOptions(metric="l2")),
+    Config("paper, unpipelined (2x21)", {**PAPER21, "pipelined": False}),
+    Config("K=50", {**PAPER_CORE, "k": 50}),
+    Config("12-bit coordinates", {**PAPER_CORE, "coordinate_bits": [12, 12, 12]}),
+    Config("squared L2", {**PAPER_CORE, "metric": "l2"}),
     # The study's cheapest configuration within 1 % image error of float
     # (docs/STUDY.md): the Cornell map's H = 19 tree, Q as the study fitted it.
     Config("study ≤1 % (K=32, 14-bit, L2, 2x19, H=19)",
-           CoreOptions(k=32, bits=14, address_bits=19, metric="l2", queries_per_port=19)),
-    Config("T=2 trees", replace(PAPER, trees=2)),
-    Config("T=4 trees", replace(PAPER, trees=4)),
-    Config("T=4 trees, cell traversal", replace(PAPER_CELL, trees=4)),
+           {**PAPER_CORE, "k": 32, "coordinate_bits": [14, 14, 14], "address_bits": 19,
+            "metric": "l2", "queries_per_port": 19}),
+    Config("T=2 trees", {**PAPER, "trees": 2}),
+    Config("T=4 trees", {**PAPER, "trees": 4}),
+    Config("T=4 trees, cell traversal", {**PAPER_CELL, "trees": 4}),
     # The largest default-traversal array the ECP5-85k holds by one core's LUT4s.
-    Config("T=5 trees", replace(PAPER, trees=5)),
+    Config("T=5 trees", {**PAPER, "trees": 5}),
     # The largest cell-traversal array by one core's LUT4s.
-    Config("T=3 trees, cell traversal", replace(PAPER_CELL, trees=3)),
+    Config("T=3 trees, cell traversal", {**PAPER_CELL, "trees": 3}),
     # One cell core fewer, about half the device: the fallback if T = 3 does not route.
-    Config("T=2 trees, cell traversal", replace(PAPER_CELL, trees=2)),
+    Config("T=2 trees, cell traversal", {**PAPER_CELL, "trees": 2}),
     # The barrel port: one pipelined datapath per port instead of Q QueryModules.
     Config("paper, cell traversal, barrel (2x16 slots)", BARREL_CELL, headline=True),
     # The largest barrel arrays (MAX_TREES = 8, and a fallback).
-    Config("T=8 trees, barrel cell", replace(BARREL_CELL, trees=8), headline=True),
-    Config("T=6 trees, barrel cell", replace(BARREL_CELL, trees=6)),
+    Config("T=8 trees, barrel cell", {**BARREL_CELL, "trees": 8}, headline=True),
+    Config("T=6 trees, barrel cell", {**BARREL_CELL, "trees": 6}),
     # Found lists beyond the comparator tree (paper §3's high-quality regime): the
     # barrel core's heaps in BlockRAM, squared L2 as the default render gathers.
-    Config("barrel K=100 (L2, 2x16 slots)", replace(BARREL_CELL, k=100, metric="l2")),
-    Config("barrel K=512 (L2, 2x16 slots)", replace(BARREL_CELL, k=512, metric="l2")),
+    Config("barrel K=100 (L2, 2x16 slots)", {**BARREL_CELL, "k": 100, "metric": "l2"}),
+    Config("barrel K=512 (L2, 2x16 slots)", {**BARREL_CELL, "k": 512, "metric": "l2"}),
     # One map banked over the BlockRAM (docs/HARDWARE.md): D = 8 barrel datapaths on four
     # replicas of the top 10 levels, 16 banks below with split ports (each port serves
     # half the datapaths: the crossbar's area), two result streams; the largest Cornell
     # map a 16-bit address holds (33,500 emitted store about 65 K), k = 32, squared L2.
     Config("banked D=8 (K=32, L2, 4x2x16 slots, B=16 split, R=2, Cornell 65 K photons)",
-           replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=4, banks=16,
-                   replicated_levels=10, result_streams=2, bank_ports="split",
-                   cornell_photons=33500), headline=True),
+           {**BANKED, "replicas": 4, "result_streams": 2}, {"cornell_photons": 33500},
+           headline=True),
     # Half of it: two replicas, the same banks and map, one result stream (the fallback
     # where the D = 8 core does not route or close timing on the ECP5-85k).
     Config("banked D=4 (K=32, L2, 2x2x16 slots, B=16 split, R=1, Cornell 65 K photons)",
-           replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=2, banks=16,
-                   replicated_levels=10, bank_ports="split", cornell_photons=33500), headline=True),
+           {**BANKED, "replicas": 2}, {"cornell_photons": 33500}, headline=True),
     # Between the two: three replicas (D = 6), the same banks and map, one result stream.
     Config("banked D=6 (K=32, L2, 3x2x16 slots, B=16 split, R=1, Cornell 65 K photons)",
-           replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=3, banks=16,
-                   replicated_levels=10, bank_ports="split", cornell_photons=33500), headline=True),
+           {**BANKED, "replicas": 3}, {"cornell_photons": 33500}, headline=True),
     # The same map gathered within a radius of 0.1 (a tenth of the box; pbrt-v2's
     # photon map default), with a core built for it: 14-bit distances instead of the
     # grid diagonal's 22, so narrower found lists, comparators and bounds.
     Config("banked D=8, radius 0.1 (K=32, L2, 14-bit distances, 4x2x16 slots, B=16 split, R=2, Cornell 65 K photons)",
-           replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=4, banks=16,
-                   replicated_levels=10, result_streams=2, bank_ports="split",
-                   cornell_photons=33500, radius=0.1, radius_bits=14), headline=True),
+           {**BANKED, "replicas": 4, "result_streams": 2, "radius_bits": 14},
+           {"cornell_photons": 33500, "radius": 0.1}, headline=True),
     Config("banked D=6, radius 0.1 (K=32, L2, 14-bit distances, 3x2x16 slots, B=16 split, R=1, Cornell 65 K photons)",
-           replace(BARREL_CELL, k=32, metric="l2", address_bits=16, trees=3, banks=16,
-                   replicated_levels=10, bank_ports="split",
-                   cornell_photons=33500, radius=0.1, radius_bits=14)),
+           {**BANKED, "replicas": 3, "radius_bits": 14}, {"cornell_photons": 33500, "radius": 0.1}),
     # The paper's high-quality regime (k = 500, §3) on the ECP5-85k: six K = 500
     # datapaths (heaps, levels below 512 pairs in LUT-RAM, read-out of addresses
     # only) over the largest Cornell map the remaining BlockRAM holds (H = 14: 8,300
     # emitted store 16,319 photons; H = 15 would need 32 DP16KD more), two result
     # streams (a packet is 251 beats).
     Config("banked D=6, K=500 (L2, 3x2x16 slots, B=16 split, R=2, Cornell 16 K photons)",
-           replace(BARREL_CELL, k=500, metric="l2", address_bits=14, trees=3, banks=16,
-                   replicated_levels=10, result_streams=2, bank_ports="split",
-                   cornell_photons=8300, sim_queries=12000), headline=True, nowidelut=True),
+           {**BANKED, "k": 500, "address_bits": 14, "replicas": 3, "result_streams": 2},
+           {"cornell_photons": 8300, "sim_queries": 12000}, headline=True, nowidelut=True),
     # The default render's map (200,000 emitted photons, H = 19) on the XC6VSX475T as
     # `--device xc6vsx475t` plans it: D = 32 datapaths on 16 replicas of the top 10
     # levels, 128 banks with split ports, one result stream per four datapaths; enough
     # queries to keep its 512 slots busy.
     Config("banked D=32, XC6VSX475T fit (K=32, L2, 16x2x16 slots, B=128 split, R=8, default render's map)",
-           replace(BARREL_CELL, k=32, metric="l2", address_bits=19, trees=16, banks=128,
-                   replicated_levels=10, result_streams=8, bank_ports="split",
-                   cornell_photons=200000, sim_queries=60000), headline=True, parts=True),
+           {**BANKED, "address_bits": 19, "replicas": 16, "banks": 128, "result_streams": 8},
+           {"cornell_photons": 200000, "sim_queries": 60000}, headline=True, parts=True),
 ]
 
 
@@ -348,7 +310,10 @@ class DeviceFit:
 @dataclass
 class Record:
     name: str
-    options: CoreOptions
+    # The core measured: its core file's every key, as export-verilog wrote it.
+    core: dict
+    # bench-core's workload (Config.bench).
+    bench: dict
     headline: bool
     date: Optional[str]
     # Where the numbers come from: "synth/run.sh" or a migration's note.
@@ -417,7 +382,7 @@ def load_results(path=RESULTS):
         if e:
             cp = e.get("critical_path")
             e = Ecp5(**{**e, "critical_path": CriticalPath(**cp) if cp else None})
-        return Record(**{**r, "options": CoreOptions(**r["options"]),
+        return Record(**{**r,
                          "xc6v": Xc6v(**r["xc6v"]) if r.get("xc6v") else None, "ecp5": e,
                          "sim": Sim(**r["sim"]) if r.get("sim") else None,
                          "kiddo": Kiddo(**r["kiddo"]) if r.get("kiddo") else None,
@@ -591,9 +556,10 @@ PARTS = {
 }
 
 
-def part_counts(o):
-    """How many of each part a banked core of options `o` has."""
-    return {"crossbar": 1, "banks": 1, "datapath": 2 * o.trees, "replica": o.trees, "rest": 1}
+def part_counts(core):
+    """How many of each part a banked core has."""
+    r = copies(core)
+    return {"crossbar": 1, "banks": 1, "datapath": 2 * r, "replica": r, "rest": 1}
 
 
 def compose(parts, counts):
@@ -740,6 +706,24 @@ def sim(d, opts, files, cache_only, queries=None):
     return s, k, None
 
 
+def bench_cli(c, d):
+    """bench-core's options for the row exported into `d`: its core file and workload."""
+    a = ["--core", os.path.join(d, CORE_FILE)]
+    b = c.bench
+    if b.get("cornell_photons") is not None:
+        a += ["--workload", "cornell", "--cornell-photons", str(b["cornell_photons"]),
+              "--cornell-size", CORNELL_SIZE, "--cornell-spp", "1"]
+    if b.get("radius") is not None:
+        a += ["--radius", str(b["radius"])]
+    return a
+
+
+def exported_core(c):
+    """The core file export-verilog wrote for the row (every key), or None."""
+    p = os.path.join(BUILD, slug(c.name), CORE_FILE)
+    return tomllib.load(open(p, "rb")) if os.path.exists(p) else None
+
+
 def export(c):
     """Write the row's Verilog into its build directory; None, or the export's error.
 
@@ -749,7 +733,11 @@ def export(c):
     d = os.path.join(BUILD, slug(c.name))
     os.makedirs(d, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=d, prefix=".export") as tmp:
-        rc, out = run([BIN, "export-verilog", *c.options.cli(), "--shell-trees", "1", "--out", tmp],
+        # The row's core file (its keys; the rest the default core's) beside the build.
+        spec = os.path.join(tmp, ROW_FILE)
+        with open(spec, "w", encoding="utf-8") as f:
+            f.write(toml_text(c.core))
+        rc, out = run([BIN, "export-verilog", "--core", spec, "--shell-trees", "1", "--out", tmp],
                       f"{tmp}/export.log")
         if rc != 0:
             print(f"{c.name}: export failed: {out.strip()}", flush=True)
@@ -776,7 +764,7 @@ def derive(r):
             if k.all_threads_queries_per_s:
                 r.figures["vs_kiddo_all_threads"] = Figure(qps / k.all_threads_queries_per_s,
                                                            f"{sp} / measured")
-    if not (x and s and k) or (r.options.trees != 1 and r.options.banks is None):
+    if not (x and s and k) or (r.core.get("trees", 1) != 1 and not r.core.get("banks")):
         return r  # an array's fit is its cores', not the array's
     allt = lambda q: q / k.all_threads_queries_per_s if k.all_threads_queries_per_s else None
     ram = x.ramb36 + (x.ramb18 + 1) // 2
@@ -798,15 +786,15 @@ def derive(r):
 def row(c, steps, old, export_error=None, versions=None):
     """The row's record: cached results, plus the `steps` ("xc6v", "sim", "ecp5") run
     now; a row with nothing cached keeps its `old` record."""
-    blank = Record(name=c.name, options=c.options, headline=c.headline, date=None, source="synth/run.sh",
-                   tools={}, verilog_sha256=None)
+    blank = Record(name=c.name, core=exported_core(c) or c.core, bench=c.bench, headline=c.headline,
+                   date=None, source="synth/run.sh", tools={}, verilog_sha256=None)
     if export_error:
         return replace(blank, status=export_error)
     d = os.path.join(BUILD, slug(c.name))
     t0 = time.time()
     core, shell = f"{d}/photon_search_core.v", f"{d}/shell.v"
     run_x = "xc6v" in steps or ("ecp5" in steps and not ECP5_ONLY)
-    noshare = c.options.banks is not None
+    noshare = c.core.get("banks") is not None
     parts, x = {}, None
     if os.path.exists(core) and noshare:
         # A banked core's crossbar on its own (the interconnect's area); every part
@@ -816,7 +804,7 @@ def row(c, steps, old, export_error=None, versions=None):
             if px:
                 parts[p] = px
         if c.parts and len(parts) == len(PARTS):
-            x = compose(parts, part_counts(c.options))
+            x = compose(parts, part_counts(c.core))
     if os.path.exists(core) and not c.parts:
         x = xilinx(d, "top", [core], not run_x, noshare)
     e = err = s = k = None
@@ -831,20 +819,20 @@ def row(c, steps, old, export_error=None, versions=None):
         # The first row: every seed. An array: the seeds in turn until one routes (a
         # congested placement may not route on one seed and route on the next). Any
         # other row: the first seed.
-        big = c.options.trees >= ROUTER2_TREES and c.options.controller not in ROUTER1_CONTROLLERS
+        big = copies(blank.core) >= ROUTER2_TREES and blank.core["controller"] not in ROUTER1_CONTROLLERS
         first = c == CONFIGS[0]
-        e = ecp5(d, [core, shell], SEEDS if first or c.options.trees > 1 else SEEDS[:1],
+        e = ecp5(d, [core, shell], SEEDS if first or copies(blank.core) > 1 else SEEDS[:1],
                  "router2" if big else "router1", "ecp5" not in steps, first_routed=not first,
                  noshare=noshare, nowidelut=c.nowidelut)
     if os.path.exists(core):
-        s, k, err = sim(d, c.options.sim_cli(d), [core], "sim" not in steps, c.options.sim_queries)
+        s, k, err = sim(d, bench_cli(c, d), [core], "sim" not in steps, c.bench.get("sim_queries"))
     if steps:
         print(f"{c.name} {sorted(steps)}: {time.time() - t0:.0f} s: {x and x.luts} LUTs, "
               f"{e and (e.error or e.fmax_mhz)}, {s}", flush=True)
     if not (x or parts or (e and not c.parts) or s):
         if err:
             return replace(blank, status=err)
-        if old and old.options == c.options and old.status is None:
+        if old and old.core == blank.core and old.bench == c.bench and old.status is None:
             # Measured elsewhere (its record says where and when): on this Verilog, or
             # on an earlier one (kept, and said to be stale, until the row is re-run).
             now = digest([core]) if os.path.exists(core) else None
@@ -965,7 +953,7 @@ def render_report(res):
              f"(text: {p.photons_per_s_text / 1e6:.0f} M) | | {p.photons_per_query_c} (C code) | | | |")
     crit, not_run = [], False
     for r in res.rows:
-        t = r.options.trees
+        t = copies(r.core)
         if r.status and not r.xc6v:
             L.append(f"| {r.name} | {t} | n/a: {r.status} | | | | | | | | | | | | | | | |")
             not_run = True
@@ -1021,7 +1009,7 @@ def render_report(res):
             cells += ([f"{d.cores}", f"{d.queries_per_s / 1e6:,.1f} M", f"{d.vs_kiddo:,.1f}x",
                        fmt_all(d.vs_kiddo_all_threads, r.kiddo)] if d else ["?"] * 4)
         L.append(f"| {r.name} | " + " | ".join(cells) + " |")
-    arrays = [r for r in res.rows if r.options.trees > 1 and r.options.banks is None
+    arrays = [r for r in res.rows if r.core.get("trees", 1) > 1 and not r.core.get("banks")
               and r.ecp5 and not r.ecp5.error and r.sim]
     if arrays:
         L += ["\n### Arrays placed and routed on the ECP5-85k\n",
@@ -1038,7 +1026,7 @@ def render_report(res):
             e, s, f, u = r.ecp5, r.sim, r.figures, r.ecp5.used or {}
             use = lambda k: f"{u[k][0]:,} ({100 * u[k][0] / u[k][1]:.0f} %)" if k in u else "?"
             allt = fmt_all(f["vs_kiddo_all_threads"].value if "vs_kiddo_all_threads" in f else None, r.kiddo)
-            L.append(f"| {r.name} | {r.options.trees} | {e.best_seed()} | {use('Total LUT4s')} | "
+            L.append(f"| {r.name} | {r.core['trees']} | {e.best_seed()} | {use('Total LUT4s')} | "
                      f"{use('Total DFFs')} | {use('DP16KD')} | {e.best():.1f} | {s.reads_per_cycle:.3f} | "
                      f"{f['queries_per_s'].value / 1e6:,.2f} M | {f['vs_kiddo'].value:,.1f}x | {allt} |")
             tried += [f"- {r.name}, {t}" for t in e.failed]
@@ -1054,7 +1042,7 @@ def render_report(res):
 def banked_section(res):
     """The banked cores (one map over B banks, `--banks`): placed and routed, on a
     Cornell map of the row's size."""
-    rows = [r for r in res.rows if r.options.banks is not None and r.sim]
+    rows = [r for r in res.rows if r.core.get("banks") and r.sim]
     if not rows:
         return []
     L = ["\n### Banked cores placed and routed on the ECP5-85k\n",
@@ -1072,7 +1060,7 @@ def banked_section(res):
          "|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     rows = [r for r in rows if not any(c.parts for c in CONFIGS if c.name == r.name)]
     for r in rows:
-        o, e, s, f = r.options, r.ecp5, r.sim, r.figures
+        o, e, s, f = r.core, r.ecp5, r.sim, r.figures
         u = (e.used or {}) if e else {}
         use = lambda k: f"{u[k][0]:,} ({100 * u[k][0] / u[k][1]:.0f} %)" if k in u else "?"
         fmax = f"{e.best():.1f}" if e and e.best() else (e.error if e and e.error else "?")
@@ -1082,8 +1070,8 @@ def banked_section(res):
         kq = f"{r.kiddo.queries_per_s / 1e3:,.0f} K" if r.kiddo else "?"
         xb = r.parts.get("crossbar")
         xb = f"{xb.luts:,} ({100 * xb.luts / r.xc6v.luts:.0f} %)" if xb and r.xc6v else "?"
-        L.append(f"| {r.name} | {2 * o.trees} | {o.banks} | {o.bank_ports or 'shared'} | "
-                 f"{o.replicated_levels} | {o.result_streams} | {o.cornell_photons:,} | {xb} | "
+        L.append(f"| {r.name} | {2 * copies(o)} | {o['banks']} | {o['bank_ports']} | "
+                 f"{o['replicated_levels']} | {o['result_streams']} | {r.bench['cornell_photons']:,} | {xb} | "
                  f"{use('Total LUT4s')} | {use('DP16KD')} | {fmax} | "
                  f"{s.reads_per_cycle:.3f} | {s.reads_per_query:.1f} | {q} | {kq} | {vs} | {allt} |")
     return L + fitted_section(res)
@@ -1096,16 +1084,16 @@ def fitted_section(res):
     for r in res.rows:
         if r.name not in names:
             continue
-        o, s, k, x = r.options, r.sim, r.kiddo, r.xc6v
+        o, b, s, k, x = r.core, r.bench, r.sim, r.kiddo, r.xc6v
         L += [f"\n### {r.name}\n",
-              f"One map, the Cornell box from {o.cornell_photons:,} emitted photons (the default render's), "
-              f"over {o.banks} banks with {o.bank_ports or 'shared'} ports, {o.trees} replicas of the top "
-              f"{o.replicated_levels} levels, D = {2 * o.trees} barrel datapaths, {o.result_streams} result "
+              f"One map, the Cornell box from {b['cornell_photons']:,} emitted photons (the default render's), "
+              f"over {o['banks']} banks with {o['bank_ports']} ports, {copies(o)} replicas of the top "
+              f"{o['replicated_levels']} levels, D = {2 * copies(o)} barrel datapaths, {o['result_streams']} result "
               "streams. Too large for one yosys run on this machine, it is *synthesised by parts* (each part "
               "its own top in the core's exported Verilog, yosys synth_xilinx -family xc6v without share, the "
               "other parts black boxes): the whole is the sum. No packing or routing losses are counted; the "
               f"clock is *assumed* ({res.method.paper_mhz:.0f} MHz, the paper's on this family). Reads/cycle "
-              f"*simulated* (Verilator, an even sample of {o.sim_queries or res.method.sim_queries:,} of the "
+              f"*simulated* (Verilator, an even sample of {b.get('sim_queries') or res.method.sim_queries:,} of the "
               f"eye-ray hits of a {CORNELL_SIZE} image, k = K, every answer checked against the software "
               "search); kiddo timed by the same bench-core run on the same map and queries.\n",
               "| part | count | LUTs | LUT-RAM | FFs | RAMB36 | RAMB18 | DSP48 |",
@@ -1161,10 +1149,10 @@ def axis_bytes():
 
 def result_beats(r):
     """(beats per query, where from): simulated, else the most a packet can have."""
-    s, o = r.sim, r.options
+    s, o = r.sim, r.core
     if s and s.result_beats_per_query:
         return s.result_beats_per_query, "simulated"
-    most = 1 + (-(-o.k // 2) if o.controller == "barrel" else o.k)
+    most = 1 + (-(-o["k"] // 2) if o["controller"] == "barrel" else o["k"])
     return most, "bound: K found"
 
 
@@ -1209,7 +1197,7 @@ def render_headline(res):
          f"| {p.name} ({p.device}) | {p.luts:,} LUTs, {p.blockram} BlockRAM [paper] | {p.fmax_mhz:.0f} MHz "
          f"Virtex-6 [paper] | {p.reads_per_cycle:.0f} [paper] | {p.photons_per_query_c} (C code) [paper] | | |"]
     for r in res.rows:
-        if not r.headline or r.status or r.options.banks is not None:
+        if not r.headline or r.status or r.core.get("banks"):
             continue
         x, e, s, f = r.xc6v, r.ecp5, r.sim, r.figures
         u = (e.used or {}) if e else {}
@@ -1227,7 +1215,7 @@ def render_headline(res):
         rates = (f"{q.value / 1e6:,.2f} M | " if q else "| ") + (f"{v.value:.2f}x |" if v else "|")
         L.append(f"| {name} | {area} | {clock} | {s.reads_per_cycle:.3f} | {s.reads_per_query:.1f} | "
                  f"{rates}" if s else f"| {name} | {area} | {clock} | | | | |")
-    fits = [(r, d) for r in res.rows if r.headline and r.options.banks is None
+    fits = [(r, d) for r in res.rows if r.headline and not r.core.get("banks")
             for d in r.device_fit if d.device == "XC6VSX475T"]
     L += headline_banked(res)
     L += ["",
@@ -1256,18 +1244,18 @@ def render_headline(res):
 def headline_banked(res):
     """README.md's table of the banked headline rows: one real map over a device's
     BlockRAM, placed and routed (ECP5) or fitted by parts (XC6VSX475T)."""
-    rows = [r for r in res.rows if r.headline and r.options.banks is not None and not r.status and r.sim]
+    rows = [r for r in res.rows if r.headline and r.core.get("banks") and not r.status and r.sim]
     if not rows:
         return []
     L = ["", "| one Cornell map over B banks, D datapaths (L2, K = 32 unless named) | photons | device: logic | clock | "
          "reads/cycle [sim] | reads/query [sim] | queries/s | vs kiddo 1 thread [meas] |",
          "|---|---:|---|---:|---:|---:|---:|---:|"]
     for r in rows:
-        o, x, e, s, k = r.options, r.xc6v, r.ecp5, r.sim, r.kiddo
-        within = f", within {o.radius} ({o.radius_bits}-bit distances)" if o.radius is not None else ""
-        deep = f", K = {o.k}" if o.k != 32 else ""
-        name = f"D = {2 * o.trees}, B = {o.banks}{deep}{within}{' [stale]' if r.stale else ''}"
-        photons = f"{s.photons:,}" if s.photons else f"from {o.cornell_photons:,} emitted"
+        o, b, x, e, s, k = r.core, r.bench, r.xc6v, r.ecp5, r.sim, r.kiddo
+        within = f", within {b['radius']} ({o['radius_bits']}-bit distances)" if b.get("radius") is not None else ""
+        deep = f", K = {o['k']}" if o["k"] != 32 else ""
+        name = f"D = {2 * copies(o)}, B = {o['banks']}{deep}{within}{' [stale]' if r.stale else ''}"
+        photons = f"{s.photons:,}" if s.photons else f"from {b['cornell_photons']:,} emitted"
         fit = next((d for d in r.device_fit if d.device == "XC6VSX475T"), None)
         u = (e.used or {}) if e else {}
         if any(c.parts for c in CONFIGS if c.name == r.name):

@@ -188,12 +188,13 @@ fn quick_study_runs_and_costs_the_chosen_core() {
         .unwrap()
         .iter()
         .find(|r| {
-            let o = &r["options"];
+            let o = &r["core"];
             o["controller"] == "barrel"
                 && o["traversal"] == "cell"
                 && o["trees"] == 1
+                && o["banks"].is_null()
                 && o["k"] == 10
-                && o["bits"] == 10
+                && o["coordinate_bits"] == serde_json::json!([10, 10, 10])
                 && o["metric"] == "l1"
                 && r["ecp5"].is_object()
         })
@@ -386,10 +387,22 @@ fn results_rows_give_clocks_and_areas_with_their_source() {
     let rows = all.study_rows(Traversal::Cell, STUDY_CONTROLLER);
     // Only single-tree, pipelined cores of the study's own traversal and controller.
     for r in &rows {
-        let o = &all.rows.iter().find(|x| x.name == r.name).unwrap().options;
+        let o = &all.rows.iter().find(|x| x.name == r.name).unwrap().core;
         assert_eq!(
-            (o.trees, o.pipelined, o.traversal, o.controller),
-            (1, true, Traversal::Cell, STUDY_CONTROLLER),
+            (
+                o.choice.trees,
+                o.build.banks,
+                o.build.pipelined,
+                o.choice.traversal,
+                o.choice.controller
+            ),
+            (
+                Some(1),
+                None,
+                Some(true),
+                Some(Traversal::Cell),
+                Some(STUDY_CONTROLLER)
+            ),
             "{}",
             r.name
         );
@@ -400,9 +413,9 @@ fn results_rows_give_clocks_and_areas_with_their_source() {
         .expect("the study's core at the paper's k and bits has a placed-and-routed clock");
     assert!(c.fmax_source.starts_with("placed-and-routed"), "{c:?}");
     // That clock is the best seed of a matching record.
-    assert!(all.rows.iter().any(|r| r.options.k == 10
-        && r.options.bits == 10
-        && r.options.metric == Metric::L1
+    assert!(all.rows.iter().any(|r| r.core.build.k == Some(10)
+        && r.core.build.coordinate_bits.is_some_and(|w| w.0 == [10; 3])
+        && r.core.build.metric == Some(Metric::L1)
         && r.ecp5
             .as_ref()
             .is_some_and(|e| e.fmax_mhz.iter().all(|&s| s <= f) && e.fmax_mhz.contains(&f))));
@@ -414,7 +427,7 @@ fn results_rows_give_clocks_and_areas_with_their_source() {
     // record of the same k, bits and metric is not the study's core.
     let record = |name: &str, traversal: &str, fmax: &str| {
         format!(
-            r#"{{"name": "{name}", "options": {{"k": 10, "bits": 10, "address_bits": 10,
+            r#"{{"name": "{name}", "core": {{"k": 10, "coordinate_bits": [10, 10, 10], "address_bits": 10,
             "queries_per_port": 7, "metric": "l2", "traversal": "{traversal}",
             "controller": "modules", "trees": 1, "pipelined": true}},
             "xc6v": {{"luts": 1234, "lutram": 0, "ffs": 567}},
@@ -422,7 +435,7 @@ fn results_rows_give_clocks_and_areas_with_their_source() {
         )
     };
     let text = format!(
-        r#"{{"schema": 1, "rows": [{}, {}]}}"#,
+        r#"{{"schema": 2, "rows": [{}, {}]}}"#,
         record("cell one", "cell", "99.0"),
         record("any name", "remember", "39.0, 40.5")
     );
@@ -451,7 +464,7 @@ fn results_rows_give_clocks_and_areas_with_their_source() {
 fn a_larger_k_row_costs_the_k_it_holds_and_says_so() {
     let record = |name: &str, k: usize, bits: u32, fmax: &str| {
         format!(
-            r#"{{"name": "{name}", "options": {{"k": {k}, "bits": {bits}, "address_bits": 10,
+            r#"{{"name": "{name}", "core": {{"k": {k}, "coordinate_bits": [{bits}, {bits}, {bits}], "address_bits": 10,
             "queries_per_port": 16, "metric": "l2", "traversal": "cell",
             "controller": "barrel", "trees": 1, "pipelined": true}},
             "xc6v": {{"luts": {k}, "lutram": 0, "ffs": 1}},
@@ -459,7 +472,7 @@ fn a_larger_k_row_costs_the_k_it_holds_and_says_so() {
         )
     };
     let text = format!(
-        r#"{{"schema": 1, "rows": [{}, {}, {}]}}"#,
+        r#"{{"schema": 2, "rows": [{}, {}, {}]}}"#,
         record("small", 10, 10, "99.0"),
         record("big", 512, 10, "48.0"),
         record("mid", 100, 10, "45.0")
@@ -563,7 +576,7 @@ fn report_and_readme_are_the_render_of_results_json() {
 fn a_simulated_row_without_a_clock_renders_without_rates() {
     let script = "import sys; sys.path.insert(0, 'synth'); import report as R
 res = R.load_results()
-r = next(r for r in res.rows if r.headline and r.options.banks is None and r.sim)
+r = next(r for r in res.rows if r.headline and not r.core.get('banks') and r.sim)
 r.ecp5 = None
 R.derive(r)
 line = next(l for l in R.render_headline(res).splitlines() if l.startswith(f'| {r.name} '))

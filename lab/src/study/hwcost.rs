@@ -11,6 +11,7 @@ use photon_fpga::host::map::knn;
 use photon_fpga::host::map::quantize::{GridPoint, Point};
 use photon_fpga::hw::config::controller::Controller;
 use photon_fpga::hw::config::core_config::{ReadProfile, PORTS};
+use photon_fpga::hw::config::core_spec::CoreSpec;
 use photon_fpga::hw::config::metric::Metric;
 use photon_fpga::hw::config::traversal::Traversal;
 use photon_fpga::hw::sim::native::{Engine, SimOptions};
@@ -178,31 +179,14 @@ pub struct SynthResults {
 #[derive(Clone, Debug, Deserialize)]
 pub struct SynthRow {
     pub name: String,
-    pub options: SynthOptions,
+    /// The core measured: the core file export-verilog wrote for it.
+    pub core: CoreSpec,
     /// yosys xc6v cell counts, if synthesised.
     pub xc6v: Option<SynthXc6v>,
     /// nextpnr ECP5-85k place and route, if run.
     pub ecp5: Option<SynthEcp5>,
     /// Why the row has no results, if it has none.
     pub status: Option<String>,
-}
-
-/// A core's elaboration-time options (export-verilog's and bench-core's).
-#[derive(Clone, Debug, Deserialize, PartialEq)]
-pub struct SynthOptions {
-    pub k: usize,
-    pub bits: u32,
-    pub address_bits: u32,
-    /// None: export-verilog's default (the issue interval).
-    pub queries_per_port: Option<usize>,
-    pub metric: Metric,
-    pub traversal: Traversal,
-    pub controller: Controller,
-    pub trees: usize,
-    pub pipelined: bool,
-    /// Distance bits for a largest radius (`--radius-bits`), if the core has them.
-    #[serde(default)]
-    pub radius_bits: Option<u32>,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -221,7 +205,7 @@ pub struct SynthEcp5 {
 }
 
 /// The schema of `synth/results.json` this reader understands.
-pub const RESULTS_SCHEMA: u32 = 1;
+pub const RESULTS_SCHEMA: u32 = 2;
 
 impl SynthResults {
     /// Parse `text`, the contents of `path` (named in the errors).
@@ -258,20 +242,21 @@ impl SynthResults {
         self.rows
             .iter()
             .filter(|r| {
-                let o = &r.options;
+                let (c, b) = (&r.core.choice, &r.core.build);
                 r.status.is_none()
-                    && o.trees == 1
-                    && o.pipelined
-                    && o.radius_bits.is_none()
-                    && o.traversal == traversal
-                    && o.controller == controller
+                    && c.trees == Some(1)
+                    && b.banks.is_none()
+                    && b.pipelined == Some(true)
+                    && b.radius_bits.is_none()
+                    && c.traversal == Some(traversal)
+                    && c.controller == Some(controller)
             })
             .map(|r| ReportRow {
                 name: r.name.clone(),
-                k: r.options.k,
-                bits: r.options.bits,
-                metric: r.options.metric,
-                queries_per_port: r.options.queries_per_port,
+                k: r.core.build.k.unwrap_or_default(),
+                bits: r.core.build.coordinate_bits.map_or(0, |w| w.0[0]),
+                metric: r.core.build.metric.unwrap_or_default(),
+                queries_per_port: r.core.choice.queries_per_port,
                 luts: r.xc6v.as_ref().map_or("?".into(), |x| {
                     let mut s = thousands(x.luts);
                     if x.lutram > 0 {
