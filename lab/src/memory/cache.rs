@@ -44,9 +44,17 @@ impl CacheConfig {
     /// "4-way", "fully assoc.".
     pub fn ways_name(&self) -> String {
         match self.ways {
-            Some(1) => "direct".into(),
+            Some(1) => "direct-mapped".into(),
             Some(w) => format!("{w}-way"),
             None => "fully assoc.".into(),
+        }
+    }
+
+    /// "4-way LRU", "direct-mapped" (one way: nothing to replace by).
+    pub fn name(&self) -> String {
+        match self.ways {
+            Some(1) => self.ways_name(),
+            _ => format!("{} {}", self.ways_name(), self.policy.name()),
         }
     }
 }

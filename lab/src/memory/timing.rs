@@ -10,6 +10,54 @@ use super::sim::{Machine, MemoryTiming};
 use super::sweep::{replays, timed, Stream, LOOP};
 use std::fmt::Write;
 
+/// The main stream at k = 32 with each memory's latency doubled and quadrupled
+/// (the latencies are partly assumed): reads/cycle/datapath against S.
+fn latency_table(t: &mut String, main: &Stream, choice: &Choice) {
+    let slots = [16usize, 32, 64];
+    let scales = [1u64, 2, 4];
+    let _ = writeln!(
+        t,
+        "\nLatency sensitivity ({}, reads/cycle/datapath; the latency is partly assumed):\n",
+        main.label
+    );
+    let _ = write!(t, "| memory | latency |");
+    for s in slots {
+        let _ = write!(t, " S = {s} |");
+    }
+    let _ = writeln!(t, "\n|---|---:|{}", "---:|".repeat(slots.len()));
+    for (mi, m) in MEMORIES.iter().enumerate() {
+        let r = chosen_replay(m, mi, main, choice);
+        let pts: Vec<_> = scales
+            .iter()
+            .flat_map(|&x| slots.iter().map(move |&s| (x, s)))
+            .map(|(x, s)| {
+                let mach = Machine {
+                    datapaths: m.datapaths,
+                    slots: s,
+                    loop_cycles: LOOP,
+                    layout: r.layout,
+                    cache: r.cache,
+                    sharing: r.sharing,
+                    memory: MemoryTiming {
+                        latency: m.latency * x,
+                        bytes_per_cycle: m.bytes_per_cycle(),
+                    },
+                };
+                (mach, choice.order)
+            })
+            .collect();
+        let res = timed(main, &pts);
+        for (xi, x) in scales.iter().enumerate() {
+            let _ = write!(t, "| {} | {} cycles |", m.device.name, m.latency * x);
+            for si in 0..slots.len() {
+                let rpc = res[xi * slots.len() + si].reads_per_cycle_per_datapath(m.datapaths);
+                let _ = write!(t, " {rpc:.3} |");
+            }
+            let _ = writeln!(t);
+        }
+    }
+}
+
 /// Append the timing tables and the choice to `t`; set `choice.slots`.
 pub fn section(t: &mut String, streams: &[Stream], sweep: &Sweep, choice: &mut Choice) {
     let main = &streams[0];
@@ -97,6 +145,7 @@ pub fn section(t: &mut String, streams: &[Stream], sweep: &Sweep, choice: &mut C
         let _ = need;
         slots_chosen.push(best_s);
     }
+    latency_table(t, main, choice);
     let _ = writeln!(
         t,
         "\nClosed form (modelled, from the trace model's misses per read):\n\n\
@@ -119,29 +168,34 @@ pub fn section(t: &mut String, streams: &[Stream], sweep: &Sweep, choice: &mut C
 }
 
 fn why(t: &mut String, c: &Choice) {
-    let ways = super::cache::CacheConfig {
+    let cache = super::cache::CacheConfig {
         lines: 1,
         ways: c.ways,
         policy: c.policy,
     }
-    .ways_name();
+    .name();
     let _ = writeln!(t, "## The choice, and why\n");
     let _ = writeln!(
         t,
         "What the hardware step of issue 52 builds, from the tables above (each rule \
-         stated with its table):\n"
+         stated with its table; every number modelled):\n"
     );
     for (mi, m) in MEMORIES.iter().enumerate() {
         let _ = writeln!(
             t,
-            "* **{}**: the top T = {} levels on chip; below them blocks of s = {} levels \
-             (a subtree of {} nodes, one burst-aligned line); a {ways} {} cache, {}, in the \
-             BlockRAM the device has left; S = {} slots per datapath.",
+            "* **{}**: the top T = {} levels on chip{}; below them blocks of s = {} \
+             levels (a subtree of {} nodes, {} bytes, one line); a {cache} cache, {}, in \
+             the BlockRAM the device has left; S = {} slots per datapath.",
             m.name,
             c.on_chip[mi],
+            if c.on_chip[mi] == m.replica_levels {
+                " (the replica beside each datapath, no banked store)"
+            } else {
+                " (the replica and a banked store below it)"
+            },
             c.block_levels[mi],
             (1u32 << c.block_levels[mi]) - 1,
-            c.policy.name(),
+            ((1u32 << c.block_levels[mi]) * 4).div_ceil(m.burst_bytes) * m.burst_bytes,
             c.sharing.name(),
             c.slots[mi]
         );
@@ -154,13 +208,37 @@ fn why(t: &mut String, c: &Choice) {
     );
     let _ = writeln!(
         t,
-        "Why: a block of s levels is one burst, so a descent pays one memory latency \
-         per s levels, and the fewest DRAM bytes per query is what the bandwidth \
-         bound (the closed form's last column) rewards; associativity beyond the \
-         chosen ways and LRU's per-hit update buy less than half a point of hit rate; \
-         one cache per datapath pair keeps every cache port private (no crossbar, \
-         whose arbitration sets the banked core's clock, synth/REPORT.md); and the \
-         slots are as many as the cycle model needs to hide the latency (the closed \
-         form's L + m × Lm, with the bursts' queueing on top)."
+        "Why: a block of s levels is one line and whole bursts, so a descent pays one \
+         memory latency per s levels; s is the one with the fewest DRAM bytes per \
+         query, which the memory's bound (the closed form's last column) rewards. \
+         {} {} {}",
+        if c.ways == Some(1) {
+            "A direct-mapped cache is within half a point of every associativity at the \
+             device's budget (a coherent stream's working set is small beside it), and \
+             needs no replacement state at all."
+        } else {
+            "More ways and LRU's per-hit update buy less than half a point of hit rate."
+        },
+        match c.sharing {
+            super::trace::Sharing::Shared => {
+                "One cache shared by every datapath, because splitting it per datapath \
+                 pair loses more than 1 % of hit rate (each pair's queries reach every \
+                 part of the tree, so each pair's cache holds the same blocks again); in \
+                 hardware it is banked by block id like the on-chip store, its crossbar \
+                 registered (issue 52, item 6)."
+            }
+            super::trace::Sharing::PerPair => {
+                "One cache per datapath pair keeps each cache port private (no crossbar, \
+                 whose arbitration sets the banked core's clock, synth/REPORT.md)."
+            }
+        },
+        if c.slots.iter().all(|&x| x <= crate::banking::sweep::SLOTS) {
+            "The slots: the barrel's 16 already cover L + m × Lm at these hit rates, so \
+             a miss's wait is hidden by the other slots; the latency table shows how \
+             many a slower memory would need."
+        } else {
+            "The slots: more than the barrel's 16, as the cycle model needs to hide the \
+             latency (the closed form's L + m × Lm, with the bursts' queueing on top)."
+        }
     );
 }
