@@ -19,7 +19,14 @@ use std::collections::{HashMap, HashSet};
 
 #[test]
 fn the_layout_is_a_bijection_onto_blocks_of_subtrees() {
-    for (h, t, s) in [(12, 3, 4), (13, 4, 3), (10, 0, 2), (11, 5, 6), (9, 2, 7), (8, 8, 3)] {
+    for (h, t, s) in [
+        (12, 3, 4),
+        (13, 4, 3),
+        (10, 0, 2),
+        (11, 5, 6),
+        (9, 2, 7),
+        (8, 8, 3),
+    ] {
         let lay = BlockLayout::new(h, t, s, 4, 16);
         let mut cells = HashSet::new();
         let mut bytes = HashSet::new();
@@ -66,7 +73,11 @@ fn the_layout_is_a_bijection_onto_blocks_of_subtrees() {
                 }
                 a /= 2;
             }
-            assert_eq!(blocks.len() as u32, (h - t).div_ceil(s), "H {h} T {t} s {s}");
+            assert_eq!(
+                blocks.len() as u32,
+                (h - t).div_ceil(s),
+                "H {h} T {t} s {s}"
+            );
         }
     }
     // Block bytes: the nodes' words rounded up to whole bursts.
@@ -110,7 +121,11 @@ fn the_cache_hits_and_misses_as_a_naive_reference() {
     for lines in [8usize, 64, 256] {
         for ways in [Some(1), Some(2), Some(4), Some(8), None] {
             for policy in Policy::ALL {
-                let cfg = CacheConfig { lines, ways, policy };
+                let cfg = CacheConfig {
+                    lines,
+                    ways,
+                    policy,
+                };
                 let blocks = 4 * lines;
                 let mut cache = Cache::new(cfg, blocks);
                 let w = ways.unwrap_or(lines);
@@ -193,8 +208,18 @@ fn every_read_is_counted_once_and_a_whole_map_cache_misses_once_a_block() {
             .collect();
         for (lines, ways) in [(64, Some(2)), (512, Some(8)), (1 << 16, None)] {
             for sharing in Sharing::ALL {
-                let cache = CacheConfig { lines, ways, policy: Policy::Lru };
-                let rep = Replay { datapaths: 4, slots: 16, layout: lay, cache, sharing };
+                let cache = CacheConfig {
+                    lines,
+                    ways,
+                    policy: Policy::Lru,
+                };
+                let rep = Replay {
+                    datapaths: 4,
+                    slots: 16,
+                    layout: lay,
+                    cache,
+                    sharing,
+                };
                 let c = replay(&rep, &reads, &order);
                 assert_eq!((c.reads, c.on_chip, c.queries), (total, on_chip, 400));
                 assert_eq!(c.hits + c.misses, total - on_chip);
@@ -230,37 +255,63 @@ fn the_cycle_model_meets_its_closed_forms() {
         })
         .collect();
     assert_eq!(blocks.len(), path.len());
-    let cache = CacheConfig { lines: 64, ways: Some(4), policy: Policy::Lru };
+    let cache = CacheConfig {
+        lines: 64,
+        ways: Some(4),
+        policy: Policy::Lru,
+    };
     let mut m = machine(lay, cache, Sharing::Shared, 1, 16);
-    m.memory = MemoryTiming { latency: 30, bytes_per_cycle: 8.0 };
+    m.memory = MemoryTiming {
+        latency: 30,
+        bytes_per_cycle: 8.0,
+    };
     let r = run(&m, &[path.clone()], &[0]);
     assert_eq!(r.cycles, path.len() as u64 * (2 + 30 + 14));
     assert_eq!((r.misses, r.hits), (path.len() as u64, 0));
     // The same query in two slots at once: the second waits on the first's
     // bursts in flight and fetches nothing itself.
     let r = run(&m, &[path.clone(), path.clone()], &[0, 1]);
-    assert_eq!((r.misses, r.merged, r.hits), (path.len() as u64, path.len() as u64, 0));
+    assert_eq!(
+        (r.misses, r.merged, r.hits),
+        (path.len() as u64, path.len() as u64, 0)
+    );
     // Everything on chip: the banking model's slot loop alone.
     let all_on_chip = BlockLayout::new(12, 12, 3, 4, 16);
     let m = machine(all_on_chip, cache, Sharing::Shared, 1, 16);
     let r = run(&m, &[path.clone()], &[0]);
-    assert_eq!((r.cycles, r.on_chip), (path.len() as u64 * 14, path.len() as u64));
+    assert_eq!(
+        (r.cycles, r.on_chip),
+        (path.len() as u64 * 14, path.len() as u64)
+    );
     // Many slots, a slow memory: the bus is the bound (every miss a burst).
     let tree = random_tree(20_000, 5);
     let reads = streams(&tree, 300, 8, 6);
     let order: Vec<usize> = (0..reads.len()).collect();
     let lay = BlockLayout::new(tree.address_bits(), 4, 3, 4, 16);
-    let tiny = CacheConfig { lines: 4, ways: Some(1), policy: Policy::Fifo };
+    let tiny = CacheConfig {
+        lines: 4,
+        ways: Some(1),
+        policy: Policy::Fifo,
+    };
     let mut m = machine(lay, tiny, Sharing::Shared, 4, 64);
     m.memory.bytes_per_cycle = 1.0;
     let r = run(&m, &reads, &order);
     assert!(r.cycles as f64 >= r.misses as f64 * 32.0);
     assert!(r.bus_utilisation() > 0.9, "{}", r.bus_utilisation());
     // More slots never slow a latency-bound datapath.
-    let big = CacheConfig { lines: 256, ways: Some(4), policy: Policy::Lru };
+    let big = CacheConfig {
+        lines: 256,
+        ways: Some(4),
+        policy: Policy::Lru,
+    };
     let per: HashMap<usize, u64> = [8, 16, 32]
         .into_iter()
-        .map(|s| (s, run(&machine(lay, big, Sharing::Shared, 2, s), &reads, &order).cycles))
+        .map(|s| {
+            (
+                s,
+                run(&machine(lay, big, Sharing::Shared, 2, s), &reads, &order).cycles,
+            )
+        })
         .collect();
     assert!(per[&32] < per[&8], "{per:?}");
 }
@@ -280,7 +331,11 @@ fn the_memory_command_writes_its_report_and_refuses_bad_options() {
             .unwrap()
     };
     let ok = run(&["--quick"]);
-    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
     let text = std::fs::read_to_string(&out).unwrap();
     for part in [
         "Regenerate: `photon-fpga-lab memory --quick",
@@ -300,7 +355,10 @@ fn the_memory_command_writes_its_report_and_refuses_bad_options() {
         (vec!["--k", "0"], "--k: each must be in 1..=512"),
         (vec!["--k", "32,5000"], "--k: each must be in 1..=512"),
         (vec!["--photons", "0"], "--photons must be in"),
-        (vec!["--spp", "20000"], "the read streams are held in memory"),
+        (
+            vec!["--spp", "20000"],
+            "the read streams are held in memory",
+        ),
     ] {
         let o = run(&bad);
         assert_eq!(o.status.code(), Some(2), "{bad:?}");

@@ -90,7 +90,8 @@ pub fn memory(args: &MemoryArgs) -> Result<()> {
     let mut streams = vec![];
     for &emitted in &[photons, small] {
         for &k in &ks {
-            let image = ImageStream::cornell(emitted, 10, &settings, k, Metric::L2, Traversal::Cell);
+            let image =
+                ImageStream::cornell(emitted, 10, &settings, k, Metric::L2, Traversal::Cell);
             if image.queries.is_empty() {
                 return Err(Error::new("the image has no queries"));
             }
@@ -120,7 +121,10 @@ pub fn memory(args: &MemoryArgs) -> Result<()> {
             size.0,
             size.1,
             args.spp,
-            ks.iter().map(ToString::to_string).collect::<Vec<_>>().join(","),
+            ks.iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join(","),
             args.seed,
             args.out.display(),
             size.0,
@@ -128,7 +132,11 @@ pub fn memory(args: &MemoryArgs) -> Result<()> {
             args.spp
         )
     };
-    let sweep = if args.quick { Sweep::quick() } else { Sweep::full() };
+    let sweep = if args.quick {
+        Sweep::quick()
+    } else {
+        Sweep::full()
+    };
     let r = report(&streams, &sweep, &how);
     out.write(|w| w.write_all(r.text.as_bytes()))?;
     println!(

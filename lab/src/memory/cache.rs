@@ -123,7 +123,9 @@ impl Cache {
     #[inline]
     pub fn fill(&mut self, block: u32) {
         match self {
-            Cache::Sets { ways, sets, tags, .. } => {
+            Cache::Sets {
+                ways, sets, tags, ..
+            } => {
                 let s = block as usize % *sets;
                 let set = &mut tags[s * *ways..(s + 1) * *ways];
                 if !set.contains(&block) {

@@ -62,7 +62,10 @@ fn latency_table(t: &mut String, main: &Stream, choice: &Choice) {
 pub fn section(t: &mut String, streams: &[Stream], sweep: &Sweep, choice: &mut Choice) {
     let main = &streams[0];
     // The timed streams: the main map's, at every k measured.
-    let timed_streams: Vec<&Stream> = streams.iter().filter(|s| s.emitted == main.emitted).collect();
+    let timed_streams: Vec<&Stream> = streams
+        .iter()
+        .filter(|s| s.emitted == main.emitted)
+        .collect();
     let _ = writeln!(
         t,
         "## Throughput: the cycle model ({} order, the chosen cache)\n\n\
@@ -90,15 +93,12 @@ pub fn section(t: &mut String, streams: &[Stream], sweep: &Sweep, choice: &mut C
             let c = replays(s, &[(r, choice.order)])[0];
             let mpr = c.misses_per_read();
             let s_need = (LOOP as f64 + mpr * m.latency as f64).ceil() as usize;
-            let bw = m.bytes_per_cycle() / (m.datapaths as f64 * mpr * f64::from(r.layout.block_bytes()));
+            let bw = m.bytes_per_cycle()
+                / (m.datapaths as f64 * mpr * f64::from(r.layout.block_bytes()));
             let _ = writeln!(
                 closed,
                 "| {} | {} | {:.4} | {} | {:.2} |",
-                m.device.name,
-                s.label,
-                mpr,
-                s_need,
-                bw
+                m.device.name, s.label, mpr, s_need, bw
             );
             let pts: Vec<_> = sweep
                 .slots
@@ -122,7 +122,10 @@ pub fn section(t: &mut String, streams: &[Stream], sweep: &Sweep, choice: &mut C
                 })
                 .collect();
             let res = timed(s, &pts);
-            let rpcs: Vec<f64> = res.iter().map(|x| x.reads_per_cycle_per_datapath(m.datapaths)).collect();
+            let rpcs: Vec<f64> = res
+                .iter()
+                .map(|x| x.reads_per_cycle_per_datapath(m.datapaths))
+                .collect();
             let top = rpcs.iter().copied().fold(0.0, f64::max);
             let first = rpcs.iter().position(|&x| x >= 0.95 * top).unwrap_or(0);
             best_s = best_s.max(sweep.slots[first]);

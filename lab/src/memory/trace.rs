@@ -133,10 +133,7 @@ pub fn replay(m: &Replay, reads: &[Vec<u32>], order: &[usize]) -> Counts {
             }
             // This datapath's read of this cycle: the next live slot in rotation.
             let n = dp.len();
-            let Some(i) = (0..n)
-                .map(|j| (turn[d] + j) % n)
-                .find(|&i| dp[i].is_some())
-            else {
+            let Some(i) = (0..n).map(|j| (turn[d] + j) % n).find(|&i| dp[i].is_some()) else {
                 continue;
             };
             turn[d] = (i + 1) % n;
