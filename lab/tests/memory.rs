@@ -265,7 +265,7 @@ fn the_cycle_model_meets_its_closed_forms() {
         latency: 30,
         bytes_per_cycle: 8.0,
     };
-    let r = run(&m, &[path.clone()], &[0]);
+    let r = run(&m, std::slice::from_ref(&path), &[0]);
     assert_eq!(r.cycles, path.len() as u64 * (2 + 30 + 14));
     assert_eq!((r.misses, r.hits), (path.len() as u64, 0));
     // The same query in two slots at once: the second waits on the first's
@@ -278,7 +278,7 @@ fn the_cycle_model_meets_its_closed_forms() {
     // Everything on chip: the banking model's slot loop alone.
     let all_on_chip = BlockLayout::new(12, 12, 3, 4, 16);
     let m = machine(all_on_chip, cache, Sharing::Shared, 1, 16);
-    let r = run(&m, &[path.clone()], &[0]);
+    let r = run(&m, std::slice::from_ref(&path), &[0]);
     assert_eq!(
         (r.cycles, r.on_chip),
         (path.len() as u64 * 14, path.len() as u64)

@@ -81,7 +81,11 @@ impl Cache {
         assert!(cfg.lines >= 1, "a cache of no lines");
         match cfg.ways {
             Some(w) if w < cfg.lines => {
-                assert!(cfg.lines % w == 0, "{} lines in {w} ways", cfg.lines);
+                assert!(
+                    cfg.lines.is_multiple_of(w),
+                    "{} lines in {w} ways",
+                    cfg.lines
+                );
                 Cache::Sets {
                     ways: w,
                     sets: cfg.lines / w,
