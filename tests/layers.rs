@@ -21,13 +21,15 @@
 //! imports it:
 //!
 //! 13. `lab::workload` — benchmark workloads; `lab::cpu_ref` — kiddo, the CPU yardstick
-//! 14. `lab::banking` — the bank-conflict model; `lab::study` — the speed/error study
+//! 14. `lab::banking` — the bank-conflict model; `lab::memory` — the external-memory
+//!     cache model (it uses `banking`'s streams and orders); `lab::study` — the
+//!     speed/error study
 //! 15. the lab's command line (`lab::cli`, its `main.rs`)
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-const LAYERS: [(&str, usize); 30] = [
+const LAYERS: [(&str, usize); 31] = [
     ("hw::config::core_config", 0),
     ("hw::error", 0),
     ("hw::primitives", 1),
@@ -57,6 +59,7 @@ const LAYERS: [(&str, usize); 30] = [
     ("lab::cpu_ref", 13),
     ("lab::lookups", 13),
     ("lab::banking", 14),
+    ("lab::memory", 14),
     ("lab::study", 14),
     ("lab::cli", 15),
     // lab/src/lib.rs only declares the modules.

@@ -12,5 +12,6 @@ pub mod banking;
 pub mod cli;
 pub mod cpu_ref;
 pub mod lookups;
+pub mod memory;
 pub mod study;
 pub mod workload;

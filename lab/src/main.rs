@@ -5,6 +5,7 @@ use photon_fpga::host::output::remove_on_interrupt;
 use photon_fpga_lab::cli::banking::{banking, BankingArgs};
 use photon_fpga_lab::cli::bench_banks::{bench_banks, BenchBanksArgs};
 use photon_fpga_lab::cli::bench_core::{bench_core, BenchCoreArgs};
+use photon_fpga_lab::cli::memory::{memory, MemoryArgs};
 use photon_fpga_lab::cli::study::{study, StudyArgs};
 use std::process::ExitCode;
 
@@ -31,6 +32,10 @@ enum Cmd {
     /// datapaths x B banks, and queries/s against map size for a device's plan;
     /// writes docs/BANKED_CORE.md, its CSV and two plots.
     BenchBanks(BenchBanksArgs),
+    /// The photon map in external memory behind an on-chip cache, modelled: hit rate,
+    /// DRAM bytes and reads per cycle against layout, cache and query order; writes
+    /// docs/MEMORY.md.
+    Memory(MemoryArgs),
 }
 
 fn main() -> ExitCode {
@@ -40,6 +45,7 @@ fn main() -> ExitCode {
         Cmd::Study(a) => study(a),
         Cmd::Banking(a) => banking(a),
         Cmd::BenchBanks(a) => bench_banks(a),
+        Cmd::Memory(a) => memory(a),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,

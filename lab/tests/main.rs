@@ -1,6 +1,6 @@
 //! The lab's tests in one test binary: the bank model and its simulated sweeps, the
-//! workloads' throughput on the simulated core, bench-core, the study and its exact
-//! series.
+//! external-memory cache model, the workloads' throughput on the simulated core,
+//! bench-core, the study and its exact series.
 
 // The hardware testbenches' helpers (checks against the software search and brute
 // force), shared rather than copied.
@@ -16,6 +16,7 @@ mod banking;
 mod bench_banks;
 mod bench_core;
 mod cli;
+mod memory;
 mod study;
 mod study_exact;
 mod throughput;

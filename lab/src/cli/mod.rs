@@ -5,4 +5,5 @@
 pub mod banking;
 pub mod bench_banks;
 pub mod bench_core;
+pub mod memory;
 pub mod study;
