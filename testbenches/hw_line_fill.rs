@@ -6,20 +6,26 @@
 //! address; several bursts must be in flight at once (the latency is covered);
 //! a burst answered with an error sets `error`.
 
-use crate::common::{rng, settle};
+use crate::common::xsim::{compare, Recorder, XsimRun};
+use crate::common::xsim_tb::{self, Simulator};
+use crate::common::{lint_top, rng, settle};
+use photon_fpga::hw::export::verilog::export_block;
 use photon_fpga::hw::memory::line_fill::{LineFill, MAX_FILLS};
 use photon_fpga::hw::sim::axi_memory::{AxiBurst, AxiMemory, AxiTiming};
 use rand::Rng;
 use rust_hdl::prelude::*;
 use std::collections::{HashMap, VecDeque};
 
-/// One run: `fills` random fills of `block_bytes`-byte blocks with `D`-bit beats.
+/// One run: `fills` random fills of `block_bytes`-byte blocks with `D`-bit beats;
+/// whether `error` rose, and with `record` the run's stimulus and responses for a
+/// cross-simulation of the exported Verilog.
 fn run<const D: usize>(
     block_bytes: u64,
     fills: usize,
     timing: AxiTiming,
     fault: Option<u64>,
-) -> bool {
+    record: bool,
+) -> (bool, Option<XsimRun>) {
     let beat_bytes = (D / 8) as u64;
     let beats = block_bytes / beat_bytes;
     let blocks = 200u64;
@@ -36,6 +42,7 @@ fn run<const D: usize>(
         memory.fail_at(base + b * block_bytes);
     }
     let mut uut = LineFill::<D>::new(base, block_bytes);
+    let mut recorder = record.then(Recorder::default);
     uut.connect_all();
     check_all(&uut).expect("LineFill checks");
     let mut ram: HashMap<u64, u64> = HashMap::new();
@@ -60,6 +67,9 @@ fn run<const D: usize>(
         uut.fill_block.next = next.0.into();
         uut.fill_line.next = next.1.into();
         settle(&mut uut);
+        if let Some(rec) = recorder.as_mut() {
+            rec.sample(&uut, cycle);
+        }
         let ar = uut.m_axi.arvalid.val().then(|| AxiBurst {
             addr: uut.m_axi.araddr.val().to_u64(),
             len: uut.m_axi.arlen.val().to_u64() as u8,
@@ -107,8 +117,9 @@ fn run<const D: usize>(
             break;
         }
     }
+    let run = recorder.map(Recorder::finish);
     if uut.error.val() {
-        return true;
+        return (true, run);
     }
     assert_eq!(done, fills, "every fill finished");
     for b in &memory.bursts {
@@ -126,7 +137,7 @@ fn run<const D: usize>(
         timing.latency < 8 || most_in_flight >= MAX_FILLS / 2,
         "the latency is covered by several bursts in flight ({most_in_flight})"
     );
-    false
+    (false, run)
 }
 
 #[test]
@@ -139,18 +150,18 @@ fn fills_arrive_whole_and_in_order_through_a_slow_paused_memory() {
             r_pause: 0.3,
             seed,
         };
-        assert!(!run::<32>(64, 300, timing, None));
-        assert!(!run::<64>(64, 300, timing, None));
+        assert!(!run::<32>(64, 300, timing, None, false).0);
+        assert!(!run::<64>(64, 300, timing, None, false).0);
     }
     // A prompt memory, 16-byte beats' worth of blocks of 128 bytes.
-    assert!(!run::<64>(128, 200, AxiTiming::fixed(22), None));
+    assert!(!run::<64>(128, 200, AxiTiming::fixed(22), None, false).0);
 }
 
 #[test]
 fn an_error_response_sets_error() {
     let timing = AxiTiming::fixed(5);
     // Block 7 answers SLVERR; 400 random fills of 200 blocks reach it.
-    assert!(run::<32>(64, 400, timing, Some(7)));
+    assert!(run::<32>(64, 400, timing, Some(7), false).0);
 }
 
 #[test]
@@ -158,10 +169,30 @@ fn an_error_response_sets_error() {
     not(all(has_yosys, has_verilator, has_iverilog)),
     ignore = "needs yosys, verilator and iverilog"
 )]
-fn exported_verilog_lints() {
-    use photon_fpga::hw::export::verilog::export_block;
-    let e = export_block(LineFill::<64>::new(0, 64)).unwrap();
+fn exported_verilog_lints_and_replays_cycle_for_cycle() {
+    let timing = AxiTiming {
+        latency: 9,
+        extra_latency: 6,
+        ar_pause: 0.3,
+        r_pause: 0.3,
+        seed: 5,
+    };
+    let (failed, run) = run::<64>(64, 120, timing, None, true);
+    assert!(!failed);
+    let run = run.expect("recorded");
+    // The same block as the run's: 64-byte blocks from byte 4 x 64.
+    let e = export_block(LineFill::<64>::new(256, 64)).unwrap();
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("top.v"), &e.verilog).unwrap();
-    crate::common::lint_top(dir.path());
+    lint_top(dir.path());
+    assert_eq!(run.ports, e.ports);
+    for sim in [Simulator::Icarus, Simulator::Verilator] {
+        assert!(sim.available(), "{} is not installed", sim.name());
+        let sd = dir.path().join(sim.name());
+        xsim_tb::build(sim, &sd, &e.verilog, &run.ports, run.cycles).unwrap();
+        let got = xsim_tb::replay(sim, &sd, "line_fill", &run).unwrap();
+        if let Err(m) = compare(&run.responses, &got) {
+            panic!("LineFill under {}: {m}", sim.name());
+        }
+    }
 }
