@@ -9,6 +9,7 @@ mod hw_axis;
 mod hw_bank_crossbar;
 mod hw_banked;
 mod hw_blocks;
+mod hw_cache_bank;
 mod hw_config;
 mod hw_core;
 mod hw_cornell;

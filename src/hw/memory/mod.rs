@@ -4,6 +4,8 @@
 //! the lab's cache model, docs/MEMORY.md).
 //!
 //! * `BlockMap`: a heap address to its block and word (combinational).
+//! * `CacheBank`: one bank of the direct-mapped cache: a bank's read port with a
+//!   miss flag, the line's tag and valid bit, a miss's fill request.
 //! * `LineFill`: the AXI4 master (`primitives::axi4_read`) that brings blocks into
 //!   cache lines, several bursts in flight to cover the memory's latency.
 //!
@@ -16,16 +18,18 @@
 //!   bank (line mod B: the cache banked by block id); the bank row is the line in
 //!   the bank and the word in the block, and the block's tag (block / lines) rides
 //!   in the row's high bits, which a BlockRAM bank ignores.
-//! * **A miss.** A cache bank reads the word and the line's tag together; the
-//!   answer carries a miss flag beside the word, one stage before the
-//!   SearchModule takes it. `ReadIssue` then drops the read and parks its slot
-//!   (its context stays in the slot's LUT-RAM entries) instead of handing it on;
-//!   the bank asks `LineFill` for the block unless the line is already being
-//!   filled. A filled line wakes the parked slots, which offer their reads again:
-//!   the other slots go on meanwhile, as on a busy bank.
+//! * **A miss.** A `CacheBank` reads the word and the line's tag together and
+//!   answers the word with a miss flag above it, and asks `LineFill` for the
+//!   block unless the line is already being filled (built and tested). To do:
+//!   `ReadIssue`, one stage before the SearchModule takes the word, drops a
+//!   missed read and parks its slot (its context stays in the slot's LUT-RAM
+//!   entries); a filled line wakes the parked slots, which offer their reads
+//!   again, while the other slots go on, as on a busy bank.
 //! * **The memory port.** One `LineFill` for all banks, its AXI4 master the core's
 //!   `m_axi_*` port; the host loads the on-chip levels through the photon stream
 //!   and the blocks into memory as `MemoryLayout::image` lays them out.
 
 pub mod block_map;
+pub mod cache_bank;
+pub mod cache_port;
 pub mod line_fill;

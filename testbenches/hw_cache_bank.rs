@@ -1,0 +1,161 @@
+//! CacheBank with LineFill and the AXI memory model (`hw::sim::axi_memory`): two
+//! read ports ask for random words of the bank's blocks (with locality, as a
+//! search's reads have), each read repeated until it hits, while the memory
+//! answers with latency and random pauses. A hit must be the image's word of the
+//! row's block (never another block's that shares the line, never a line being
+//! filled); every read must hit within a bound (the miss was fetched); lines
+//! are replaced as blocks that share them are read.
+
+use crate::common::{rng, settle};
+use photon_fpga::hw::memory::cache_bank::CacheBank;
+use photon_fpga::hw::memory::line_fill::LineFill;
+use photon_fpga::hw::sim::axi_memory::{AxiBurst, AxiMemory, AxiTiming};
+use rand::Rng;
+use rust_hdl::prelude::*;
+
+/// Banks, this bank, its lines, block levels (16 words), blocks in memory.
+const BANK_BITS: u32 = 2;
+const BANK: u64 = 2;
+const LINE_BITS: u32 = 3;
+const S: u32 = 4;
+const BLOCKS: u64 = 96;
+const WORD: u32 = 32;
+
+/// The row of word `offset` of `block` (a block of this bank).
+fn row(block: u64, offset: u64) -> u64 {
+    let lines = 1u64 << (LINE_BITS + BANK_BITS);
+    let (tag, line) = (block / lines, (block % lines) >> BANK_BITS);
+    (tag << (LINE_BITS + S)) | (line << S) | offset
+}
+
+#[test]
+fn hits_are_the_blocks_words_and_every_read_hits_in_time() {
+    let timing = AxiTiming {
+        latency: 14,
+        extra_latency: 8,
+        ar_pause: 0.3,
+        r_pause: 0.25,
+        seed: 3,
+    };
+    let mut r = rng(17);
+    let image: Vec<u64> = (0..BLOCKS << S).map(|_| r.gen::<u32>() as u64).collect();
+    let mut memory = AxiMemory::from_words(&image, 4, timing);
+    let mut fill = LineFill::<32>::new(0, 4 << S);
+    let mut bank = CacheBank::new(BANK as u32, BANK_BITS, 1 << LINE_BITS, S, 2, WORD);
+    fill.connect_all();
+    bank.connect_all();
+    check_all(&fill).expect("LineFill checks");
+    check_all(&bank).expect("CacheBank checks");
+    // This bank's blocks: block mod B = this bank.
+    let mine: Vec<u64> = (0..BLOCKS)
+        .filter(|b| b % (1 << BANK_BITS) == BANK)
+        .collect();
+    let pick = |r: &mut rand_pcg::Pcg64, near: Option<u64>| -> (u64, u64) {
+        let block = match near {
+            Some(b) if r.gen_bool(0.6) => b,
+            _ => mine[r.gen_range(0..mine.len())],
+        };
+        (block, r.gen_range(0..1 << S))
+    };
+    // Per port: the read it wants, since when, and the read in flight.
+    let mut want: Vec<(u64, u64)> = (0..2).map(|_| pick(&mut r, None)).collect();
+    let mut since = [0u64; 2];
+    let mut in_flight: [Option<(u64, u64)>; 2] = [None, None];
+    let (mut hits, mut misses, mut done_reads) = (0u64, 0u64, 0u64);
+    fill.reset.next = true;
+    bank.reset.next = true;
+    for cycle in 0..30_000u64 {
+        let resetting = cycle < 2;
+        fill.reset.next = resetting;
+        bank.reset.next = resetting;
+        let out = memory.drive();
+        fill.m_axi.arready.next = out.arready;
+        fill.m_axi.rvalid.next = out.rvalid;
+        fill.m_axi.rdata.next = out.rdata.into();
+        fill.m_axi.rlast.next = out.rlast;
+        fill.m_axi.rresp.next = (out.rresp as u64).into();
+        settle(&mut fill);
+        // Last cycle's reads answer now.
+        for p in 0..2 {
+            if let Some((block, offset)) = in_flight[p].take() {
+                let word = bank.reads[p].word.val().to_u64();
+                if word >> WORD & 1 == 0 {
+                    assert_eq!(
+                        word,
+                        image[((block << S) + offset) as usize],
+                        "cycle {cycle} port {p}: a hit on block {block} word {offset}"
+                    );
+                    hits += 1;
+                    done_reads += 1;
+                    want[p] = pick(&mut r, Some(block));
+                    since[p] = cycle;
+                } else {
+                    misses += 1;
+                    assert!(
+                        cycle - since[p] < 2_000,
+                        "port {p}: block {block} never arrived"
+                    );
+                }
+            }
+        }
+        for p in 0..2 {
+            let ask = !resetting && r.gen_bool(0.8);
+            bank.reads[p].enable.next = ask;
+            bank.reads[p].row.next = row(want[p].0, want[p].1).into();
+            if ask {
+                in_flight[p] = Some(want[p]);
+            }
+        }
+        bank.fill_ready.next = fill.fill_ready.val();
+        bank.write_enable.next = fill.write_enable.val();
+        bank.write_index.next = fill.write_index.val();
+        bank.write_data.next = fill.write_data.val().to_u64().into();
+        bank.filled_valid.next = fill.filled_valid.val();
+        bank.filled_line.next = fill.filled_line.val();
+        settle(&mut bank);
+        fill.fill_valid.next = bank.fill_valid.val();
+        fill.fill_block.next = bank.fill_block.val();
+        fill.fill_line.next = bank.fill_line.val();
+        settle(&mut fill);
+        assert!(!fill.error.val());
+        let ar = fill.m_axi.arvalid.val().then(|| AxiBurst {
+            addr: fill.m_axi.araddr.val().to_u64(),
+            len: fill.m_axi.arlen.val().to_u64() as u8,
+            size: fill.m_axi.arsize.val().to_u64() as u8,
+            burst: fill.m_axi.arburst.val().to_u64() as u8,
+        });
+        memory.edge(ar, fill.m_axi.rready.val());
+        fill.clock.next = true.into();
+        bank.clock.next = true.into();
+        settle(&mut fill);
+        settle(&mut bank);
+        fill.clock.next = false.into();
+        bank.clock.next = false.into();
+    }
+    // Every burst was one of this bank's blocks; lines were reused (more blocks
+    // fetched than there are lines), and the locality paid: far fewer fills than
+    // reads answered (a miss is asked again every cycle until its block is there).
+    assert!(memory
+        .bursts
+        .iter()
+        .all(|b| (b.addr / (4 << S)) % (1 << BANK_BITS) == BANK));
+    let fills = memory.bursts.len() as u64;
+    assert!(fills > 1 << LINE_BITS, "{fills} fills");
+    assert!(
+        done_reads > 2_000 && fills < done_reads / 2,
+        "{done_reads} reads answered ({hits} hits), {fills} fills, {misses} missed tries"
+    );
+}
+
+#[test]
+#[cfg_attr(
+    not(all(has_yosys, has_verilator, has_iverilog)),
+    ignore = "needs yosys, verilator and iverilog"
+)]
+fn exported_verilog_lints() {
+    use photon_fpga::hw::export::verilog::export_block;
+    let e = export_block(CacheBank::new(BANK as u32, BANK_BITS, 256, S, 2, WORD)).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("top.v"), &e.verilog).unwrap();
+    crate::common::lint_top(dir.path());
+}
