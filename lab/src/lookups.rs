@@ -8,7 +8,7 @@ use crate::workload::{on_grid, Workload};
 use photon_fpga::host::error::Result;
 use photon_fpga::host::gather::{make_backend, BackendKind, GatherBackend, GatherParams, Gathered};
 use photon_fpga::host::map::quantize::{Point, Quantizer};
-use photon_fpga::host::render::final_gather::indirect_light;
+use photon_fpga::host::render::final_gather::{indirect_light, GatherMap};
 use photon_fpga::host::render::photons::trace_photons;
 use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::render::two_pass::default_radius;
@@ -69,8 +69,7 @@ pub fn cornell_final_gathers(
         &eye,
         gather_rays,
         settings.seed,
-        &photons,
-        &recorder,
+        GatherMap::Photons(&recorder, &photons),
         &params,
         &mut times,
     )?;
