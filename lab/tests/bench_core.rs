@@ -163,3 +163,55 @@ fn bench_core_runs_the_two_pass_lookups() {
     let core = bench.lines().find(|l| l.starts_with("core: ")).unwrap();
     assert!(core.contains("world units) on the grid"), "{core}");
 }
+
+/// `bench-core --workload two-pass` on a banked core (issue 53: the gather stream
+/// on the hardware): the final gathers through banks behind the crossbar, two
+/// replicas of the top levels (four datapaths) and two result streams, every
+/// answer equal to the software search's (bench-core refuses a disagreement).
+#[test]
+fn bench_core_runs_the_two_pass_lookups_on_a_banked_core() {
+    let bench = stdout_of(&strings(&[
+        "bench-core",
+        "--workload",
+        "two-pass",
+        "--cornell-photons",
+        "400",
+        "--cornell-size",
+        "6x5",
+        "--queries",
+        "40",
+        "--k",
+        "6",
+        "--metric",
+        "l2",
+        "--controller",
+        "barrel",
+        "--traversal",
+        "cell",
+        "--banks",
+        "4",
+        "--replicas",
+        "2",
+        "--replicated-levels",
+        "3",
+        "--bank-ports",
+        "split",
+        "--result-streams",
+        "2",
+    ]));
+    assert!(bench.contains("equal per query"), "{bench}");
+    assert!(bench.contains(" 40 queries,"), "{bench}");
+    let core = bench.lines().find(|l| l.starts_with("core: ")).unwrap();
+    assert!(core.contains("world units) on the grid"), "{core}");
+    // Four datapaths read, and the two result streams both carry answers.
+    let ports = bench
+        .lines()
+        .find(|l| l.starts_with("reads per port per cycle (whole run): "))
+        .unwrap();
+    assert_eq!(ports.split(", ").count(), 4, "{ports}");
+    let streams = bench
+        .lines()
+        .find(|l| l.starts_with("result stream: "))
+        .unwrap();
+    assert!(streams.contains("per stream"), "{streams}");
+}
