@@ -18,11 +18,12 @@
 //!   nearest irradiance point precomputed from it (Christensen 1999,
 //!   `irradiance.rs`, `--method two-pass-irradiance`).
 //!
-//! Every photon lookup (caustic, gather and irradiance precomputation) goes through the chosen gather backend,
-//! as Morton-sorted batches (`lookup.rs`): the workload a photon mapper gives the
-//! core. Lookups are radius-capped k-nearest searches (`GatherParams::radius`), as
-//! Jensen's, pbrt's and Mitsuba's photon mappers use them; a lookup with no photon
-//! inside the cap returns nothing and its estimate is 0.
+//! Every photon lookup (caustic, gather and irradiance precomputation) goes through
+//! the chosen gather backend, as Morton-sorted batches (`lookup.rs`): the workload a
+//! photon mapper gives the core. Lookups are radius-capped k-nearest searches
+//! (`GatherParams::radius`), as Jensen's, pbrt's and Mitsuba's photon mappers use
+//! them; a lookup with no photon inside the cap returns nothing and its estimate is
+//! 0.
 
 use crate::host::error::{Error, Result};
 use crate::host::gather::{GatherBackend, GatherParams};
