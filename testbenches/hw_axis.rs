@@ -210,7 +210,17 @@ fn layouts_follow_the_structs_and_the_ports() {
     ignore = "needs yosys, verilator and iverilog"
 )]
 fn axis_top_is_clean_verilog() {
-    for cfg in [configs()[1], configs()[3]] {
+    // A banked core of two result streams: two result ports.
+    let banked = CoreConfig::builder()
+        .traversal(Traversal::Cell)
+        .controller(Controller::Barrel)
+        .address_bits(10)
+        .banks(3, Some(4))
+        .trees(2)
+        .result_streams(2)
+        .build()
+        .unwrap();
+    for cfg in [configs()[1], configs()[3], banked] {
         let core = export_verilog(&cfg).expect("export");
         let axis = axis_top(&core, &cfg).expect("axis top");
         let dir = tempfile::tempdir().unwrap();

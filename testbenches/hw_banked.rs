@@ -7,7 +7,7 @@
 
 use crate::common::*;
 use crate::hw_core::hard_queries;
-use photon_fpga::hw::config::bank_config::BankPorts;
+use photon_fpga::hw::config::bank_config::{BankMapping, BankPorts};
 use photon_fpga::hw::config::controller::Controller;
 use photon_fpga::hw::config::core_config::{Banking, CoreConfig};
 use photon_fpga::hw::config::metric::Metric;
@@ -35,6 +35,7 @@ fn banked(
             bank_bits,
             replicated_levels: levels,
             ports,
+            mapping: BankMapping::Xor,
         }))
         .build_for(tree.image())
         .expect("a banked configuration within the limits")
@@ -138,6 +139,36 @@ fn banked_core_matches_software_search() {
             check_reads_counted(&stats, &results);
             check_every_datapath_read(&stats, 2 * shape.0);
         }
+    }
+}
+
+/// The banks picked by the address's low bits alone (`--bank-map modulo`): the
+/// same answers and reads as the software search, only other banks.
+#[test]
+fn banked_core_with_the_modulo_bank_map_matches_software_search() {
+    let layout = PhotonLayout::new([7, 7, 6]);
+    let mut r = rng(95);
+    let points = random_points(&mut r, 500, layout);
+    let tree = pack(&points, layout);
+    let xor = banked(
+        &tree,
+        8,
+        Metric::L2,
+        Traversal::Cell,
+        (2, 3, 4, BankPorts::Split),
+    );
+    let cfg = xor
+        .to_builder()
+        .bank_mapping(BankMapping::Modulo)
+        .build()
+        .expect("the same core with the modulo map");
+    assert_eq!(cfg.bank_mapping(), BankMapping::Modulo);
+    let queries = queries_for(&mut r, &points, layout, Metric::L2, 8);
+    for opts in [SimOptions::default(), stalls(95)] {
+        let (results, stats) = run_gather(&cfg, tree.image(), &queries, &opts).expect("sim");
+        check_results(&cfg, &tree, &points, &queries, &results);
+        check_reads_counted(&stats, &results);
+        check_every_datapath_read(&stats, 4);
     }
 }
 
@@ -253,6 +284,7 @@ fn banked_configurations_it_cannot_build_are_refused() {
             bank_bits,
             replicated_levels,
             ports: BankPorts::Shared,
+            mapping: BankMapping::Xor,
         })
     };
     for (builder, needle) in [

@@ -343,6 +343,7 @@ fn banked_cases() -> (CoreConfig, Vec<Case>) {
             bank_bits: 3,
             replicated_levels: 4,
             ports: BankPorts::Split,
+            mapping: Default::default(),
         }))
         .result_streams(2)
         .radius_bits(Some(12))

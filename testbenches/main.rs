@@ -17,6 +17,7 @@ mod hw_dispatcher;
 mod hw_found_heap;
 mod hw_found_rule;
 mod hw_free_pick;
+mod hw_line_fill;
 mod hw_lut_ram;
 mod hw_max_finder;
 mod hw_mux_trees;

@@ -4,7 +4,8 @@
 //!
 //! 0. `hw::config::core_config`, `hw::error` — what a core is, and what can go wrong with it
 //! 1. `hw::primitives` — RAMs, arbiters, encoders, register slices
-//! 2. `hw::store` — the TreeModule and the banked store
+//! 2. `hw::store` — the TreeModule and the banked store; `hw::memory` — the levels
+//!    in external memory
 //! 3. `hw::datapath` — the search both controllers share
 //! 4. `hw::modules`, `hw::barrel` — the two controllers (neither imports the other)
 //! 5. `hw::top` — the core, the array and their streams
@@ -29,11 +30,12 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-const LAYERS: [(&str, usize); 31] = [
+const LAYERS: [(&str, usize); 32] = [
     ("hw::config::core_config", 0),
     ("hw::error", 0),
     ("hw::primitives", 1),
     ("hw::store", 2),
+    ("hw::memory", 2),
     ("hw::datapath", 3),
     ("hw::modules", 4),
     ("hw::barrel", 4),

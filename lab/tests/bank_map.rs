@@ -1,10 +1,11 @@
 //! BankMap against the bank model's own mapping (`host::banking::mapping`, the
 //! software the mapping was chosen with): for random and boundary addresses of
-//! several (L, b, address width) shapes, the replica flag, the bank and the row
-//! must be the model's; and the (bank, row) pairs of all addresses below the
+//! several (L, b, address width) shapes and both mappings (XOR-fold, modulo), the
+//! replica flag, the bank and the row must be the model's; and the (bank, row) pairs of all addresses below the
 //! replica's end are distinct.
 
 use crate::common::{rng, settle};
+use photon_fpga::hw::config::bank_config::BankMapping;
 use photon_fpga::hw::store::bank_map::BankMap;
 use photon_fpga_lab::banking::mapping::{BankMap as Model, Mapping};
 use rand::Rng;
@@ -12,19 +13,27 @@ use rust_hdl::prelude::*;
 use std::collections::HashSet;
 
 #[test]
-fn bank_and_row_are_the_models_xor_fold() {
-    for (l, b, h, seed) in [
+fn bank_and_row_are_the_models_xor_fold_and_modulo() {
+    let shapes = [
         (0, 0, 8, 1),
         (4, 3, 10, 2),
         (9, 5, 17, 3),
         (10, 7, 19, 4),
         (10, 10, 20, 5),
-    ] {
-        let mut uut = BankMap::new(l, b, h);
+    ];
+    let maps = [
+        (BankMapping::Xor, Mapping::XorFold),
+        (BankMapping::Modulo, Mapping::Modulo),
+    ];
+    for ((l, b, h, seed), (mapping, model_mapping)) in shapes
+        .into_iter()
+        .flat_map(|s| maps.into_iter().map(move |m| (s, m)))
+    {
+        let mut uut = BankMap::new(l, b, h, mapping);
         uut.connect_all();
         check_all(&uut).expect("BankMap checks");
         let model = Model {
-            mapping: Mapping::XorFold,
+            mapping: model_mapping,
             bank_bits: b,
             replicated: l,
         };
@@ -65,7 +74,7 @@ fn bank_and_row_are_the_models_xor_fold() {
 )]
 fn exported_verilog_lints() {
     use photon_fpga::hw::export::verilog::export_block;
-    let e = export_block(BankMap::new(10, 7, 19)).unwrap();
+    let e = export_block(BankMap::new(10, 7, 19, BankMapping::Xor)).unwrap();
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("top.v"), &e.verilog).unwrap();
     crate::common::lint_top(dir.path());

@@ -15,6 +15,7 @@ mod bank_map;
 mod banking;
 mod bench_banks;
 mod bench_core;
+mod block_map;
 mod cli;
 mod memory;
 mod study;

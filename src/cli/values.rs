@@ -1,5 +1,4 @@
-//! The command line's own enum (`--device`) and the list of every enum an option
-//! takes, for the help test. The library's enums (`Metric`, `Traversal`,
+//! The command line's own enum (`--device`). The library's enums (`Metric`, `Traversal`,
 //! `Controller`, `BankPorts`, `Engine`, `BackendKind`) are value enums themselves
 //! behind the `cli` feature: their names and help texts are written once, at their
 //! definitions.
@@ -25,32 +24,4 @@ impl DeviceArg {
             DeviceArg::Xc6vsx475t => &XC6VSX475T,
         }
     }
-}
-
-/// Every command-line enum's value names, for the help test.
-#[cfg(test)]
-pub fn all_value_lists() -> Vec<Vec<String>> {
-    use crate::hw::config::bank_config::BankPorts;
-    use crate::hw::config::controller::Controller;
-    use crate::hw::config::metric::Metric;
-    use crate::hw::config::traversal::Traversal;
-    use crate::hw::sim::native::Engine;
-    fn names<T: ValueEnum>() -> Vec<String> {
-        T::value_variants()
-            .iter()
-            .filter_map(|v| v.to_possible_value())
-            .map(|p| p.get_name().to_string())
-            .collect()
-    }
-    vec![
-        names::<Metric>(),
-        names::<Traversal>(),
-        names::<Controller>(),
-        names::<BankPorts>(),
-        names::<Engine>(),
-        names::<crate::host::gather::BackendKind>(),
-        names::<crate::host::render::RenderMethod>(),
-        names::<super::export::InterfaceArg>(),
-        names::<DeviceArg>(),
-    ]
 }

@@ -3,7 +3,7 @@
 //! Folders, lowest first (tests/layers.rs checks that none imports a later one):
 //! `config` (what a core is), `primitives` (RAMs, arbiters, encoders, the stream and
 //! bank-bus bundles), `store` (the TreeModule, the banked store and the read issue
-//! in front of it), `datapath` (the search both controllers share), `modules` (the
+//! in front of it), `memory` (the map's levels in external memory), `datapath` (the search both controllers share), `modules` (the
 //! paper's QueryModule controller), `barrel` (the barrel controller), `top` (the
 //! core and the array), `export` (Verilog), `sim` (running the core). One block per file, ports first, `#[hdl_gen] fn update`:
 //!
@@ -85,6 +85,7 @@ pub mod config;
 pub mod datapath;
 pub mod error;
 pub mod export;
+pub mod memory;
 pub mod modules;
 pub mod primitives;
 pub mod sim;

@@ -38,18 +38,23 @@ vroot="$("$py" -c 'import os, verilator; print(os.path.dirname(verilator.__file_
 
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-# The barrel core (render's default), whose result beats carry photon pairs, in
+# The paper's core with the barrel controller, whose result beats carry photon pairs, in
 # both simulators; in Verilator also the paper's controller (QueryModules, one
 # photon a beat; Q = 4 keeps the model's build short) with the other metric and
 # 12-bit coordinates (a 38-bit word in an 8-byte beat).
 "$bin" export-verilog --interface axis --paper --controller barrel --out "$work/axis" >/dev/null
 "$bin" export-verilog --interface axis --paper --queries-per-port 4 --metric l2 --bits 12 \
   --out "$work/modules" >/dev/null
+# The banked core (the default core's K, metric and controller) with two result
+# streams, so two result ports; four replicated levels, so the bench's maps reach
+# the banks; in Verilator.
+"$bin" export-verilog --interface axis --address-bits 12 --banks 8 --replicas 2 \
+  --replicated-levels 4 --result-streams 2 --out "$work/banked" >/dev/null
 
 export PYTHONDONTWRITEBYTECODE=1
 tally="$work/tally"
 "$py" "$here/run.py" --sim icarus --export "$work/axis" --queries "$queries" --tally "$tally"
-for core in axis modules; do
+for core in axis modules banked; do
   PATH="$vroot/bin:$PATH" VERILATOR_ROOT="$vroot" \
     "$py" "$here/run.py" --sim verilator --export "$work/$core" --queries "$queries" --tally "$tally"
 done

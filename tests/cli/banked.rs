@@ -216,16 +216,17 @@ fn what_the_banked_core_cannot_build_is_refused() {
         &export(&["--replicas", "2"]),
         "replicas = 2 without banks",
     );
-    // The AXI4-Stream top has one result stream.
-    let axis = dir.path().join("axis").display().to_string();
-    refused(
-        dir.path(),
-        &[
+}
+
+/// A core of two result streams gets an AXI4-Stream top with two result ports,
+/// `m_axis_result_0` and `m_axis_result_1`, named in its JSON.
+#[test]
+fn the_axis_top_has_a_port_per_result_stream() {
+    let dir = tempfile::tempdir().unwrap();
+    let axis = dir.path().join("axis");
+    bin()
+        .args([
             "export-verilog",
-            "--controller",
-            "barrel",
-            "--traversal",
-            "cell",
             "--address-bits",
             "12",
             "--banks",
@@ -237,9 +238,21 @@ fn what_the_banked_core_cannot_build_is_refused() {
             "--interface",
             "axis",
             "--out",
-            &axis,
-        ]
-        .map(String::from),
-        "one result stream",
+        ])
+        .arg(&axis)
+        .assert()
+        .success();
+    let v = std::fs::read_to_string(axis.join("photon_search_axis.v")).unwrap();
+    for port in ["m_axis_result_0_tvalid", "m_axis_result_1_tlast"] {
+        assert!(v.contains(&format!("output wire {port}")), "{port} missing");
+    }
+    assert!(!v.contains("output wire m_axis_result_tvalid"));
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(axis.join("photon_search_axis.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(
+        json["core"]["result_ports"],
+        serde_json::json!(["m_axis_result_0", "m_axis_result_1"])
     );
 }

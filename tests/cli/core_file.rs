@@ -5,6 +5,7 @@
 //! with exit status 2 and nothing written.
 
 use super::*;
+use photon_fpga::hw::config::bank_config::BankMapping;
 use photon_fpga::hw::config::controller::Controller;
 use photon_fpga::hw::config::core_config::CoreConfig;
 use photon_fpga::hw::config::core_file::{from_toml, to_toml, CORE_FILE_NAME};
@@ -55,6 +56,12 @@ fn the_file_round_trips_every_option() {
             .banks(3, Some(5))
             .trees(2)
             .result_streams(2)
+            .build()
+            .unwrap(),
+        b().controller(Controller::Barrel)
+            .address_bits(12)
+            .banks(2, None)
+            .bank_mapping(BankMapping::Modulo)
             .build()
             .unwrap(),
     ];

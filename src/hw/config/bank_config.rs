@@ -10,13 +10,15 @@ use serde::{Deserialize, Serialize};
 /// of barrel datapaths (`trees` copies, two datapaths each: the BlockRAM's two
 /// ports), the nodes below in bank and row by [`BankMap`](crate::hw::store::bank_map::BankMap),
 /// reached through a [`BankCrossbar`](crate::hw::store::bank_crossbar::BankCrossbar)
-/// whose bank read ports are shared as `ports` says. Why and how measured:
+/// whose bank read ports are shared as `ports` says; `mapping` is how a node's
+/// address picks its bank. Why and how measured:
 /// `host::banking`, docs/BANKING.md and docs/HARDWARE.md.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Banking {
     pub bank_bits: u32,
     pub replicated_levels: u32,
     pub ports: BankPorts,
+    pub mapping: BankMapping,
 }
 
 impl Banking {
@@ -101,6 +103,32 @@ pub enum BankPorts {
     /// Two ports, the first serving the even datapaths and the second the odd ones
     /// (a replica's two datapaths, one on each): half the crossbar of shared.
     Split,
+}
+
+/// How a node below the replicated levels picks its bank (`--bank-map`, the core
+/// file's `bank_map`); its row is the address's high bits either way. Each
+/// variant's doc is its help text.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
+pub enum BankMapping {
+    /// The address's low bits XOR every other group of as many bits: every branch
+    /// decision mixed in, the banks' load the most even (docs/BANKING.md).
+    #[default]
+    Xor,
+    /// The address's low bits alone (the last branch decisions): no XOR gates,
+    /// for before/after measurement of the fold.
+    Modulo,
+}
+
+impl std::fmt::Display for BankMapping {
+    /// The mapping's one-word name, as `--bank-map` and the core file spell it.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            BankMapping::Xor => "xor",
+            BankMapping::Modulo => "modulo",
+        })
+    }
 }
 
 impl BankPorts {

@@ -4,7 +4,7 @@
 //! ascent, Q under the other controller's name, K, Q, T or H out of range) is
 //! refused when the configuration is made, with the option and its value named.
 
-use crate::hw::config::bank_config::BankPorts;
+use crate::hw::config::bank_config::{BankMapping, BankPorts};
 use crate::hw::config::controller::Controller;
 use crate::hw::config::core_config::{
     Banking, CoreConfig, BARREL_SLOTS, MAX_HW_COORD_BITS, MAX_QUERIES_PER_PORT,
@@ -34,6 +34,7 @@ pub struct CoreBuilder {
     /// the banks' ports are shared.
     banking: Option<(u32, Option<u32>)>,
     bank_ports: Option<BankPorts>,
+    bank_mapping: BankMapping,
     result_streams: usize,
     radius_bits: Option<u32>,
 }
@@ -54,6 +55,7 @@ impl Default for CoreBuilder {
             queries_per_port: None,
             banking: None,
             bank_ports: None,
+            bank_mapping: BankMapping::default(),
             result_streams: 1,
             radius_bits: None,
         }
@@ -98,6 +100,7 @@ impl CoreBuilder {
         CoreBuilder {
             banking: banking.map(|b| (b.bank_bits, Some(b.replicated_levels))),
             bank_ports: banking.map_or(self.bank_ports, |b| Some(b.ports)),
+            bank_mapping: banking.map_or(self.bank_mapping, |b| b.mapping),
             ..self
         }
     }
@@ -106,6 +109,13 @@ impl CoreBuilder {
     pub fn bank_ports(self, bank_ports: BankPorts) -> Self {
         CoreBuilder {
             bank_ports: Some(bank_ports),
+            ..self
+        }
+    }
+    /// How a banked node picks its bank (with banks; default [`BankMapping::Xor`]).
+    pub fn bank_mapping(self, bank_mapping: BankMapping) -> Self {
+        CoreBuilder {
+            bank_mapping,
             ..self
         }
     }
@@ -228,6 +238,14 @@ impl CoreBuilder {
                     "replicated_levels = {l} without banks: only a banked store replicates levels"
                 ));
             }
+            if let Some(m) = b.bank_map {
+                return fail(format!(
+                    "bank_map = {m} without banks: only a banked store maps nodes to banks"
+                ));
+            }
+        }
+        if let Some(m) = b.bank_map {
+            out = out.bank_mapping(m);
         }
         if let Some(p) = b.bank_ports {
             out = out.bank_ports(p);
@@ -290,6 +308,7 @@ impl CoreBuilder {
                 replicated_levels: levels
                     .unwrap_or_else(|| Banking::default_levels(bank_bits, self.address_bits)),
                 ports: self.bank_ports.unwrap_or_default(),
+                mapping: self.bank_mapping,
             }),
             result_streams: self.result_streams,
             radius_bits: self.radius_bits,
@@ -327,6 +346,7 @@ impl From<CoreConfig> for CoreBuilder {
             queries_per_port: None,
             banking: None,
             bank_ports: None,
+            bank_mapping: BankMapping::default(),
             result_streams: cfg.result_streams,
             radius_bits: cfg.radius_bits,
         }

@@ -187,7 +187,7 @@ pub struct CoreConfig {
     pub radius_bits: Option<u32>,
 }
 
-pub use crate::hw::config::bank_config::{Banking, MAX_BANK_BITS};
+pub use crate::hw::config::bank_config::{BankMapping, Banking, MAX_BANK_BITS};
 
 impl CoreConfig {
     /// Largest distance two photons of this layout can have.
@@ -301,6 +301,11 @@ impl CoreConfig {
     pub fn tree_address_bits(&self) -> u32 {
         self.banking
             .map_or(self.address_bits, |b| b.replicated_levels)
+    }
+
+    /// How a banked node picks its bank (the default without banks).
+    pub fn bank_mapping(&self) -> crate::hw::config::bank_config::BankMapping {
+        self.banking.map(|b| b.mapping).unwrap_or_default()
     }
 
     /// TreeModule ports, one datapath each: two per tree.
@@ -506,11 +511,15 @@ impl std::fmt::Display for CoreConfig {
             // A banked core is one tree: its copies are replicas of the top levels.
             Some(b) => write!(
                 f,
-                "{} replica(s) of the top {} levels over {} banks ({})",
+                "{} replica(s) of the top {} levels over {} banks ({}{})",
                 self.trees,
                 b.replicated_levels,
                 1u64 << b.bank_bits,
-                b.ports
+                b.ports,
+                match b.mapping {
+                    BankMapping::Xor => "",
+                    BankMapping::Modulo => ", bank = address mod B",
+                }
             )?,
             None => write!(f, "T = {} tree(s)", self.trees)?,
         }

@@ -41,7 +41,8 @@ pub fn from_toml(text: &str, origin: &str) -> Result<CoreConfig, HwError> {
         .map_err(at)?;
     if let (Some(p), None) = (spec.build.bank_ports, cfg.banking) {
         return Err(at(HwError::Config(format!(
-            "bank_ports = {p:?} without banks: only a banked store has bank ports"
+            "bank_ports = {} without banks: only a banked store has bank ports",
+            p.name()
         ))));
     }
     Ok(cfg)

@@ -17,7 +17,7 @@
 //! H, K, metric, pipelining, banks, result streams): export-verilog, the lab and a
 //! core file give it.
 
-use crate::hw::config::bank_config::BankPorts;
+use crate::hw::config::bank_config::{BankMapping, BankPorts};
 use crate::hw::config::controller::Controller;
 use crate::hw::config::core_config::CoreConfig;
 use crate::hw::config::metric::Metric;
@@ -120,6 +120,11 @@ pub struct CoreBuild {
     #[cfg_attr(feature = "cli", arg(long, value_enum))]
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bank_ports: Option<BankPorts>,
+    /// How a node below the replicated levels picks its bank, with --banks
+    /// [default: xor].
+    #[cfg_attr(feature = "cli", arg(long, value_enum))]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bank_map: Option<BankMapping>,
     /// Result streams R: the datapaths' result packets leave on R streams, D / R
     /// datapaths each (a divisor of D = 2 x --replicas with --banks, else of 2); one
     /// stream carries a beat a cycle, which about 8 busy datapaths fill at k = 32
@@ -222,6 +227,7 @@ impl From<&CoreConfig> for CoreSpec {
                 replicas: c.banking.map(|_| c.trees),
                 replicated_levels: c.banking.map(|b| b.replicated_levels),
                 bank_ports: c.banking.map(|b| b.ports),
+                bank_map: c.banking.map(|b| b.mapping),
                 result_streams: Some(c.result_streams),
             },
         }

@@ -2,7 +2,9 @@
 //! interface an FPGA engineer plugs a streaming core into (AMD UG1037, the naming of
 //! verilog-axis): `aclk`, active-low `aresetn`, slave streams `s_axis_photon` (the
 //! tree load) and `s_axis_query`, master stream `m_axis_result` with `tlast` on the
-//! last beat of each query's result packet.
+//! last beat of each query's result packet; a core of R > 1 result streams has R
+//! master streams, `m_axis_result_0` … `m_axis_result_{R-1}`, each with the same
+//! layout (one stream carries a beat a cycle, which a few busy datapaths fill).
 //!
 //! Why a generated wrapper and not a second core: the core's streams already are
 //! valid/ready streams, so the wrapper only renames them, lays each payload out in
@@ -248,6 +250,7 @@ fn json_of(streams: &[StreamLayout], cfg: &CoreConfig) -> String {
             "max_photons": cfg.tree_words() - 1,
             "id_bits": cfg.id_bits(),
             "dist_bits": cfg.dist_bits(),
+            "result_ports": result_ports(cfg),
             "controller": cfg.controller.to_string(),
             "trees": cfg.trees,
         }
@@ -257,16 +260,19 @@ fn json_of(streams: &[StreamLayout], cfg: &CoreConfig) -> String {
     s
 }
 
+/// The result streams' port prefixes: `m_axis_result` for one, else
+/// `m_axis_result_0` … `m_axis_result_{R-1}`.
+pub fn result_ports(cfg: &CoreConfig) -> Vec<String> {
+    match cfg.result_streams {
+        1 => vec!["m_axis_result".to_string()],
+        r => (0..r).map(|s| format!("m_axis_result_{s}")).collect(),
+    }
+}
+
 /// `module photon_search_axis` around `core` (exported for `cfg`), its layouts and
 /// their JSON. The core's module comes with the export and is instantiated as `top`.
 pub fn axis_top(core: &Exported, cfg: &CoreConfig) -> Result<AxisTop, HwError> {
-    if cfg.result_streams != 1 {
-        return Err(axis_error(format!(
-            "result_streams = {}: the AXI4-Stream top has one result stream \
-             (m_axis_result); export the core without --axis, or with one result stream",
-            cfg.result_streams
-        )));
-    }
+    let ports = result_ports(cfg);
     let streams = stream_layouts(core, cfg)?;
     let (photon, query, result) = (&streams[0], &streams[1], &streams[2]);
     let addr_w = core
@@ -309,6 +315,15 @@ pub fn axis_top(core: &Exported, cfg: &CoreConfig) -> Result<AxisTop, HwError> {
     v += "// moves while it or that register is asserted. Load the map after every reset.\n";
     v += "// s_axis_photon: the packed kd-tree words in heap order, address 1 first, tlast on\n";
     v += "// word N (the photon count); taken only while no query is in flight.\n";
+    if ports.len() > 1 {
+        v += &format!(
+            "// {} result streams, m_axis_result_0 .. m_axis_result_{}, each as m_axis_result below:\n\
+             // stream s carries the packets of datapaths s*D/R .. (s+1)*D/R - 1 (D = {}).\n",
+            ports.len(),
+            ports.len() - 1,
+            cfg.datapaths()
+        );
+    }
     v += "// s_axis_query: one query a beat. m_axis_result: per query a header beat, then its\n";
     v += "// photons one (or, with pair, two) a beat in found-list order; tlast on the last beat\n";
     v += "// (the header itself when count = 0). Packets of different queries may leave out of\n";
@@ -328,15 +343,21 @@ pub fn axis_top(core: &Exported, cfg: &CoreConfig) -> Result<AxisTop, HwError> {
          \x20   input  wire s_axis_photon_tlast,\n\
          \x20   input  wire [{}:0] s_axis_query_tdata,\n\
          \x20   input  wire s_axis_query_tvalid,\n\
-         \x20   output wire s_axis_query_tready,\n\
-         \x20   output wire [{}:0] m_axis_result_tdata,\n\
-         \x20   output wire m_axis_result_tvalid,\n\
-         \x20   input  wire m_axis_result_tready,\n\
-         \x20   output wire m_axis_result_tlast\n);\n",
+         \x20   output wire s_axis_query_tready",
         photon.tdata_bits - 1,
         query.tdata_bits - 1,
-        result.tdata_bits - 1
     );
+    for m in &ports {
+        v += &format!(
+            ",\n\
+             \x20   output wire [{}:0] {m}_tdata,\n\
+             \x20   output wire {m}_tvalid,\n\
+             \x20   input  wire {m}_tready,\n\
+             \x20   output wire {m}_tlast",
+            result.tdata_bits - 1
+        );
+    }
+    v += "\n);\n";
     v += "    reg reset_q;\n    always @(posedge aclk) reset_q <= !aresetn;\n";
     v += "    wire run = aresetn && !reset_q;\n\n";
     v += &format!(
@@ -365,36 +386,38 @@ pub fn axis_top(core: &Exported, cfg: &CoreConfig) -> Result<AxisTop, HwError> {
             f.name
         );
     }
-    v += &format!(
-        "\n    wire [{}:0] result_data;\n    wire result_valid;\n",
-        result_w - 1
-    );
-    v += "    assign m_axis_result_tvalid = result_valid && run;\n";
-    v += &format!("    assign m_axis_result_tlast = result_data[{last_lsb}];\n");
-    let mut top = 0;
-    for f in &result.fields {
-        let c = f.core_lsb.expect("a struct field");
-        let pad = f.slot - f.width;
-        let src = format!("result_data[{}:{c}]", c + f.width - 1);
-        let val = if pad > 0 {
-            format!("{{{pad}'d0, {src}}}")
-        } else {
-            src
-        };
+    for (i, m) in ports.iter().enumerate() {
         v += &format!(
-            "    assign m_axis_result_tdata[{}:{}] = {val}; // {}\n",
-            f.lsb + f.slot - 1,
-            f.lsb,
-            f.name
+            "\n    wire [{}:0] result_data_{i};\n    wire result_valid_{i};\n",
+            result_w - 1
         );
-        top = f.lsb + f.slot;
-    }
-    if top < result.tdata_bits {
-        v += &format!(
-            "    assign m_axis_result_tdata[{}:{top}] = {}'d0;\n",
-            result.tdata_bits - 1,
-            result.tdata_bits - top
-        );
+        v += &format!("    assign {m}_tvalid = result_valid_{i} && run;\n");
+        v += &format!("    assign {m}_tlast = result_data_{i}[{last_lsb}];\n");
+        let mut top = 0;
+        for f in &result.fields {
+            let c = f.core_lsb.expect("a struct field");
+            let pad = f.slot - f.width;
+            let src = format!("result_data_{i}[{}:{c}]", c + f.width - 1);
+            let val = if pad > 0 {
+                format!("{{{pad}'d0, {src}}}")
+            } else {
+                src
+            };
+            v += &format!(
+                "    assign {m}_tdata[{}:{}] = {val}; // {}\n",
+                f.lsb + f.slot - 1,
+                f.lsb,
+                f.name
+            );
+            top = f.lsb + f.slot;
+        }
+        if top < result.tdata_bits {
+            v += &format!(
+                "    assign {m}_tdata[{}:{top}] = {}'d0;\n",
+                result.tdata_bits - 1,
+                result.tdata_bits - top
+            );
+        }
     }
     // Every core port: the streams wired above, clock and reset; status outputs
     // (measurement only) left open; an input the wrapper does not know is an error.
@@ -411,9 +434,24 @@ pub fn axis_top(core: &Exported, cfg: &CoreConfig) -> Result<AxisTop, HwError> {
             "query$valid" => "s_axis_query_tvalid && run".to_string(),
             "query$ready" => "query_ready".to_string(),
             "query$data" => "query_data".to_string(),
-            "result$valid" => "result_valid".to_string(),
-            "result$ready" => "m_axis_result_tready && run".to_string(),
-            "result$data" => "result_data".to_string(),
+            "result$valid" => "result_valid_0".to_string(),
+            "result$ready" => format!("{}_tready && run", ports[0]),
+            "result$data" => "result_data_0".to_string(),
+            // Result stream s >= 1 of the core: `more_results$(s-1)$…`.
+            name if name.starts_with("more_results$") => {
+                let mut parts = name.split('$').skip(1);
+                let s: usize = parts
+                    .next()
+                    .and_then(|i| i.parse().ok())
+                    .ok_or_else(|| axis_error(format!("core port `{name}`")))?;
+                let s = s + 1;
+                match parts.next() {
+                    Some("valid") => format!("result_valid_{s}"),
+                    Some("ready") => format!("{}_tready && run", ports[s]),
+                    Some("data") => format!("result_data_{s}"),
+                    _ => return Err(axis_error(format!("unknown core port `{name}`"))),
+                }
+            }
             _ if !p.input => String::new(),
             other => return Err(axis_error(format!("unknown core input `{other}`"))),
         };

@@ -2,8 +2,9 @@
 //! read timing the FPGA gives them (§4.1), the lowest-set-bit priority encoder
 //! (§4.4's "lowest slot among ties"), the round-robin arbiter of a shared port
 //! (§4.5), the registered free pick, multiplexer trees and the skid-buffer register
-//! slice.
+//! slice; the AXI4 read channels of an external memory.
 
+pub mod axi4_read;
 pub mod bank_bus;
 pub mod block_ram;
 pub mod free_pick;

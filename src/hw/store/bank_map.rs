@@ -3,11 +3,14 @@
 //! datapath's own replica, at their address; every node below is in bank
 //! `low ^ fold(high)` at row `high`, for `B = 2^b` banks, `low` the address's low
 //! `b` bits and `high` the rest: the XOR-fold mapping, chosen by the measurements
-//! of `host::banking` (its module docs): it spreads the reads as evenly as a hash
-//! and needs no table, the row being the address's high bits. For `2^L >= B` the
+//! of the lab's bank model (`photon-fpga-lab banking`, docs/BANKING.md): it
+//! spreads the reads as evenly as a hash and needs no table, the row being the
+//! address's high bits. [`BankMapping::Modulo`] leaves the fold out (bank = `low`),
+//! to measure what the fold buys. For `2^L >= B` the
 //! (bank, row) pairs of distinct addresses differ, and each bank holds
 //! `(N >> b) + 1` rows. Combinational: an XOR of the address's `b`-bit groups.
 
+use crate::hw::config::bank_config::BankMapping;
 use crate::hw::config::core_config::Addr;
 use crate::hw::primitives::bank_bus::{BankIndex, BankRow};
 use rust_hdl::prelude::*;
@@ -31,17 +34,24 @@ pub struct BankMap {
 
 impl BankMap {
     /// `L` replicated levels (0..=24) over `2^bank_bits` banks (bank_bits 0..=10,
-    /// `2^L >= 2^bank_bits`), for addresses of `address_bits` (1..=24) bits.
-    pub fn new(replicated_levels: u32, bank_bits: u32, address_bits: u32) -> Self {
+    /// `2^L >= 2^bank_bits`), for addresses of `address_bits` (1..=24) bits, the
+    /// bank picked by `mapping`.
+    pub fn new(
+        replicated_levels: u32,
+        bank_bits: u32,
+        address_bits: u32,
+        mapping: BankMapping,
+    ) -> Self {
         assert!(replicated_levels <= 24 && bank_bits <= 10 && (1..=24).contains(&address_bits));
         assert!(
             bank_bits <= replicated_levels,
             "2^L >= B keeps (bank, row) unique"
         );
-        let groups = if bank_bits == 0 {
-            0
-        } else {
-            address_bits.div_ceil(bank_bits)
+        let groups = match (bank_bits, mapping) {
+            (0, _) => 0,
+            // The low group alone.
+            (_, BankMapping::Modulo) => 1,
+            (b, BankMapping::Xor) => address_bits.div_ceil(b),
         };
         BankMap {
             address: Default::default(),

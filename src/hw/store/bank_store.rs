@@ -62,7 +62,7 @@ impl<const W: usize> BankStore<W> {
             write_word: Default::default(),
             clients: (0..clients).map(|_| Default::default()).collect(),
             answers: (0..clients).map(|_| Default::default()).collect(),
-            map: BankMap::new(levels, bank_bits, cfg.address_bits),
+            map: BankMap::new(levels, bank_bits, cfg.address_bits, cfg.bank_mapping()),
             crossbar: if banks > 0 {
                 BankCrossbar::new(
                     clients,

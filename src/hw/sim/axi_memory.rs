@@ -1,0 +1,166 @@
+//! A model of an external memory behind an AXI4 read port, for the simulations of
+//! the external-memory blocks and core (issue: every simulation answers the AXI4
+//! master with a model of a named memory). It holds the map's image and answers
+//! INCR bursts in the order they were asked (one AXI ID), each beat after the
+//! memory's latency and at most one beat a cycle (a beat of the port's width: the
+//! bandwidth), with random pauses on both channels and random extra latency per
+//! burst when asked for (the tests' stress: a master that only works with a
+//! prompt memory fails). The figures of the memories modelled, and their sources,
+//! are in docs/MEMORY.md.
+
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64;
+use std::collections::VecDeque;
+
+/// How the memory answers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AxiTiming {
+    /// Cycles from a burst's address accepted to its first beat.
+    pub latency: u64,
+    /// Extra cycles per burst, drawn uniformly from 0..=this.
+    pub extra_latency: u64,
+    /// Chance that `arready` is low in a cycle, and that a due beat waits a cycle.
+    pub ar_pause: f64,
+    pub r_pause: f64,
+    pub seed: u64,
+}
+
+impl AxiTiming {
+    /// A prompt memory: the latency alone, no pauses.
+    pub fn fixed(latency: u64) -> Self {
+        AxiTiming {
+            latency,
+            extra_latency: 0,
+            ar_pause: 0.0,
+            r_pause: 0.0,
+            seed: 1,
+        }
+    }
+}
+
+/// What the memory drives in a cycle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct AxiSlaveOut {
+    pub arready: bool,
+    pub rvalid: bool,
+    pub rdata: u64,
+    pub rlast: bool,
+    pub rresp: u8,
+}
+
+/// A burst asked for: its byte address, beats − 1 and log2 of a beat's bytes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AxiBurst {
+    pub addr: u64,
+    pub len: u8,
+    pub size: u8,
+    pub burst: u8,
+}
+
+struct InFlight {
+    burst: AxiBurst,
+    beat: u64,
+    due: u64,
+}
+
+/// The memory: a byte image (little-endian words), its timing and the bursts in
+/// flight. Beats of up to 64 bits.
+pub struct AxiMemory {
+    bytes: Vec<u8>,
+    timing: AxiTiming,
+    rng: Pcg64,
+    cycle: u64,
+    queue: VecDeque<InFlight>,
+    out: AxiSlaveOut,
+    /// Byte addresses whose bursts answer SLVERR (an injected fault).
+    faulty: Vec<u64>,
+    /// Every burst asked for, in order (for the tests' checks of the master).
+    pub bursts: Vec<AxiBurst>,
+}
+
+impl AxiMemory {
+    /// A memory holding `words`, each `word_bytes` bytes (little-endian), at byte 0.
+    pub fn from_words(words: &[u64], word_bytes: usize, timing: AxiTiming) -> Self {
+        let bytes = words
+            .iter()
+            .flat_map(|w| w.to_le_bytes().into_iter().take(word_bytes))
+            .collect();
+        AxiMemory {
+            bytes,
+            timing,
+            rng: Pcg64::seed_from_u64(timing.seed),
+            cycle: 0,
+            queue: VecDeque::new(),
+            out: AxiSlaveOut::default(),
+            faulty: vec![],
+            bursts: vec![],
+        }
+    }
+
+    /// Bursts at byte address `addr` answer SLVERR from now on.
+    pub fn fail_at(&mut self, addr: u64) {
+        self.faulty.push(addr);
+    }
+
+    /// What the memory drives this cycle, before the edge: `arready` (unless
+    /// paused) and the head burst's next beat once it is due (unless paused).
+    pub fn drive(&mut self) -> AxiSlaveOut {
+        let arready = !self.rng.gen_bool(self.timing.ar_pause);
+        let pause = self.rng.gen_bool(self.timing.r_pause);
+        let mut out = AxiSlaveOut {
+            arready,
+            ..AxiSlaveOut::default()
+        };
+        if let Some(f) = self.queue.front() {
+            if f.due <= self.cycle && !pause {
+                let b = f.burst;
+                let beat_bytes = 1u64 << b.size;
+                let at = b.addr + f.beat * beat_bytes;
+                let mut data = [0u8; 8];
+                for (i, d) in data.iter_mut().enumerate().take(beat_bytes as usize) {
+                    *d = self
+                        .bytes
+                        .get((at + i as u64) as usize)
+                        .copied()
+                        .unwrap_or(0);
+                }
+                out.rvalid = true;
+                out.rdata = u64::from_le_bytes(data);
+                out.rlast = f.beat == u64::from(b.len);
+                out.rresp = if self.faulty.contains(&b.addr) { 2 } else { 0 };
+            }
+        }
+        self.out = out;
+        out
+    }
+
+    /// The edge: a burst accepted (`arvalid` was high with this cycle's
+    /// `arready`) joins the queue; a beat taken (`rready`) moves its burst on.
+    pub fn edge(&mut self, ar: Option<AxiBurst>, rready: bool) {
+        if let (Some(b), true) = (ar, self.out.arready) {
+            assert!(b.size <= 3, "beats of at most 64 bits in this model");
+            let extra = self.rng.gen_range(0..=self.timing.extra_latency);
+            // In order: a burst starts no earlier than the one before it.
+            let after = self.queue.back().map_or(0, |f| f.due);
+            self.queue.push_back(InFlight {
+                burst: b,
+                beat: 0,
+                due: (self.cycle + self.timing.latency + extra).max(after),
+            });
+            self.bursts.push(b);
+        }
+        if self.out.rvalid && rready {
+            let f = self.queue.front_mut().expect("a beat came from a burst");
+            f.beat += 1;
+            if f.beat > u64::from(f.burst.len) {
+                self.queue.pop_front();
+            }
+        }
+        self.cycle += 1;
+    }
+
+    /// Bursts asked for and not yet answered in full.
+    pub fn in_flight(&self) -> usize {
+        self.queue.len()
+    }
+}
