@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """Whole-image error against wall time: `photon-fpga render --method direct` (the
-paper's direct visualization), `--method two-pass` (Jensen's two-pass method) and
+paper's direct visualization), `--method two-pass` (Jensen's two-pass method, each
+final-gather ray a k-nearest lookup), `--method two-pass-irradiance` (the same with
+Christensen's precomputed irradiance, each gather ray a 1-nearest lookup) and
 Mitsuba 3's path tracer, each against the converged Mitsuba reference.
 
     cargo build --release
@@ -69,7 +71,7 @@ def run_render(binary, size, threads, method, spp, rays, photons, seed):
         cmd = [binary, "render", "--size", f"{size}x{size}", "--spp", str(spp),
                "--photons", str(photons), "--threads", str(threads), "--seed", str(seed),
                "--method", method, "--out", out]
-        if method == "two-pass":
+        if method.startswith("two-pass"):
             cmd += ["--gather-rays", str(rays)]
         t0 = time.perf_counter()
         subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
@@ -101,7 +103,7 @@ def main():
     def add(method, setting, t, img):
         full, masked = errors(img, reference)
         rows.append(dict(method=method, setting=setting, time=t, error=full, masked=masked))
-        print(f"{method:10} {setting:28} {t:7.2f} s  {full:.4f}  {masked:.4f}", flush=True)
+        print(f"{method:19} {setting:28} {t:7.2f} s  {full:.4f}  {masked:.4f}", flush=True)
 
     photons = 200_000
     # The same sample budgets per image at every size: 64x64 at the most samples per
@@ -112,9 +114,10 @@ def main():
         t, img = run_render(a.bin, size, a.threads, "direct", spp, 0, photons, 1)
         add("direct", f"spp {spp}, {photons} photons", t, img)
     two_pass = [(1, 4), (1, 16), (4, 4), (4, 16), (16, 4), (16, 16), (64, 4), (256, 4)]
-    for spp, rays in [(s, r) for s, r in two_pass if fits(s, 256)]:
-        t, img = run_render(a.bin, size, a.threads, "two-pass", spp, rays, photons, 1)
-        add("two-pass", f"spp {spp}, {rays} rays, {photons} photons", t, img)
+    for method in ["two-pass", "two-pass-irradiance"]:
+        for spp, rays in [(s, r) for s, r in two_pass if fits(s, 256)]:
+            t, img = run_render(a.bin, size, a.threads, method, spp, rays, photons, 1)
+            add(method, f"spp {spp}, {rays} rays, {photons} photons", t, img)
     import mitsuba as mi
 
     mi.set_variant("scalar_rgb")
@@ -157,7 +160,8 @@ def main():
         print("matplotlib missing: no plot", file=sys.stderr)
         return
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    for method, marker in [("direct", "o"), ("two-pass", "s"), ("mitsuba", "^")]:
+    for method, marker in [("direct", "o"), ("two-pass", "s"), ("two-pass-irradiance", "D"),
+                           ("mitsuba", "^")]:
         pts = sorted((r["time"], r["masked"]) for r in rows if r["method"] == method)
         ax.plot(*zip(*pts), marker=marker, label=method)
     masked_rows = [dict(r, error=r["masked"]) for r in rows]

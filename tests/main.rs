@@ -2,7 +2,8 @@
 //! the exact re-ranking against the float search, the renderer, the CLI (end to
 //! end through the binary, with its error paths), the simulated backends through
 //! the CLI, the layering of the source tree, numerical
-//! stability of the radiance estimate and the two-pass render.
+//! stability of the radiance estimate and the two-pass render (its final gather by
+//! photon lookups and by precomputed irradiance).
 
 mod cli;
 mod exact;
@@ -13,3 +14,4 @@ mod render;
 mod rtl;
 mod stability;
 mod two_pass;
+mod two_pass_irradiance;

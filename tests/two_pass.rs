@@ -24,11 +24,11 @@ use photon_fpga::hw::config::metric::Metric;
 use photon_fpga::hw::sim::native::SimOptions;
 use rand::{Rng, SeedableRng};
 
-fn bin() -> Command {
+pub fn bin() -> Command {
     Command::cargo_bin("photon-fpga").unwrap()
 }
 
-fn trace(scene: &Scene, emitted: usize, seed: u64) -> (Vec<Photon>, Vec<bool>) {
+pub fn trace(scene: &Scene, emitted: usize, seed: u64) -> (Vec<Photon>, Vec<bool>) {
     trace_photon_paths(scene, emitted, seed, false, usize::MAX).unwrap()
 }
 
@@ -89,7 +89,7 @@ fn caustic_photons_are_those_seen_coming_from_a_specular_surface() {
 
 /// True k nearest within `r` (inclusive) by brute force on world positions:
 /// (distance, index), nearest first, ties by index.
-fn brute_world(photons: &[Point], q: Point, k: usize, r: f64) -> Vec<(f64, u32)> {
+pub fn brute_world(photons: &[Point], q: Point, k: usize, r: f64) -> Vec<(f64, u32)> {
     let mut all: Vec<(f64, u32)> = photons
         .iter()
         .enumerate()
@@ -106,7 +106,7 @@ fn brute_world(photons: &[Point], q: Point, k: usize, r: f64) -> Vec<(f64, u32)>
 
 /// True grid distances (squared, in steps²) of the k nearest within the integer
 /// bound `r2`, for a query anywhere (inside the photon box or not).
-fn brute_grid(grid: &[[u32; 3]], g: [i64; 3], k: usize, r2: u128) -> Vec<u128> {
+pub fn brute_grid(grid: &[[u32; 3]], g: [i64; 3], k: usize, r2: u128) -> Vec<u128> {
     let mut all: Vec<u128> = grid
         .iter()
         .map(|p| {
@@ -127,7 +127,7 @@ fn brute_grid(grid: &[[u32; 3]], g: [i64; 3], k: usize, r2: u128) -> Vec<u128> {
 /// The two-pass render's lookups on the default scene: its caustic map (sparse:
 /// most lookups find nothing inside the cap) and its global map, at eye shading
 /// points and final-gather hits.
-fn lookup_workload() -> (Vec<Point>, Vec<Point>, Vec<Point>) {
+pub fn lookup_workload() -> (Vec<Point>, Vec<Point>, Vec<Point>) {
     let scene = Scene::cornell_box();
     let (photons, caustic) = trace(&scene, 6_000, 3);
     let settings = RenderSettings {
@@ -157,7 +157,7 @@ fn photon_points_of(points: &[photon_fpga::host::render::QueryPoint]) -> Vec<Poi
 
 /// Check `got` (one backend's answers) against brute force: the float answers for
 /// unquantized backends, the grid's for quantized ones. Returns how many were empty.
-fn check_against_brute_force(
+pub fn check_against_brute_force(
     what: &str,
     map: &[Point],
     queries: &[Point],
@@ -210,7 +210,7 @@ fn check_against_brute_force(
     empty
 }
 
-fn capped_params() -> GatherParams {
+pub fn capped_params() -> GatherParams {
     GatherParams {
         k: 8,
         radius: Some(0.04),
@@ -407,10 +407,10 @@ fn two_pass_options_refuse_bad_input() {
     }
 }
 #[path = "two_pass_reference.rs"]
-mod reference;
+pub mod reference;
 
 /// Relative RMS error of linear radiance against `reference`, over all channels.
-fn rel_rmse(img: &[Vec3], reference: &[Vec3]) -> f64 {
+pub fn rel_rmse(img: &[Vec3], reference: &[Vec3]) -> f64 {
     let (mut err, mut norm) = (0.0f64, 0.0f64);
     for (a, b) in img.iter().zip(reference) {
         for c in 0..3 {
@@ -424,7 +424,7 @@ fn rel_rmse(img: &[Vec3], reference: &[Vec3]) -> f64 {
 /// Each pixel's reflected radiance: `linear` less the emission its eye paths saw
 /// before any diffuse point (the same in every method; the reference leaves it out,
 /// since the light's antialiasing noise at its edges would swamp the comparison).
-fn reflected(scene: &Scene, settings: &RenderSettings, linear: &[Vec3]) -> Vec<Vec3> {
+pub fn reflected(scene: &Scene, settings: &RenderSettings, linear: &[Vec3]) -> Vec<Vec3> {
     let (_, emitted) = eye_queries(scene, settings);
     linear.iter().zip(&emitted).map(|(l, e)| *l - *e).collect()
 }
@@ -461,6 +461,7 @@ fn two_pass_beats_direct_at_matched_lookups_against_a_path_tracer() {
     let maps = PhotonMaps {
         global: (&global, &photons),
         caustic: Some((&caustic_map, &caustic)),
+        irradiance: None,
     };
     let mut t = StageTimes::default();
     let (two_pass, stats) = render_two_pass(&scene, &two, &maps, &params, &mut t).unwrap();

@@ -2,13 +2,15 @@
 //! measured workload: the final gathers that dominate it (Fig. 2's search stage,
 //! tens of lookups per shading point), recorded as the renderer asks them and put on
 //! the global map's grid, so the core is measured on the stream a photon mapper
-//! really gives it rather than on eye-ray hits alone.
+//! really gives it rather than on eye-ray hits alone; and the 1-nearest lookups of
+//! its precomputed-irradiance variant (`render --method two-pass-irradiance`).
 
 use crate::workload::{on_grid, Workload};
 use photon_fpga::host::error::Result;
 use photon_fpga::host::gather::{make_backend, BackendKind, GatherBackend, GatherParams, Gathered};
 use photon_fpga::host::map::quantize::{Point, Quantizer};
-use photon_fpga::host::render::final_gather::indirect_light;
+use photon_fpga::host::render::final_gather::{indirect_light, GatherMap};
+use photon_fpga::host::render::irradiance::{irradiance_params, precompute_irradiance};
 use photon_fpga::host::render::photons::trace_photons;
 use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::render::two_pass::default_radius;
@@ -69,8 +71,7 @@ pub fn cornell_final_gathers(
         &eye,
         gather_rays,
         settings.seed,
-        &photons,
-        &recorder,
+        GatherMap::Photons(&recorder, &photons),
         &params,
         &mut times,
     )?;
@@ -80,4 +81,57 @@ pub fn cornell_final_gathers(
         .into_inner()
         .unwrap_or_else(|e| e.into_inner());
     Ok((on_grid(&world, &quant, &asked).0, radius))
+}
+
+/// The Cornell box's final-gather lookups as `render --method two-pass-irradiance
+/// --gather-rays N` asks them: irradiance precomputed at every 4th photon of the
+/// global map of `emitted` emitted photons (radius-capped `k`-nearest lookups, the
+/// render's k), then `gather_rays` 1-nearest lookups per eye hit of `settings`'
+/// image in those irradiance points (Christensen 1999), on a `bits`-bit grid over
+/// the irradiance points; and the render's lookup radius in world units.
+pub fn cornell_irradiance_gathers(
+    emitted: usize,
+    bits: u32,
+    settings: &RenderSettings,
+    gather_rays: u32,
+    k: usize,
+) -> Result<(Workload, f64)> {
+    let scene = Scene::cornell_box();
+    let photons = trace_photons(&scene, emitted, settings.seed, false);
+    let world = render::photon_points(&photons);
+    let radius = default_radius(&photons);
+    let params = GatherParams {
+        k,
+        radius: Some(radius),
+        ..GatherParams::default()
+    };
+    let sim = SimOptions::default();
+    let global = make_backend(BackendKind::Sw, &world, &params, &sim)?;
+    let mut times = StageTimes::default();
+    let (map, _) = precompute_irradiance(&scene, &photons, global.as_ref(), &params, &mut times)?;
+    let recorder = Recorder {
+        inner: make_backend(
+            BackendKind::Sw,
+            &map.points,
+            &irradiance_params(&params),
+            &sim,
+        )?,
+        asked: Mutex::new(Vec::new()),
+    };
+    let (eye, _) = eye_queries(&scene, settings);
+    indirect_light(
+        &scene,
+        &eye,
+        gather_rays,
+        settings.seed,
+        GatherMap::Irradiance(&recorder, &map),
+        &params,
+        &mut times,
+    )?;
+    let quant = Quantizer::from_points(&map.points, bits)?;
+    let asked = recorder
+        .asked
+        .into_inner()
+        .unwrap_or_else(|e| e.into_inner());
+    Ok((on_grid(&map.points, &quant, &asked).0, radius))
 }

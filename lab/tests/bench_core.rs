@@ -163,3 +163,124 @@ fn bench_core_runs_the_two_pass_lookups() {
     let core = bench.lines().find(|l| l.starts_with("core: ")).unwrap();
     assert!(core.contains("world units) on the grid"), "{core}");
 }
+
+/// `bench-core --workload two-pass` on a banked core (issue 53: the gather stream
+/// on the hardware): the final gathers through banks behind the crossbar, two
+/// replicas of the top levels (four datapaths) and two result streams, every
+/// answer equal to the software search's (bench-core refuses a disagreement).
+#[test]
+fn bench_core_runs_the_two_pass_lookups_on_a_banked_core() {
+    let bench = stdout_of(&strings(&[
+        "bench-core",
+        "--workload",
+        "two-pass",
+        "--cornell-photons",
+        "400",
+        "--cornell-size",
+        "6x5",
+        "--queries",
+        "40",
+        "--k",
+        "6",
+        "--metric",
+        "l2",
+        "--controller",
+        "barrel",
+        "--traversal",
+        "cell",
+        "--banks",
+        "4",
+        "--replicas",
+        "2",
+        "--replicated-levels",
+        "3",
+        "--bank-ports",
+        "split",
+        "--result-streams",
+        "2",
+    ]));
+    assert!(bench.contains("equal per query"), "{bench}");
+    assert!(bench.contains(" 40 queries,"), "{bench}");
+    let core = bench.lines().find(|l| l.starts_with("core: ")).unwrap();
+    assert!(core.contains("world units) on the grid"), "{core}");
+    // Four datapaths read, and the two result streams both carry answers.
+    let ports = bench
+        .lines()
+        .find(|l| l.starts_with("reads per port per cycle (whole run): "))
+        .unwrap();
+    assert_eq!(ports.split(", ").count(), 4, "{ports}");
+    let streams = bench
+        .lines()
+        .find(|l| l.starts_with("result stream: "))
+        .unwrap();
+    assert!(streams.contains("per stream"), "{streams}");
+}
+
+/// `bench-core --workload two-pass-irradiance`: the 1-nearest lookups of the
+/// precomputed-irradiance render in its irradiance points, through a banked K = 1
+/// core, every answer equal to the software search's; any other k is refused.
+#[test]
+fn bench_core_runs_the_irradiance_lookups() {
+    let args = |k: &str| {
+        strings(&[
+            "bench-core",
+            "--workload",
+            "two-pass-irradiance",
+            "--cornell-photons",
+            "400",
+            "--cornell-size",
+            "6x5",
+            "--queries",
+            "40",
+            "--k",
+            k,
+            "--metric",
+            "l2",
+            "--controller",
+            "barrel",
+            "--traversal",
+            "cell",
+            "--banks",
+            "4",
+            "--replicas",
+            "2",
+            "--replicated-levels",
+            "3",
+            "--bank-ports",
+            "split",
+        ])
+    };
+    let bench = stdout_of(&args("1"));
+    assert!(bench.contains("equal per query"), "{bench}");
+    assert!(bench.contains(" 40 queries,"), "{bench}");
+    let core = bench.lines().find(|l| l.starts_with("core: ")).unwrap();
+    assert!(core.contains("K = 1,"), "{core}");
+    // The map is the irradiance points: about a quarter of the photons the
+    // `two-pass` workload's map holds for the same emitted photons.
+    let photons = |text: &str| -> usize {
+        let line = text.lines().find(|l| l.contains(" photons, ")).unwrap();
+        line.split(' ').next().unwrap().parse().unwrap()
+    };
+    let global = stdout_of(&strings(&[
+        "bench-core",
+        "--workload",
+        "two-pass",
+        "--cornell-photons",
+        "400",
+        "--cornell-size",
+        "6x5",
+        "--queries",
+        "40",
+        "--k",
+        "6",
+        "--metric",
+        "l2",
+    ]));
+    assert_eq!(photons(&bench), photons(&global).div_ceil(4));
+    let dir = tempfile::tempdir().unwrap();
+    refused(
+        dir.path(),
+        &args("4"),
+        "--workload two-pass-irradiance makes 1-nearest lookups: give --k 1, got 4",
+    );
+}

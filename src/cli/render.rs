@@ -43,11 +43,11 @@ pub struct RenderArgs {
     /// Eye samples per pixel.
     #[arg(long, default_value_t = 4)]
     pub spp: u32,
-    /// How photons become pixels. With two-pass and no --radius, every lookup is
-    /// capped at 5 % of the photon map's longest extent.
+    /// How photons become pixels. With the two-pass methods and no --radius, every
+    /// lookup is capped at 5 % of the photon map's longest extent.
     #[arg(long, value_enum, default_value_t = RenderMethod::Direct)]
     pub method: RenderMethod,
-    /// With --method two-pass: final-gather rays per shading point, 1..=4096
+    /// With the two-pass methods: final-gather rays per shading point, 1..=4096
     /// [default: 16].
     #[arg(long)]
     pub gather_rays: Option<u32>,
@@ -138,7 +138,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     if photons.is_empty() {
         return Err(Error::new("no photon reached a diffuse surface"));
     }
-    if args.method == RenderMethod::TwoPass && params.radius.is_none() {
+    if args.method.is_two_pass() && params.radius.is_none() {
         params.radius = Some(two_pass::default_radius(&photons));
     }
     let positions = render::photon_points(&photons);
@@ -152,7 +152,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         &photons,
         &caustic,
         backend.as_ref(),
-        &|p| args.opts.backend(p, &params, &sim),
+        &|p, prm| args.opts.backend(p, prm, &sim),
         &params,
         &mut t,
     )?;
@@ -167,6 +167,13 @@ pub fn render(args: &RenderArgs) -> Result<()> {
             s.gather_lookups,
             params.radius.unwrap_or(f64::INFINITY)
         );
+        if s.irradiance_points > 0 {
+            println!(
+                "irradiance: {} points precomputed (one lookup each), the final gather's \
+                 lookups 1-nearest",
+                s.irradiance_points
+            );
+        }
     }
     t.time("other", || match render::pfm::is_pfm(&args.out) {
         true => render::pfm::save_pfm(w, h, &pass.linear, &out),
@@ -200,11 +207,11 @@ pub fn render(args: &RenderArgs) -> Result<()> {
 fn check_method(args: &RenderArgs) -> Result<u32> {
     match (args.method, args.gather_rays) {
         (RenderMethod::Direct, Some(_)) => Err(Error::new(
-            "--gather-rays sets the final gather of --method two-pass; --method direct \
-             gathers none",
+            "--gather-rays sets the final gather of --method two-pass or \
+             two-pass-irradiance; --method direct gathers none",
         )),
         (RenderMethod::Direct, None) => Ok(render::DEFAULT_GATHER_RAYS),
-        (RenderMethod::TwoPass, n) => {
+        (RenderMethod::TwoPass | RenderMethod::TwoPassIrradiance, n) => {
             let n = n.unwrap_or(render::DEFAULT_GATHER_RAYS);
             if !(1..=4096).contains(&n) {
                 return Err(Error::new(format!(
@@ -215,7 +222,7 @@ fn check_method(args: &RenderArgs) -> Result<u32> {
             if args.opts.vcd.is_some() || (env_vcd && args.opts.backend.simulates()) {
                 return Err(Error::new(
                     "--vcd (or PHOTON_FPGA_VCD) records one simulation of one map; --method \
-                     two-pass gathers from two maps in many batches (give --method direct)",
+                     two-pass gathers from several maps in many batches (give --method direct)",
                 ));
             }
             Ok(n)

@@ -6,6 +6,8 @@ use clap::{Args, ValueEnum};
 use photon_fpga::cli::core_args::CoreArgs;
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::limits;
+use photon_fpga::host::render::irradiance::IRRADIANCE_K;
+use photon_fpga::hw::config::core_spec::DEFAULT_K;
 use photon_fpga::hw::sim::native::{Engine, SimOptions};
 
 /// Final-gather rays per eye hit of the `two-pass` workload: the render's default
@@ -22,6 +24,10 @@ pub enum WorkloadKind {
     /// The same map queried by the two-pass render's final gathers (16 gather rays
     /// per eye hit, capped at the render's default radius unless --radius is given).
     TwoPass,
+    /// The final gathers of `render --method two-pass-irradiance`: 1-nearest lookups
+    /// (give --k 1) in the irradiance points precomputed at every 4th photon of the
+    /// map, 16 per eye hit, capped as `two-pass`; the map is those points.
+    TwoPassIrradiance,
 }
 
 #[derive(Args)]
@@ -119,6 +125,23 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
                 &settings,
                 FINAL_GATHER_RAYS,
                 cfg.k,
+            )?;
+            radius = radius.or(Some(r));
+            w
+        } else if args.workload == WorkloadKind::TwoPassIrradiance {
+            if cfg.k != IRRADIANCE_K {
+                return Err(Error::new(format!(
+                    "--workload two-pass-irradiance makes {IRRADIANCE_K}-nearest lookups: give \
+                     --k {IRRADIANCE_K}, got {}",
+                    cfg.k
+                )));
+            }
+            let (w, r) = crate::lookups::cornell_irradiance_gathers(
+                args.cornell_photons,
+                cfg.layout.bits[0],
+                &settings,
+                FINAL_GATHER_RAYS,
+                DEFAULT_K,
             )?;
             radius = radius.or(Some(r));
             w

@@ -26,9 +26,14 @@
 //!   straight from the light included: every such path bounces diffusely at y
 //!   before reaching x, so none of them is direct or caustic light at x.
 //! * it escapes: 0.
+//!
+//! The estimate at y is either the global map's k-nearest density estimate
+//! (Jensen) or the nearest precomputed irradiance point's (Christensen 1999,
+//! `irradiance.rs`): [`GatherMap`].
 
 use crate::host::error::Result;
 use crate::host::gather::{GatherBackend, GatherParams};
+use crate::host::render::irradiance::{irradiance_radiance, IrradianceMap, IRRADIANCE_K};
 use crate::host::render::lookup::{gather_sorted, max_batch};
 use crate::host::render::photons::{stream_rng, Photon};
 use crate::host::render::renderer::{query_points, radiance, QueryPoint, MAX_EYE_DEPTH};
@@ -43,6 +48,32 @@ use rayon::prelude::*;
 /// Seed-stream offset of the gather rays' RNGs (one stream per shading point),
 /// apart from the photon, eye and shadow-ray streams.
 const GATHER_STREAM: u64 = 0x6A7_0000_0000_0000;
+
+/// What a gather ray's lookup reads at its diffuse hit, loaded in its backend.
+#[derive(Clone, Copy)]
+pub enum GatherMap<'a> {
+    /// The global photon map: a radius-capped k-nearest density estimate
+    /// (`GatherParams::k`) at each hit (Jensen).
+    Photons(&'a dyn GatherBackend, &'a [Photon]),
+    /// Precomputed irradiance points: the nearest one within the cap (Christensen).
+    Irradiance(&'a dyn GatherBackend, &'a IrradianceMap),
+}
+
+impl GatherMap<'_> {
+    fn backend(&self) -> &dyn GatherBackend {
+        match *self {
+            GatherMap::Photons(b, _) | GatherMap::Irradiance(b, _) => b,
+        }
+    }
+
+    /// Neighbours each lookup asks for.
+    fn k(&self, params: &GatherParams) -> usize {
+        match self {
+            GatherMap::Photons(..) => params.k,
+            GatherMap::Irradiance(..) => IRRADIANCE_K,
+        }
+    }
+}
 
 /// What the final gather did, beside the radiance.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -113,8 +144,8 @@ fn trace_gather_rays(
 }
 
 /// Indirect radiance reflected toward the eye at each shading point, in `points`'
-/// order, from `rays` gather rays each; the lookups go through `backend` (the
-/// global map over `photons`, built with `params`) in Morton-sorted batches of at
+/// order, from `rays` gather rays each; the lookups go through `map`'s backend
+/// (built with `params`, its k [`GatherMap`]'s) in Morton-sorted batches of at
 /// most [`max_batch`]. Ray tracing is charged to "ray emission", the lookups to
 /// "kd-tree search", the estimates to "other" (paper Fig. 2's stages).
 ///
@@ -127,8 +158,7 @@ pub fn indirect_light(
     points: &[QueryPoint],
     rays: u32,
     seed: u64,
-    photons: &[Photon],
-    backend: &dyn GatherBackend,
+    map: GatherMap,
     params: &GatherParams,
     times: &mut StageTimes,
 ) -> Result<(Vec<Vec3>, GatherStats)> {
@@ -137,7 +167,8 @@ pub fn indirect_light(
     if rays == 0 {
         return Ok((vec![Vec3::ZERO; points.len()], stats));
     }
-    let block = (max_batch(params.k) / rays as usize).max(1);
+    let k = map.k(params);
+    let block = (max_batch(k) / rays as usize).max(1);
     for (b, chunk) in points.chunks(block).enumerate() {
         let first = b * block;
         let hits: Vec<Vec<Option<DiffuseHit>>> = times.time("ray emission", || {
@@ -170,19 +201,24 @@ pub fn indirect_light(
             continue;
         }
         let gathered = times.time("kd-tree search", || {
-            gather_sorted(backend, &query_points(&lookups), params.k)
+            gather_sorted(map.backend(), &query_points(&lookups), k)
         })?;
         stats.lookups += lookups.len() as u64;
         stats.visited += gathered.iter().map(|g| g.visited as u64).sum::<u64>();
         times.time("other", || {
-            let l = radiance(
-                &lookups,
-                photons,
-                &gathered,
-                params.k,
-                params.radius,
-                params.metric,
-            );
+            let l = match map {
+                GatherMap::Photons(_, photons) => radiance(
+                    &lookups,
+                    photons,
+                    &gathered,
+                    params.k,
+                    params.radius,
+                    params.metric,
+                ),
+                GatherMap::Irradiance(_, irradiance) => {
+                    irradiance_radiance(&lookups, irradiance, &gathered)
+                }
+            };
             let inv_n = 1.0 / rays as f32;
             for (x, rays_of_x) in chunk.iter().zip(slot.chunks(rays as usize)) {
                 let mut sum = Vec3::ZERO;

@@ -6,6 +6,7 @@ pub mod caustics;
 pub mod direct_light;
 pub mod final_gather;
 pub mod geometry;
+pub mod irradiance;
 pub mod l1_area;
 pub mod lookup;
 pub mod pfm;

@@ -49,6 +49,17 @@ pub enum RenderMethod {
     /// caustic map, indirect light by final gathering from the global map
     /// (docs/TWO_PASS.md).
     TwoPass,
+    /// Two-pass with Christensen's precomputed irradiance: each gather ray reads
+    /// the nearest of the irradiance estimates made once at a quarter of the photon
+    /// positions, instead of k photons (docs/TWO_PASS.md).
+    TwoPassIrradiance,
+}
+
+impl RenderMethod {
+    /// Whether this is a two-pass method (shadow rays, caustic map, final gather).
+    pub fn is_two_pass(self) -> bool {
+        self != RenderMethod::Direct
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -61,7 +72,7 @@ pub struct RenderSettings {
     /// Linear scale on radiance before clamping and gamma.
     pub exposure: f32,
     pub method: RenderMethod,
-    /// Final-gather rays per shading point (`RenderMethod::TwoPass`).
+    /// Final-gather rays per shading point (the two-pass methods).
     pub gather_rays: u32,
 }
 

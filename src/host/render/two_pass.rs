@@ -13,20 +13,25 @@
 //! * direct light, L D E: shadow rays to the area light (`direct_light.rs`);
 //! * caustics, L S+ D E: the caustic map looked up at x (`caustics.rs`);
 //! * indirect diffuse light, L (S|D)* D (S)* D E: final gathering from the global map
-//!   (`final_gather.rs`), its rays counting 0 where they meet the light.
+//!   (`final_gather.rs`), its rays counting 0 where they meet the light; each ray's
+//!   hit reads either k photons of the global map (`--method two-pass`) or the
+//!   nearest irradiance point precomputed from it (Christensen 1999,
+//!   `irradiance.rs`, `--method two-pass-irradiance`).
 //!
-//! Every photon lookup (caustic and gather) goes through the chosen gather backend,
-//! as Morton-sorted batches (`lookup.rs`): the workload a photon mapper gives the
-//! core. Lookups are radius-capped k-nearest searches (`GatherParams::radius`), as
-//! Jensen's, pbrt's and Mitsuba's photon mappers use them; a lookup with no photon
-//! inside the cap returns nothing and its estimate is 0.
+//! Every photon lookup (caustic, gather and irradiance precomputation) goes through
+//! the chosen gather backend, as Morton-sorted batches (`lookup.rs`): the workload a
+//! photon mapper gives the core. Lookups are radius-capped k-nearest searches
+//! (`GatherParams::radius`), as Jensen's, pbrt's and Mitsuba's photon mappers use
+//! them; a lookup with no photon inside the cap returns nothing and its estimate is
+//! 0.
 
-use crate::host::error::Result;
+use crate::host::error::{Error, Result};
 use crate::host::gather::{GatherBackend, GatherParams};
 use crate::host::map::quantize::Point;
 use crate::host::render::caustics::{caustic_light, caustic_photons};
 use crate::host::render::direct_light::direct_light;
-use crate::host::render::final_gather::indirect_light;
+use crate::host::render::final_gather::{indirect_light, GatherMap};
+use crate::host::render::irradiance::{irradiance_params, precompute_irradiance, IrradianceMap};
 use crate::host::render::photons::Photon;
 use crate::host::render::renderer::{
     encode, eye_queries, photon_points, pixel_radiance, render_image, EyePass, RenderMethod,
@@ -65,6 +70,10 @@ pub struct PhotonMaps<'a> {
     /// The specular-only photons (`caustics::caustic_photons`); `None` if there
     /// are none.
     pub caustic: Option<(&'a dyn GatherBackend, &'a [Photon])>,
+    /// Precomputed irradiance points (`irradiance.rs`), loaded in their backend
+    /// (built with `irradiance::irradiance_params`): when given, the final gather
+    /// reads them instead of the global map.
+    pub irradiance: Option<(&'a dyn GatherBackend, &'a IrradianceMap)>,
 }
 
 /// What the two-pass eye pass did, beside the image.
@@ -76,8 +85,11 @@ pub struct TwoPassStats {
     pub shading_points: u64,
     /// Caustic-map lookups (one per shading point when there is a caustic map).
     pub caustic_lookups: u64,
-    /// Global-map lookups (gather rays that reached a diffuse surface).
+    /// Final-gather lookups (gather rays that reached a diffuse surface): in the
+    /// global map, or in the irradiance points when there are some.
     pub gather_lookups: u64,
+    /// Irradiance points precomputed (one global-map lookup each); 0 without.
+    pub irradiance_points: u64,
 }
 
 /// The two-pass eye pass: image, lookups and the photons the backends read, each
@@ -96,13 +108,16 @@ pub fn render_two_pass(
         direct_light(scene, &points, settings.seed)
     });
     let (caustic, caustic_visited) = caustic_light(&points, maps.caustic, params, times)?;
+    let gather_map = match maps.irradiance {
+        Some((backend, irradiance)) => GatherMap::Irradiance(backend, irradiance),
+        None => GatherMap::Photons(maps.global.0, maps.global.1),
+    };
     let (indirect, gather) = indirect_light(
         scene,
         &points,
         settings.gather_rays,
         settings.seed,
-        maps.global.1,
-        maps.global.0,
+        gather_map,
         params,
         times,
     )?;
@@ -128,6 +143,7 @@ pub fn render_two_pass(
             0
         },
         gather_lookups: gather.lookups,
+        irradiance_points: 0,
     };
     Ok((
         EyePass {
@@ -141,14 +157,16 @@ pub fn render_two_pass(
     ))
 }
 
-/// Loads a photon map (positions) into a gather backend, as the caller's options
-/// build them.
-pub type BuildBackend<'a> = dyn Fn(&[Point]) -> Result<Box<dyn GatherBackend>> + 'a;
+/// Loads a photon map (positions) into a gather backend with the given parameters,
+/// as the caller's options build them.
+pub type BuildBackend<'a> = dyn Fn(&[Point], &GatherParams) -> Result<Box<dyn GatherBackend>> + 'a;
 
 /// Pass 2 by `settings.method` on the photon map `photons` (already loaded in
 /// `global`; `caustic` flags its specular-only photons): the direct method's
 /// [`render_image`], or the two-pass render with a caustic map that `build` loads
 /// into a backend like `global` (charged to "kd-tree build"), and its statistics.
+/// `two-pass-irradiance` first precomputes the irradiance points through `global`
+/// and loads them with `build` too; their lookups count among the pass's.
 #[allow(clippy::too_many_arguments)]
 pub fn render_method(
     scene: &Scene,
@@ -167,12 +185,33 @@ pub fn render_method(
     let caustic = caustic_photons(photons, caustic);
     let caustic_map = match caustic.is_empty() {
         true => None,
-        false => Some(times.time("kd-tree build", || build(&photon_points(&caustic)))?),
+        false => Some(times.time("kd-tree build", || build(&photon_points(&caustic), params))?),
+    };
+    let (irradiance, precomputed) = match settings.method {
+        RenderMethod::TwoPassIrradiance => {
+            let (map, visited) = precompute_irradiance(scene, photons, global, params, times)?;
+            if map.points.is_empty() {
+                return Err(Error::new(
+                    "no photon lies on a surface of the scene: no irradiance to precompute",
+                ));
+            }
+            let backend = times.time("kd-tree build", || {
+                build(&map.points, &irradiance_params(params))
+            })?;
+            (Some((backend, map)), visited)
+        }
+        _ => (None, 0),
     };
     let maps = PhotonMaps {
         global: (global, photons),
         caustic: caustic_map.as_deref().map(|b| (b, caustic.as_slice())),
+        irradiance: irradiance.as_ref().map(|(b, m)| (b.as_ref(), m)),
     };
-    let (pass, stats) = render_two_pass(scene, settings, &maps, params, times)?;
+    let (mut pass, mut stats) = render_two_pass(scene, settings, &maps, params, times)?;
+    if let Some((_, map)) = &irradiance {
+        stats.irradiance_points = map.points.len() as u64;
+        pass.queries += map.points.len();
+        pass.visited += precomputed;
+    }
     Ok((pass, Some(stats)))
 }
