@@ -23,17 +23,11 @@
 
 use crate::hw::config::core_config::Addr;
 use crate::hw::memory::block_map::MemoryWord;
-use crate::hw::memory::cache_port::CachePort;
+use crate::hw::memory::cache_port::{CachePort, LineMask, MAX_BANK_LINES};
 use crate::hw::memory::line_fill::LineIndex;
 use crate::hw::primitives::bank_bus::BankMemoryPort;
 use crate::hw::primitives::block_ram::{BramIndex, BramWord};
 use rust_hdl::prelude::*;
-
-/// Lines one bank holds at most.
-pub const MAX_BANK_LINES: usize = 256;
-
-/// One bit per line of a bank.
-pub type LineMask = Bits<MAX_BANK_LINES>;
 
 #[derive(LogicBlock)]
 pub struct CacheBank {

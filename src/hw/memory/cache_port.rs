@@ -7,9 +7,14 @@
 
 use crate::hw::config::core_config::Addr;
 use crate::hw::memory::block_map::MemoryWord;
-use crate::hw::memory::cache_bank::LineMask;
 use crate::hw::primitives::block_ram::{BlockRam, BramIndex, BramWord};
 use rust_hdl::prelude::*;
+
+/// Lines one cache bank holds at most.
+pub const MAX_BANK_LINES: usize = 256;
+
+/// One bit per line of a bank.
+pub type LineMask = Bits<MAX_BANK_LINES>;
 
 #[derive(LogicBlock)]
 pub struct CachePort {
