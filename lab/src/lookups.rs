@@ -11,7 +11,7 @@ use photon_fpga::host::gather::{make_backend, BackendKind, GatherBackend, Gather
 use photon_fpga::host::map::quantize::{Point, Quantizer};
 use photon_fpga::host::render::final_gather::{indirect_light, GatherMap};
 use photon_fpga::host::render::irradiance::{irradiance_params, precompute_irradiance};
-use photon_fpga::host::render::photons::trace_photons;
+use photon_fpga::host::render::photons::{trace_photons, Photon};
 use photon_fpga::host::render::scene::Scene;
 use photon_fpga::host::render::two_pass::default_radius;
 use photon_fpga::host::render::{self, eye_queries, RenderSettings};
@@ -39,6 +39,35 @@ impl GatherBackend for Recorder {
     }
 }
 
+/// The Cornell box's global map of `emitted` emitted photons (the render's photon
+/// pass, seeded as `settings`), their positions, and the render's radius-capped
+/// `k`-nearest gather parameters (its default cap, `two_pass::default_radius`).
+fn global_map(
+    emitted: usize,
+    settings: &RenderSettings,
+    k: usize,
+) -> (Scene, Vec<Photon>, Vec<Point>, GatherParams) {
+    let scene = Scene::cornell_box();
+    let photons = trace_photons(&scene, emitted, settings.seed, false);
+    let world = render::photon_points(&photons);
+    let params = GatherParams {
+        k,
+        radius: Some(default_radius(&photons)),
+        ..GatherParams::default()
+    };
+    (scene, photons, world, params)
+}
+
+/// The queries `recorder` was asked, on the grid of `bits` bits over `points`.
+fn asked_on_grid(recorder: Recorder, points: &[Point], bits: u32) -> Result<Workload> {
+    let quant = Quantizer::from_points(points, bits)?;
+    let asked = recorder
+        .asked
+        .into_inner()
+        .unwrap_or_else(|e| e.into_inner());
+    Ok(on_grid(points, &quant, &asked).0)
+}
+
 /// The Cornell box's final-gather lookups: `gather_rays` per eye hit of
 /// `settings`' image (as `render --method two-pass --gather-rays N` asks them, in
 /// its batches' Morton order), on a `bits`-bit grid over the global map of
@@ -51,15 +80,7 @@ pub fn cornell_final_gathers(
     gather_rays: u32,
     k: usize,
 ) -> Result<(Workload, f64)> {
-    let scene = Scene::cornell_box();
-    let photons = trace_photons(&scene, emitted, settings.seed, false);
-    let world = render::photon_points(&photons);
-    let radius = default_radius(&photons);
-    let params = GatherParams {
-        k,
-        radius: Some(radius),
-        ..GatherParams::default()
-    };
+    let (scene, photons, world, params) = global_map(emitted, settings, k);
     let recorder = Recorder {
         inner: make_backend(BackendKind::Sw, &world, &params, &SimOptions::default())?,
         asked: Mutex::new(Vec::new()),
@@ -75,12 +96,8 @@ pub fn cornell_final_gathers(
         &params,
         &mut times,
     )?;
-    let quant = Quantizer::from_points(&world, bits)?;
-    let asked = recorder
-        .asked
-        .into_inner()
-        .unwrap_or_else(|e| e.into_inner());
-    Ok((on_grid(&world, &quant, &asked).0, radius))
+    let radius = params.radius.unwrap_or_default();
+    Ok((asked_on_grid(recorder, &world, bits)?, radius))
 }
 
 /// The Cornell box's final-gather lookups as `render --method two-pass-irradiance
@@ -96,15 +113,7 @@ pub fn cornell_irradiance_gathers(
     gather_rays: u32,
     k: usize,
 ) -> Result<(Workload, f64)> {
-    let scene = Scene::cornell_box();
-    let photons = trace_photons(&scene, emitted, settings.seed, false);
-    let world = render::photon_points(&photons);
-    let radius = default_radius(&photons);
-    let params = GatherParams {
-        k,
-        radius: Some(radius),
-        ..GatherParams::default()
-    };
+    let (scene, photons, world, params) = global_map(emitted, settings, k);
     let sim = SimOptions::default();
     let global = make_backend(BackendKind::Sw, &world, &params, &sim)?;
     let mut times = StageTimes::default();
@@ -128,10 +137,6 @@ pub fn cornell_irradiance_gathers(
         &params,
         &mut times,
     )?;
-    let quant = Quantizer::from_points(&map.points, bits)?;
-    let asked = recorder
-        .asked
-        .into_inner()
-        .unwrap_or_else(|e| e.into_inner());
-    Ok((on_grid(&map.points, &quant, &asked).0, radius))
+    let radius = params.radius.unwrap_or_default();
+    Ok((asked_on_grid(recorder, &map.points, bits)?, radius))
 }
