@@ -1,5 +1,7 @@
 //! The software search (the hardware's reference) and the float baseline against
-//! brute force, on random maps and every hard case of issue 2.
+//! brute force, on random maps and the hard cases: one point, duplicates, coplanar
+//! and collinear maps, ties on split planes and at the k-th distance, counts around
+//! powers of two.
 
 use photon_fpga::host::map::kdtree::{left_subtree_size, KdTree, PackedTree};
 use photon_fpga::host::map::knn::{brute_force, search, search_with, Scalar, Traversal};

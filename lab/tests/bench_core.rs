@@ -164,7 +164,7 @@ fn bench_core_runs_the_two_pass_lookups() {
     assert!(core.contains("world units) on the grid"), "{core}");
 }
 
-/// `bench-core --workload two-pass` on a banked core (issue 53: the gather stream
+/// `bench-core --workload two-pass` on a banked core (the two-pass gather stream
 /// on the hardware): the final gathers through banks behind the crossbar, two
 /// replicas of the top levels (four datapaths) and two result streams, every
 /// answer equal to the software search's (bench-core refuses a disagreement).

@@ -115,7 +115,7 @@ fn paper_core_reads_every_cycle_with_rereads() {
     throughput(Metric::L1, 1023, 200, 43, true, Traversal::Reread);
 }
 
-/// Right-sized Q (issue 11): Q fitted to a query stream from the software model of
+/// Right-sized Q: Q fitted to a query stream from the software model of
 /// its read intervals (`CoreConfig::fit_queries_per_port`) is below the worst-case
 /// issue interval and still keeps every port reading ≥ 0.98 photons per cycle while
 /// all QueryModules are busy, on the paper workload (with the default and the

@@ -1,7 +1,7 @@
 //! The external memories modelled and what BlockRAM each device leaves for the
 //! cache. Every figure is labelled: "from" a named source (a board's LiteX target, a
 //! PHY's source, a data sheet) or "assumed" (a reasoned guess, to be replaced by the
-//! hardware step's measurement with the memory model of issue 52, item 3).
+//! measurement of the external-memory core against its memory model).
 
 use super::layout::BlockLayout;
 use photon_fpga::host::device::plan::{Device, ECP5_85K, XC6VSX475T};

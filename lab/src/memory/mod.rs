@@ -1,6 +1,6 @@
 //! The photon map in external memory behind an on-chip cache, modelled in software
-//! before it is built (issue 52): the paper's high-quality regime (§3: at least 1 M
-//! emitted photons, about 1.9 M stored in the Cornell box, H = 21) does not fit any
+//! before it is built: the paper's high-quality regime (§3: at least 1 M emitted
+//! photons, about 1.9 M stored in the Cornell box, H = 21) does not fit any
 //! device's BlockRAM, so the top levels stay on chip and the rest lives in DRAM in
 //! burst-sized subtree blocks behind a cache (QuickNN, Pinkham et al., HPCA 2020;
 //! Heinzle et al., Graphics Hardware 2008, a neighbour cache for coherent queries;
