@@ -467,7 +467,33 @@ fn two_pass_beats_direct_at_matched_lookups_against_a_path_tracer() {
     let (two_pass, stats) = render_two_pass(&scene, &two, &maps, &params, &mut t).unwrap();
     let lookups = stats.caustic_lookups + stats.gather_lookups;
     assert_eq!(two_pass.queries as u64, lookups);
-    // Eye samples that escape make no query: a few more samples than lookups.
+    let (e_direct, spp) = direct_error_at(&scene, &photons, (w, h), lookups, &reference);
+    let two_pass = reflected(&scene, &two, &two_pass.linear);
+    let e_two = rel_rmse(&two_pass, &reference);
+    // No path counted twice or missed: the image's total light is the reference's
+    // (a doubled direct or caustic term would add tens of percent).
+    let (a, b) = (total_light(&two_pass), total_light(&reference));
+    assert!(
+        (a - b).abs() < 0.03 * b,
+        "two-pass total {a} vs reference {b}"
+    );
+    assert!(
+        e_two < 0.85 * e_direct,
+        "two-pass {e_two:.4} vs direct {e_direct:.4} at {lookups} lookups (direct spp {spp})"
+    );
+}
+
+/// The paper's direct render of `photons` (k = 32 unbounded float gathers, seed
+/// 2) at no fewer eye queries than `lookups` (eye samples that escape make no
+/// query: a few more samples than lookups): its rel. RMSE against `reference`
+/// and its samples per pixel.
+pub fn direct_error_at(
+    scene: &Scene,
+    photons: &[Photon],
+    (w, h): (u32, u32),
+    lookups: u64,
+    reference: &[Vec3],
+) -> (f64, u32) {
     let spp = (1.05 * lookups as f64 / (w * h) as f64).ceil() as u32;
     let direct = RenderSettings {
         width: w,
@@ -480,28 +506,21 @@ fn two_pass_beats_direct_at_matched_lookups_against_a_path_tracer() {
         k: 32,
         ..GatherParams::default()
     };
-    let direct_map = FloatBackend::new(&photon_points(&photons), &unbounded).unwrap();
-    let pass = render_image(&scene, &direct, &photons, &direct_map, &unbounded, &mut t).unwrap();
+    let map = FloatBackend::new(&photon_points(photons), &unbounded).unwrap();
+    let mut t = StageTimes::default();
+    let pass = render_image(scene, &direct, photons, &map, &unbounded, &mut t).unwrap();
     assert!(
         pass.queries as u64 >= lookups,
         "{} < {lookups}",
         pass.queries
     );
-    let two_pass = reflected(&scene, &two, &two_pass.linear);
-    let e_two = rel_rmse(&two_pass, &reference);
-    let e_direct = rel_rmse(&reflected(&scene, &direct, &pass.linear), &reference);
-    // No path counted twice or missed: the image's total light is the reference's
-    // (a doubled direct or caustic term would add tens of percent).
-    let total = |v: &[Vec3]| v.iter().map(|c| c.element_sum() as f64).sum::<f64>();
-    let (a, b) = (total(&two_pass), total(&reference));
-    assert!(
-        (a - b).abs() < 0.03 * b,
-        "two-pass total {a} vs reference {b}"
-    );
-    assert!(
-        e_two < 0.85 * e_direct,
-        "two-pass {e_two:.4} vs direct {e_direct:.4} at {lookups} lookups (direct spp {spp})"
-    );
+    let e = rel_rmse(&reflected(scene, &direct, &pass.linear), reference);
+    (e, spp)
+}
+
+/// An image's total light (the sum of every pixel's channels).
+pub fn total_light(v: &[Vec3]) -> f64 {
+    v.iter().map(|c| c.element_sum() as f64).sum()
 }
 
 /// The two-pass direct term (shadow rays) against the path tracer stopped at its

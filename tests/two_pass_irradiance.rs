@@ -6,8 +6,8 @@
 
 use crate::exact::bits_of;
 use crate::two_pass::{
-    bin, brute_world, capped_params, check_against_brute_force, lookup_workload, reference,
-    reflected, rel_rmse, trace,
+    bin, brute_world, capped_params, check_against_brute_force, direct_error_at, lookup_workload,
+    reference, reflected, rel_rmse, total_light, trace,
 };
 use glam::Vec3;
 use photon_fpga::host::exact::ExactBackend;
@@ -22,7 +22,7 @@ use photon_fpga::host::render::irradiance::{
 use photon_fpga::host::render::scene::{cosine_direction, Scene};
 use photon_fpga::host::render::two_pass::{default_radius, render_method};
 use photon_fpga::host::render::{
-    eye_queries, photon_points, render_image, QueryPoint, RenderMethod, RenderSettings,
+    eye_queries, photon_points, QueryPoint, RenderMethod, RenderSettings,
 };
 use photon_fpga::host::stages::StageTimes;
 use photon_fpga::hw::sim::native::SimOptions;
@@ -262,26 +262,10 @@ fn two_pass_irradiance_beats_direct_at_matched_lookups_against_a_path_tracer() {
     );
     let lookups = stats.caustic_lookups + stats.gather_lookups + stats.irradiance_points;
     assert_eq!(pass.queries as u64, lookups);
-    let spp = (1.05 * lookups as f64 / (w * h) as f64).ceil() as u32;
-    let direct = RenderSettings {
-        width: w,
-        height: h,
-        spp,
-        seed: 2,
-        ..RenderSettings::default()
-    };
-    let unbounded = GatherParams {
-        k: 32,
-        ..GatherParams::default()
-    };
-    let direct_map = FloatBackend::new(&photon_points(&photons), &unbounded).unwrap();
-    let dpass = render_image(&scene, &direct, &photons, &direct_map, &unbounded, &mut t).unwrap();
-    assert!(dpass.queries as u64 >= lookups);
+    let (e_direct, spp) = direct_error_at(&scene, &photons, (w, h), lookups, &reference);
     let img = reflected(&scene, &settings, &pass.linear);
     let e_irr = rel_rmse(&img, &reference);
-    let e_direct = rel_rmse(&reflected(&scene, &direct, &dpass.linear), &reference);
-    let total = |v: &[Vec3]| v.iter().map(|c| c.element_sum() as f64).sum::<f64>();
-    let (a, b) = (total(&img), total(&reference));
+    let (a, b) = (total_light(&img), total_light(&reference));
     assert!(
         (a - b).abs() < 0.03 * b,
         "irradiance total {a} vs reference {b}"
