@@ -16,9 +16,7 @@ use photon_fpga::host::render::final_gather::gather_hit;
 use photon_fpga::host::render::photons::{trace_photon_paths, Photon};
 use photon_fpga::host::render::scene::{Ray, Scene, Surface};
 use photon_fpga::host::render::two_pass::{default_radius, render_two_pass, PhotonMaps};
-use photon_fpga::host::render::{
-    eye_queries, photon_points, render_image, RenderMethod, RenderSettings,
-};
+use photon_fpga::host::render::{eye_queries, photon_points, RenderMethod, RenderSettings};
 use photon_fpga::host::stages::StageTimes;
 use photon_fpga::hw::config::metric::Metric;
 use photon_fpga::hw::sim::native::SimOptions;
@@ -408,26 +406,7 @@ fn two_pass_options_refuse_bad_input() {
 }
 #[path = "two_pass_reference.rs"]
 pub mod reference;
-
-/// Relative RMS error of linear radiance against `reference`, over all channels.
-pub fn rel_rmse(img: &[Vec3], reference: &[Vec3]) -> f64 {
-    let (mut err, mut norm) = (0.0f64, 0.0f64);
-    for (a, b) in img.iter().zip(reference) {
-        for c in 0..3 {
-            err += ((a[c] - b[c]) as f64).powi(2);
-            norm += (b[c] as f64).powi(2);
-        }
-    }
-    (err / norm).sqrt()
-}
-
-/// Each pixel's reflected radiance: `linear` less the emission its eye paths saw
-/// before any diffuse point (the same in every method; the reference leaves it out,
-/// since the light's antialiasing noise at its edges would swamp the comparison).
-pub fn reflected(scene: &Scene, settings: &RenderSettings, linear: &[Vec3]) -> Vec<Vec3> {
-    let (_, emitted) = eye_queries(scene, settings);
-    linear.iter().zip(&emitted).map(|(l, e)| *l - *e).collect()
-}
+pub use reference::{direct_error_at, reflected, rel_rmse, total_light};
 
 /// Against an independent path tracer, at matched photon lookups (the direct
 /// method gets at least as many eye samples as the two-pass render makes caustic
@@ -481,46 +460,6 @@ fn two_pass_beats_direct_at_matched_lookups_against_a_path_tracer() {
         e_two < 0.85 * e_direct,
         "two-pass {e_two:.4} vs direct {e_direct:.4} at {lookups} lookups (direct spp {spp})"
     );
-}
-
-/// The paper's direct render of `photons` (k = 32 unbounded float gathers, seed
-/// 2) at no fewer eye queries than `lookups` (eye samples that escape make no
-/// query: a few more samples than lookups): its rel. RMSE against `reference`
-/// and its samples per pixel.
-pub fn direct_error_at(
-    scene: &Scene,
-    photons: &[Photon],
-    (w, h): (u32, u32),
-    lookups: u64,
-    reference: &[Vec3],
-) -> (f64, u32) {
-    let spp = (1.05 * lookups as f64 / (w * h) as f64).ceil() as u32;
-    let direct = RenderSettings {
-        width: w,
-        height: h,
-        spp,
-        seed: 2,
-        ..RenderSettings::default()
-    };
-    let unbounded = GatherParams {
-        k: 32,
-        ..GatherParams::default()
-    };
-    let map = FloatBackend::new(&photon_points(photons), &unbounded).unwrap();
-    let mut t = StageTimes::default();
-    let pass = render_image(scene, &direct, photons, &map, &unbounded, &mut t).unwrap();
-    assert!(
-        pass.queries as u64 >= lookups,
-        "{} < {lookups}",
-        pass.queries
-    );
-    let e = rel_rmse(&reflected(scene, &direct, &pass.linear), reference);
-    (e, spp)
-}
-
-/// An image's total light (the sum of every pixel's channels).
-pub fn total_light(v: &[Vec3]) -> f64 {
-    v.iter().map(|c| c.element_sum() as f64).sum()
 }
 
 /// The two-pass direct term (shadow rays) against the path tracer stopped at its
