@@ -68,7 +68,7 @@ fn check_every_stream_used(stats: &SimStats, r: usize) {
     }
 }
 
-fn queries_for(
+pub fn queries_for(
     r: &mut Pcg64,
     points: &[[u32; 3]],
     layout: PhotonLayout,

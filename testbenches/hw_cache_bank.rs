@@ -78,7 +78,8 @@ fn hits_are_the_blocks_words_and_every_read_hits_in_time() {
         // Last cycle's reads answer now.
         for p in 0..2 {
             if let Some((block, offset)) = in_flight[p].take() {
-                let word = bank.reads[p].word.val().to_u64();
+                let port = if p == 0 { &bank.read } else { &bank.second };
+                let word = port.word.val().to_u64();
                 if word >> WORD & 1 == 0 {
                     assert_eq!(
                         word,
@@ -100,8 +101,13 @@ fn hits_are_the_blocks_words_and_every_read_hits_in_time() {
         }
         for p in 0..2 {
             let ask = !resetting && r.gen_bool(0.8);
-            bank.reads[p].enable.next = ask;
-            bank.reads[p].row.next = row(want[p].0, want[p].1).into();
+            let port = if p == 0 {
+                &mut bank.read
+            } else {
+                &mut bank.second
+            };
+            port.enable.next = ask;
+            port.row.next = row(want[p].0, want[p].1).into();
             if ask {
                 in_flight[p] = Some(want[p]);
             }

@@ -138,6 +138,7 @@ fn verilator_vcd_shows_the_native_handshakes() {
             engine,
             stall_seed: Some(5),
             vcd: Some(path.clone()),
+            memory: None,
         };
         let (results, _) = run_gather(&cfg, tree.image(), &queries, &opts).expect("simulation");
         check_results(&cfg, &tree, &points, &queries, &results);

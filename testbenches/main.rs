@@ -21,6 +21,7 @@ mod hw_free_pick;
 mod hw_line_fill;
 mod hw_lut_ram;
 mod hw_max_finder;
+mod hw_memory_core;
 mod hw_mux_trees;
 mod hw_packet_merge;
 mod hw_port;

@@ -47,7 +47,14 @@ pub const MAX_BANK_BITS: u32 = 10;
 
 impl Banking {
     /// Check `b` for a core of `controller` and H = `address_bits`.
-    pub fn check(self, controller: Controller, address_bits: u32) -> Result<(), HwError> {
+    /// `in_memory`: the banks are the external memory's cache (any H; the rows
+    /// are the cache's).
+    pub fn check(
+        self,
+        controller: Controller,
+        address_bits: u32,
+        in_memory: bool,
+    ) -> Result<(), HwError> {
         let b = self;
         let fail = |m: String| Err(HwError::Config(m));
         if controller != Controller::Barrel {
@@ -75,7 +82,7 @@ impl Banking {
                 b.bank_bits
             ));
         }
-        if address_bits - b.bank_bits > 16 {
+        if !in_memory && address_bits - b.bank_bits > 16 {
             return fail(format!(
                 "{} banks for H = {}: a bank would hold 2^{} rows, more than the 2^16 a bank \
                  row index addresses (more banks)",

@@ -10,6 +10,7 @@ use crate::hw::config::core_config::{
     Banking, CoreConfig, BARREL_SLOTS, MAX_HW_COORD_BITS, MAX_QUERIES_PER_PORT,
 };
 use crate::hw::config::core_spec::CoreSpec;
+use crate::hw::config::memory_config::ExternalMemory;
 use crate::hw::config::metric::Metric;
 use crate::hw::config::photon_word::{PhotonLayout, TreeImage};
 use crate::hw::config::traversal::Traversal;
@@ -37,6 +38,8 @@ pub struct CoreBuilder {
     bank_mapping: BankMapping,
     result_streams: usize,
     radius_bits: Option<u32>,
+    /// With banks: the external memory's cache lines (None: the map on chip).
+    cache_lines: Option<u32>,
 }
 
 impl Default for CoreBuilder {
@@ -58,6 +61,7 @@ impl Default for CoreBuilder {
             bank_mapping: BankMapping::default(),
             result_streams: 1,
             radius_bits: None,
+            cache_lines: None,
         }
     }
 }
@@ -133,6 +137,15 @@ impl CoreBuilder {
     pub fn radius_bits(self, radius_bits: Option<u32>) -> Self {
         CoreBuilder {
             radius_bits,
+            ..self
+        }
+    }
+
+    /// With banks, the map's levels below the replicas in external memory behind
+    /// a cache of `cache_lines` lines ([`ExternalMemory`]); `None`: on chip.
+    pub fn cache_lines(self, cache_lines: Option<u32>) -> Self {
+        CoreBuilder {
+            cache_lines,
             ..self
         }
     }
@@ -243,12 +256,20 @@ impl CoreBuilder {
                     "bank_map = {m} without banks: only a banked store maps nodes to banks"
                 ));
             }
+            if let Some(l) = b.cache_lines {
+                return fail(format!(
+                    "cache_lines = {l} without banks: the cache is the banked store's banks"
+                ));
+            }
         }
         if let Some(m) = b.bank_map {
             out = out.bank_mapping(m);
         }
         if let Some(p) = b.bank_ports {
             out = out.bank_ports(p);
+        }
+        if b.cache_lines.is_some() {
+            out = out.cache_lines(b.cache_lines);
         }
         Ok(out)
     }
@@ -312,6 +333,7 @@ impl CoreBuilder {
             }),
             result_streams: self.result_streams,
             radius_bits: self.radius_bits,
+            memory: self.cache_lines.map(ExternalMemory::new),
         };
         cfg.queries_per_port = match self.given_queries_per_port() {
             Some(q) => q,
@@ -349,6 +371,7 @@ impl From<CoreConfig> for CoreBuilder {
             bank_mapping: BankMapping::default(),
             result_streams: cfg.result_streams,
             radius_bits: cfg.radius_bits,
+            cache_lines: cfg.memory.map(|m| m.cache_lines),
         }
         .queries_per_port(cfg.queries_per_port)
         .banking(cfg.banking)

@@ -185,9 +185,14 @@ pub struct CoreConfig {
     /// one would, and the in-range test sees the whole distance (docs/HARDWARE.md,
     /// "Distance width").
     pub radius_bits: Option<u32>,
+    /// `None`: the map is on chip. `Some`: with banks, the levels below the
+    /// replicas live in external memory and the banks are their cache
+    /// ([`ExternalMemory`]), read through the core's AXI4 master.
+    pub memory: Option<ExternalMemory>,
 }
 
 pub use crate::hw::config::bank_config::{BankMapping, Banking, MAX_BANK_BITS};
+pub use crate::hw::config::memory_config::ExternalMemory;
 
 impl CoreConfig {
     /// Largest distance two photons of this layout can have.
@@ -308,6 +313,18 @@ impl CoreConfig {
         self.banking.map(|b| b.mapping).unwrap_or_default()
     }
 
+    /// Where the map's nodes live when it is in external memory: the replicated
+    /// levels on chip, blocks of the cache's levels below.
+    pub fn memory_layout(&self) -> Option<crate::hw::config::memory_layout::MemoryLayout> {
+        let (m, b) = self.memory.zip(self.banking)?;
+        crate::hw::config::memory_layout::MemoryLayout::new(
+            self.address_bits,
+            b.replicated_levels,
+            m.block_levels,
+        )
+        .ok()
+    }
+
     /// TreeModule ports, one datapath each: two per tree.
     pub fn datapaths(&self) -> usize {
         PORTS
@@ -358,7 +375,23 @@ impl CoreConfig {
                 self.full_dist_bits()
             )));
         }
-        if self.address_bits == 0 || self.address_bits > MAX_ADDRESS_BITS {
+        if let Some(m) = self.memory {
+            let Some(b) = self.banking else {
+                return Err(HwError::Config(format!(
+                    "cache_lines = {} without banks: the cache is the banked store's banks",
+                    m.cache_lines
+                )));
+            };
+            m.check(b.bank_bits, self.address_bits)?;
+            if self.layout.word_bits() >= MAX_WORD_BITS {
+                return Err(HwError::Config(format!(
+                    "coordinate widths {b:?} with external memory: a {}-bit photon word leaves no \
+                     bit for the cache's miss flag (below {MAX_WORD_BITS})",
+                    self.layout.word_bits(),
+                    b = self.layout.bits
+                )));
+            }
+        } else if self.address_bits == 0 || self.address_bits > MAX_ADDRESS_BITS {
             return Err(HwError::Config(format!(
                 "address_bits (H) = {} unsupported (1..={MAX_ADDRESS_BITS}, at most {} photons)",
                 self.address_bits,
@@ -418,7 +451,7 @@ impl CoreConfig {
             )));
         }
         if let Some(b) = self.banking {
-            b.check(self.controller, self.address_bits)?;
+            b.check(self.controller, self.address_bits, self.memory.is_some())?;
         }
         let (r, d) = (self.result_streams, self.datapaths());
         if self.is_array() && r != 1 {
@@ -534,6 +567,13 @@ impl std::fmt::Display for CoreConfig {
             ", H = {}, K = {}, {ports} x {} {q}{per_tree}",
             self.address_bits, self.k, self.queries_per_port
         )?;
+        if let Some(m) = self.memory {
+            write!(
+                f,
+                ", the levels below in external memory behind {} cache lines of {}-level blocks",
+                m.cache_lines, m.block_levels
+            )?;
+        }
         if self.result_streams != 1 {
             write!(f, ", {} result streams", self.result_streams)?;
         }

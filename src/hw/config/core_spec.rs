@@ -125,6 +125,13 @@ pub struct CoreBuild {
     #[cfg_attr(feature = "cli", arg(long, value_enum))]
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bank_map: Option<BankMapping>,
+    /// With --banks: the map's levels below the replicas live in external memory
+    /// (an AXI4 master port, blocks of 4 levels, docs/MEMORY.md) and the banks are
+    /// their cache of this many lines, a power of two (1 to 256 a bank); H up to
+    /// 24 [default: the map on chip].
+    #[cfg_attr(feature = "cli", arg(long, value_name = "LINES"))]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cache_lines: Option<u32>,
     /// Result streams R: the datapaths' result packets leave on R streams, D / R
     /// datapaths each (a divisor of D = 2 x --replicas with --banks, else of 2); one
     /// stream carries a beat a cycle, which about 8 busy datapaths fill at k = 32
@@ -228,6 +235,7 @@ impl From<&CoreConfig> for CoreSpec {
                 replicated_levels: c.banking.map(|b| b.replicated_levels),
                 bank_ports: c.banking.map(|b| b.ports),
                 bank_map: c.banking.map(|b| b.mapping),
+                cache_lines: c.memory.map(|m| m.cache_lines),
                 result_streams: Some(c.result_streams),
             },
         }

@@ -15,6 +15,7 @@ pub mod controller;
 pub mod core_config;
 pub mod core_file;
 pub mod core_spec;
+pub mod memory_config;
 pub mod memory_layout;
 pub mod metric;
 pub mod photon_word;

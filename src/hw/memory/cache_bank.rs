@@ -33,8 +33,10 @@ use rust_hdl::prelude::*;
 pub struct CacheBank {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, bool>,
-    /// The read ports (one or two): row now, word (and miss flag) the next cycle.
-    pub reads: Vec<BankMemoryPort>,
+    /// The read port and the second read port (with one port, its word is 0):
+    /// row now, word (and miss flag) the next cycle.
+    pub read: BankMemoryPort,
+    pub second: BankMemoryPort,
     /// A block to fetch: its block number and its (global) line.
     pub fill_valid: Signal<Out, bool>,
     pub fill_ready: Signal<In, bool>,
@@ -97,7 +99,8 @@ impl CacheBank {
         CacheBank {
             clock: Default::default(),
             reset: Default::default(),
-            reads: (0..ports).map(|_| Default::default()).collect(),
+            read: Default::default(),
+            second: Default::default(),
             fill_valid: Default::default(),
             fill_ready: Default::default(),
             fill_block: Default::default(),
@@ -197,11 +200,18 @@ impl Logic for CacheBank {
         }
         // A waiting miss stays until the fill takes it (or drops it).
         self.next_miss.next = self.fill_valid.val() && !self.take.val();
+        // Port 0 is the read port, port 1 (if any) the second.
+        self.ports[0].enable.next = self.read.enable.val();
+        self.ports[0].row.next = self.read.row.val();
+        self.read.word.next = self.ports[0].word.val();
+        self.second.word.next = 0.into();
+        for p in 1..self.ports.len() {
+            self.ports[p].enable.next = self.second.enable.val();
+            self.ports[p].row.next = self.second.row.val();
+            self.second.word.next = self.ports[p].word.val();
+        }
         for p in 0..self.ports.len() {
             self.ports[p].clock.next = self.clock.val();
-            self.ports[p].enable.next = self.reads[p].enable.val();
-            self.ports[p].row.next = self.reads[p].row.val();
-            self.reads[p].word.next = self.ports[p].word.val();
             self.ports[p].valid.next = self.valid.q.val();
             self.ports[p].filling.next = self.filling.q.val();
             self.ports[p].done.next = self.done.val();

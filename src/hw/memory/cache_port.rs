@@ -6,12 +6,10 @@
 //! line, for the bank's fill request.
 
 use crate::hw::config::core_config::Addr;
+pub use crate::hw::config::memory_config::MAX_BANK_LINES;
 use crate::hw::memory::block_map::MemoryWord;
 use crate::hw::primitives::block_ram::{BlockRam, BramIndex, BramWord};
 use rust_hdl::prelude::*;
-
-/// Lines one cache bank holds at most.
-pub const MAX_BANK_LINES: usize = 256;
 
 /// One bit per line of a bank.
 pub type LineMask = Bits<MAX_BANK_LINES>;

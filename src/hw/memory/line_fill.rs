@@ -14,7 +14,7 @@
 
 use crate::hw::memory::block_map::MemoryWord;
 use crate::hw::primitives::axi4_read::{AxiAddr, AxiReadMaster, BURST_INCR};
-use crate::hw::primitives::block_ram::BramIndex;
+use crate::hw::primitives::block_ram::{BramIndex, BramWord};
 use crate::hw::primitives::lut_ram::{LutRam, RamIndex};
 use rust_hdl::prelude::*;
 
@@ -38,7 +38,7 @@ pub struct LineFill<const D: usize> {
     /// The line RAM's write port: line × beats per line + beat.
     pub write_enable: Signal<Out, bool>,
     pub write_index: Signal<Out, BramIndex>,
-    pub write_data: Signal<Out, Bits<D>>,
+    pub write_data: Signal<Out, BramWord>,
     /// A line whose last beat was written in the previous cycle (one cycle).
     pub filled_valid: Signal<Out, bool>,
     pub filled_line: Signal<Out, LineIndex>,
@@ -78,8 +78,8 @@ impl<const D: usize> LineFill<D> {
     pub fn new(base: u64, block_bytes: u64) -> Self {
         let beat_bytes = (D / 8) as u64;
         assert!(
-            D >= 8 && D.is_power_of_two() && D <= 1024,
-            "a beat of 1 to 128 bytes"
+            D >= 8 && D.is_power_of_two() && D <= 64,
+            "a beat of 1 to 8 bytes (one line RAM word)"
         );
         assert!(block_bytes.is_power_of_two() && block_bytes >= beat_bytes);
         let beats = block_bytes / beat_bytes;
@@ -167,7 +167,7 @@ impl<const D: usize> Logic for LineFill<D> {
         self.write_enable.next = self.arrive.val();
         self.write_index.next = (bit_cast::<16, 16>(self.head_line.val()) << self.beat_shift.val())
             + bit_cast::<16, 8>(self.beat.q.val());
-        self.write_data.next = self.m_axi.rdata.val();
+        self.write_data.next = bit_cast::<64, D>(self.m_axi.rdata.val());
         if self.arrive.val() {
             self.beat.d.next = self.beat.q.val() + 1;
             if (self.m_axi.rresp.val() != 0)

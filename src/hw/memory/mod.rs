@@ -31,5 +31,6 @@
 
 pub mod block_map;
 pub mod cache_bank;
+pub mod cache_map;
 pub mod cache_port;
 pub mod line_fill;

@@ -121,6 +121,14 @@ pub trait Dut {
     fn tree_status(&self, t: usize) -> [bool; 3];
     /// The rising clock edge.
     fn rising_edge(&mut self) -> Result<(), HwError>;
+    /// With the map in external memory (`CoreConfig::memory`): put `tree`'s
+    /// image (`MemoryLayout::image`) into the memory model that answers the
+    /// core's AXI4 master, replacing what it held.
+    fn load_memory(&mut self, _tree: TreeImage<'_>) -> Result<(), HwError> {
+        Err(HwError::Simulation(
+            "this simulated core has no external memory".into(),
+        ))
+    }
     /// Settle passes so far (every block's `update`, repeated until nothing
     /// changes), for simulators that settle by passes (native): bench-core's
     /// simulation profile.
@@ -248,6 +256,9 @@ struct Host {
     /// Per result stream, the result in progress: (tag, count).
     current: Vec<Option<(usize, usize)>>,
     received: usize,
+    /// With external memory: the memory holds the job's map (reset and written
+    /// once the previous jobs' results are all in).
+    memory_ready: bool,
 }
 
 fn protocol(msg: impl Into<String>) -> HwError {
@@ -403,7 +414,14 @@ impl<D: Dut> Driver<D> {
             free_tags: (0..1 << cfg.id_bits()).collect(),
             current: vec![None; cfg.result_streams],
             received: 0,
+            memory_ready: false,
         };
+        // With external memory only the replicated levels are streamed, then the
+        // last word (whose address is the photon count).
+        let on_chip = cfg
+            .memory
+            .and(cfg.banking)
+            .map_or(usize::MAX, |b| 1usize << b.replicated_levels);
         let total: usize = jobs.iter().map(|j| j.queries.len()).sum();
         let mut results: Vec<Vec<Option<HwResult>>> =
             jobs.iter().map(|j| vec![None; j.queries.len()]).collect();
@@ -438,7 +456,17 @@ impl<D: Dut> Driver<D> {
                 self.inputs.result_ready[..streams].fill(true);
             } else {
                 let job = jobs[host.job];
-                if host.loading {
+                if host.loading && on_chip != usize::MAX && !host.memory_ready {
+                    // A new map in memory: once every earlier result is in, reset
+                    // the core (emptying its cache) and write the image.
+                    let before: usize = jobs[..host.job].iter().map(|j| j.queries.len()).sum();
+                    if host.received == before {
+                        self.reset()?;
+                        self.dut
+                            .load_memory(job.load.expect("loading a job with a map"))?;
+                        host.memory_ready = true;
+                    }
+                } else if host.loading {
                     let tree = job.load.expect("loading a job with a map");
                     if !host.load_presenting && !self.stall() {
                         host.load_presenting = true;
@@ -484,9 +512,13 @@ impl<D: Dut> Driver<D> {
                 let tree = jobs[host.job].load.expect("loading");
                 if host.load_next == tree.len() {
                     host.loading = false;
+                    host.memory_ready = false;
                     host.query_next = 0;
                 } else {
                     host.load_next += 1;
+                    if host.load_next >= on_chip {
+                        host.load_next = tree.len();
+                    }
                 }
             }
             if query_fire {

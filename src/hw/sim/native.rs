@@ -9,6 +9,7 @@
 use crate::hw::config::core_config::{dispatch_widths, CoreConfig};
 use crate::hw::config::photon_word::TreeImage;
 use crate::hw::error::HwError;
+use crate::hw::sim::axi_memory::{AxiBurst, AxiMemory, AxiTiming};
 use crate::hw::sim::driver::{
     Cycle, Driver, Dut, HwQuery, HwResult, Inputs, Job, Observer, Outputs, RunLimits, SimStats,
 };
@@ -29,6 +30,9 @@ pub struct SimOptions {
     pub stall_seed: Option<u64>,
     /// Which simulator runs the core.
     pub engine: Engine,
+    /// How the external memory answers a core whose map is there (default:
+    /// [`AxiTiming::ecp5_ddr3`]).
+    pub memory: Option<AxiTiming>,
 }
 
 /// The simulator behind the driver (`--engine`); each variant's doc is its help
@@ -57,11 +61,14 @@ pub struct NativeDut<const W: usize, U: SearchTop<W>> {
     cfg: CoreConfig,
     uut: Box<U>,
     passes: u64,
+    /// The external memory's model (with `CoreConfig::memory`, once a map is in it).
+    memory: Option<AxiMemory>,
+    timing: AxiTiming,
 }
 
 impl<const W: usize, U: SearchTop<W>> NativeDut<W, U> {
     /// Elaborate and check the top for `cfg`.
-    pub fn new(cfg: &CoreConfig) -> Result<Self, HwError> {
+    pub fn new(cfg: &CoreConfig, timing: AxiTiming) -> Result<Self, HwError> {
         cfg.validate()?;
         let mut uut = Box::new(U::elaborate(cfg));
         uut.connect_all();
@@ -70,6 +77,8 @@ impl<const W: usize, U: SearchTop<W>> NativeDut<W, U> {
             cfg: *cfg,
             uut,
             passes: 0,
+            memory: None,
+            timing,
         };
         dut.uut.io().clock.next = false.into();
         dut.settle()?;
@@ -113,6 +122,14 @@ impl<const W: usize, U: SearchTop<W>> Dut for NativeDut<W, U> {
         for (s, r) in io.more_results.iter_mut().enumerate() {
             r.ready.next = v.result_ready[s + 1];
         }
+        if let (Some(memory), Some(port)) = (&mut self.memory, self.uut.memory_port()) {
+            let out = memory.drive();
+            port.arready.next = out.arready;
+            port.rvalid.next = out.rvalid;
+            port.rdata.next = out.rdata.into();
+            port.rlast.next = out.rlast;
+            port.rresp.next = u64::from(out.rresp).into();
+        }
         self.settle()
     }
 
@@ -137,8 +154,22 @@ impl<const W: usize, U: SearchTop<W>> Dut for NativeDut<W, U> {
     }
 
     fn rising_edge(&mut self) -> Result<(), HwError> {
+        if let (Some(memory), Some(port)) = (&mut self.memory, self.uut.memory_port()) {
+            let ar = port.arvalid.val().then(|| AxiBurst {
+                addr: port.araddr.val().to_u64(),
+                len: port.arlen.val().to_u64() as u8,
+                size: port.arsize.val().to_u64() as u8,
+                burst: port.arburst.val().to_u64() as u8,
+            });
+            memory.edge(ar, port.rready.val());
+        }
         self.uut.io().clock.next = true.into();
         self.settle()
+    }
+
+    fn load_memory(&mut self, tree: TreeImage<'_>) -> Result<(), HwError> {
+        self.memory = Some(memory_model(&self.cfg, tree, self.timing)?);
+        Ok(())
     }
 
     fn settle_passes(&self) -> Option<u64> {
@@ -195,12 +226,32 @@ impl Observer for VcdObserver {
 
 /// The native core (T = 1) or array (T > 1) for `cfg` as a boxed [`Dut`], with the
 /// slot-mask and word widths `S`, `W` that `cfg` needs.
-fn native_dut<const S: usize, const W: usize>(cfg: &CoreConfig) -> Result<Box<dyn Dut>, HwError> {
+fn native_dut<const S: usize, const W: usize>(
+    cfg: &CoreConfig,
+    timing: AxiTiming,
+) -> Result<Box<dyn Dut>, HwError> {
     Ok(if !cfg.is_array() {
-        Box::new(NativeDut::<W, PhotonSearchCore<S, W>>::new(cfg)?)
+        Box::new(NativeDut::<W, PhotonSearchCore<S, W>>::new(cfg, timing)?)
     } else {
-        Box::new(NativeDut::<W, PhotonSearchArray<S, W>>::new(cfg)?)
+        Box::new(NativeDut::<W, PhotonSearchArray<S, W>>::new(cfg, timing)?)
     })
+}
+
+/// The memory model holding `tree`'s image for `cfg`'s external memory (one
+/// photon word per `word_width() / 8` bytes, at byte 0).
+pub fn memory_model(
+    cfg: &CoreConfig,
+    tree: TreeImage<'_>,
+    timing: AxiTiming,
+) -> Result<AxiMemory, HwError> {
+    let layout = cfg
+        .memory_layout()
+        .ok_or_else(|| sim_error("this core's map is on chip"))?;
+    Ok(AxiMemory::from_words(
+        &layout.image(tree),
+        cfg.word_width() / 8,
+        timing,
+    ))
 }
 
 /// rust-hdl's simulation of the core for any configuration: the slot-mask width is
@@ -208,8 +259,13 @@ fn native_dut<const S: usize, const W: usize>(cfg: &CoreConfig) -> Result<Box<dy
 /// ([`CoreConfig::word_width`]), so the paper's core keeps rust-hdl's fast 32-bit
 /// `Bits`; T > 1 simulates a [`PhotonSearchArray`].
 pub fn elaborate(cfg: &CoreConfig) -> Result<Box<dyn Dut>, HwError> {
+    elaborate_with(cfg, AxiTiming::ecp5_ddr3())
+}
+
+/// [`elaborate`], its external memory (if any) answering with `timing`.
+pub fn elaborate_with(cfg: &CoreConfig, timing: AxiTiming) -> Result<Box<dyn Dut>, HwError> {
     cfg.validate()?;
-    dispatch_widths!(cfg, native_dut(cfg))
+    dispatch_widths!(cfg, native_dut(cfg, timing))
 }
 
 impl Dut for Box<dyn Dut> {
@@ -234,6 +290,9 @@ impl Dut for Box<dyn Dut> {
     fn block(&self) -> Option<&dyn Block> {
         self.as_ref().block()
     }
+    fn load_memory(&mut self, tree: TreeImage<'_>) -> Result<(), HwError> {
+        self.as_mut().load_memory(tree)
+    }
 }
 
 /// The natively simulated core driven by the one [`Driver`], with the stalls and
@@ -253,7 +312,7 @@ impl CoreSim {
                 if let Some(path) = &vcd_path {
                     observers.push(Box::new(VcdObserver::create(path)?));
                 }
-                elaborate(cfg)?
+                elaborate_with(cfg, opts.memory.unwrap_or_else(AxiTiming::ecp5_ddr3))?
             }
             Engine::Verilator => {
                 cfg.validate()?;

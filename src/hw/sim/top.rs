@@ -4,6 +4,7 @@
 //! driver, one cross-simulation and one Verilog testbench serve both.
 
 use crate::hw::config::core_config::CoreConfig;
+use crate::hw::primitives::axi4_read::AxiReadMaster;
 use crate::hw::primitives::stream::{LoadIn, QueryBeat, ResultBeat, StreamIn, StreamOut};
 use crate::hw::top::array::PhotonSearchArray;
 use crate::hw::top::core::PhotonSearchCore;
@@ -29,6 +30,10 @@ pub trait SearchTop<const W: usize>: Block + Sized {
     /// Tree `t`'s status this cycle: port A reads, port B reads, all its
     /// QueryModules are busy (for the reads-per-cycle measurement).
     fn tree_status(&self, t: usize) -> [bool; 3];
+    /// The AXI4 master of a core whose map is in external memory.
+    fn memory_port(&mut self) -> Option<&mut AxiReadMaster<W>> {
+        None
+    }
 }
 
 macro_rules! top_io {
@@ -65,6 +70,9 @@ impl<const S: usize, const W: usize> SearchTop<W> for PhotonSearchCore<S, W> {
             Some([a, b]) => [a.val(), b.val(), self.all_busy.val()],
             _ => status(self),
         }
+    }
+    fn memory_port(&mut self) -> Option<&mut AxiReadMaster<W>> {
+        self.m_axi.first_mut()
     }
 }
 

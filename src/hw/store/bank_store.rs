@@ -6,11 +6,25 @@
 //!
 //! Loading: a written word goes to its bank and row through port A (the core
 //! loads a map only while no query is in flight, so no read competes with it).
+//!
+//! With the map in external memory (`CoreConfig::memory`) the banks are
+//! [`CacheBank`]s of the levels below the replicas, read through the same
+//! crossbar (its words one bit wider: the miss flag), and one [`LineFill`]
+//! brings their missing blocks through the `m_axi` port (`W`-bit beats, one
+//! photon word a beat: a block of `2^s` words is one burst), the banks' fill
+//! requests taking turns (round robin, [`PortArbiter`]); every bank sees every
+//! fill's writes and keeps those of its own lines (line mod B). Nothing is
+//! loaded into them: the map's image is in memory.
 
 use crate::hw::config::bank_config::BankPorts;
+use crate::hw::config::core_config::ModuleMask;
 use crate::hw::config::core_config::{Addr, CoreConfig, Word};
+use crate::hw::memory::cache_bank::CacheBank;
+use crate::hw::memory::line_fill::LineFill;
+use crate::hw::primitives::axi4_read::AxiReadMaster;
 use crate::hw::primitives::bank_bus::{BankAnswer, BankClient, BankIndex};
 use crate::hw::primitives::block_ram::BramWord;
+use crate::hw::primitives::port_arbiter::PortArbiter;
 use crate::hw::store::bank_crossbar::BankCrossbar;
 use crate::hw::store::bank_map::BankMap;
 use crate::hw::store::read_issue::ReadIssue;
@@ -28,6 +42,8 @@ pub struct BankStore<const W: usize> {
     /// Per datapath: its reads and their words (none without banks).
     pub clients: Vec<BankClient>,
     pub answers: Vec<BankAnswer>,
+    /// With external memory: the memory's read port (none otherwise).
+    pub m_axi: Vec<AxiReadMaster<W>>,
     map: BankMap,
     /// (Without banks, [`BankCrossbar::placeholder`]: rust-hdl's `#[hdl_gen]`
     /// cannot index into an element of a `Vec`, so a crossbar is always there;
@@ -37,6 +53,13 @@ pub struct BankStore<const W: usize> {
     banks: Vec<TreeModule<64>>,
     wide_word: Signal<Local, BramWord>,
     bank_id: Vec<Constant<BankIndex>>,
+    /// With external memory (empty otherwise): the cache's banks, the fill, the
+    /// round robin of the banks' fill requests and each bank's bit in it.
+    caches: Vec<CacheBank>,
+    fill: Vec<LineFill<W>>,
+    fill_turn: Vec<PortArbiter>,
+    fill_asking: Vec<Signal<Local, ModuleMask>>,
+    cache_bit: Vec<Constant<ModuleMask>>,
 }
 
 impl<const W: usize> BankStore<W> {
@@ -54,6 +77,15 @@ impl<const W: usize> BankStore<W> {
         let clients = if banks > 0 { cfg.datapaths() } else { 0 };
         let tag_bits = ReadIssue::<W>::tag_bits(cfg);
         let row_bits = cfg.address_bits - bank_bits;
+        // In memory the banks are the cache; a bank's answer carries a miss flag.
+        let memory = cfg.memory.filter(|_| banks > 0);
+        let fills = usize::from(memory.is_some());
+        let (banks, caches) = if memory.is_some() {
+            (0, banks)
+        } else {
+            (banks, 0)
+        };
+        let answer_bits = cfg.layout.word_bits() + fills as u32;
         BankStore {
             clock: Default::default(),
             reset: Default::default(),
@@ -62,15 +94,10 @@ impl<const W: usize> BankStore<W> {
             write_word: Default::default(),
             clients: (0..clients).map(|_| Default::default()).collect(),
             answers: (0..clients).map(|_| Default::default()).collect(),
+            m_axi: (0..fills).map(|_| Default::default()).collect(),
             map: BankMap::new(levels, bank_bits, cfg.address_bits, cfg.bank_mapping()),
-            crossbar: if banks > 0 {
-                BankCrossbar::new(
-                    clients,
-                    banks,
-                    ports,
-                    cfg.layout.word_bits(),
-                    tag_bits.max(1),
-                )
+            crossbar: if banks + caches > 0 {
+                BankCrossbar::new(clients, banks + caches, ports, answer_bits, tag_bits.max(1))
             } else {
                 BankCrossbar::placeholder(cfg.layout.word_bits(), tag_bits.max(1))
             },
@@ -80,6 +107,30 @@ impl<const W: usize> BankStore<W> {
             wide_word: Default::default(),
             bank_id: (0..banks)
                 .map(|j| Constant::new(BankIndex::from(j as u64)))
+                .collect(),
+            caches: memory
+                .iter()
+                .flat_map(|m| {
+                    (0..caches).map(|j| {
+                        CacheBank::new(
+                            j as u32,
+                            bank_bits,
+                            m.bank_lines(bank_bits) as usize,
+                            m.block_levels,
+                            ports.ports(),
+                            cfg.layout.word_bits(),
+                        )
+                    })
+                })
+                .collect(),
+            fill: memory
+                .iter()
+                .map(|m| LineFill::new(0, (W as u64 / 8) << m.block_levels))
+                .collect(),
+            fill_turn: (0..fills).map(|_| PortArbiter::new(caches)).collect(),
+            fill_asking: (0..fills).map(|_| Default::default()).collect(),
+            cache_bit: (0..caches)
+                .map(|j| Constant::new(ModuleMask::from(1u64 << j)))
                 .collect(),
         }
     }
@@ -124,9 +175,57 @@ impl<const W: usize> Logic for BankStore<W> {
             self.banks[j].b_address.next = 0.into();
             self.crossbar.banks[j].word.next = self.banks[j].a_read_data.val();
         }
-        for j in 0..self.crossbar.second.len() {
+        for j in 0..self.crossbar.second.len().min(self.banks.len()) {
             self.banks[j].b_address.next = self.crossbar.second[j].row.val();
             self.crossbar.second[j].word.next = self.banks[j].b_read_data.val();
+        }
+        // The cache: each bank read like a BlockRAM bank, every fill's writes
+        // offered to every bank, one fill request a cycle with the banks in turn.
+        for j in 0..self.caches.len() {
+            self.caches[j].clock.next = self.clock.val();
+            self.caches[j].reset.next = self.reset.val();
+            self.caches[j].read.enable.next = self.crossbar.banks[j].enable.val();
+            self.caches[j].read.row.next = self.crossbar.banks[j].row.val();
+            self.crossbar.banks[j].word.next = self.caches[j].read.word.val();
+            self.caches[j].second.enable.next = false;
+            self.caches[j].second.row.next = 0.into();
+            self.caches[j].fill_ready.next = false;
+        }
+        for j in 0..self.crossbar.second.len().min(self.caches.len()) {
+            self.caches[j].second.enable.next = self.crossbar.second[j].enable.val();
+            self.caches[j].second.row.next = self.crossbar.second[j].row.val();
+            self.crossbar.second[j].word.next = self.caches[j].second.word.val();
+        }
+        for m in 0..self.fill.len() {
+            self.fill[m].clock.next = self.clock.val();
+            self.fill[m].reset.next = self.reset.val();
+            self.fill_turn[m].clock.next = self.clock.val();
+            AxiReadMaster::<W>::link(&mut self.m_axi[m], &mut self.fill[m].m_axi);
+            self.fill_asking[m].next = 0.into();
+            for j in 0..self.caches.len() {
+                self.caches[j].write_enable.next = self.fill[m].write_enable.val();
+                self.caches[j].write_index.next = self.fill[m].write_index.val();
+                self.caches[j].write_data.next = self.fill[m].write_data.val();
+                self.caches[j].filled_valid.next = self.fill[m].filled_valid.val();
+                self.caches[j].filled_line.next = self.fill[m].filled_line.val();
+                if self.caches[j].fill_valid.val() {
+                    self.fill_asking[m].next = self.fill_asking[m].val() | self.cache_bit[j].val();
+                }
+            }
+            self.fill_turn[m].requests.next = self.fill_asking[m].val();
+            self.fill_turn[m].hold.next = false;
+            self.fill_turn[m].advance.next =
+                self.fill_turn[m].granted.val() && self.fill[m].fill_ready.val();
+            self.fill[m].fill_valid.next = self.fill_turn[m].granted.val();
+            self.fill[m].fill_block.next = 0.into();
+            self.fill[m].fill_line.next = 0.into();
+            for j in 0..self.caches.len() {
+                if (self.fill_turn[m].grant.val() & self.cache_bit[j].val()) != 0 {
+                    self.fill[m].fill_block.next = self.caches[j].fill_block.val();
+                    self.fill[m].fill_line.next = self.caches[j].fill_line.val();
+                    self.caches[j].fill_ready.next = self.fill[m].fill_ready.val();
+                }
+            }
         }
     }
 }

@@ -41,13 +41,17 @@
 use crate::hw::config::core_config::{
     bits_for, Addr, CoreConfig, Dist, ModuleIndex, ModuleMask, Word,
 };
+use crate::hw::config::memory_layout::MemoryLayout;
 use crate::hw::many;
+use crate::hw::memory::cache_map::CacheMap;
 use crate::hw::primitives::bank_bus::{BankAnswerIn, BankIndex, BankRequester, BankRow};
+use crate::hw::primitives::block_ram::BramWord;
 use crate::hw::primitives::free_pick::FreePick;
 use crate::hw::primitives::lut_ram::LutRam;
 use crate::hw::primitives::register_slice::RegisterSlice;
 use crate::hw::primitives::stream::ReadRequest;
 use crate::hw::store::bank_map::BankMap;
+use crate::hw::store::miss_park::MissPark;
 use rust_hdl::prelude::*;
 
 /// A read on offer: its slot, heap address, and where it lives (the replica, or
@@ -120,6 +124,13 @@ pub struct ReadIssue<const W: usize> {
     issue_replica: Vec<DFF<bool>>,
     word_replica: DFF<bool>,
     replica_word: DFF<Word<W>>,
+    /// With external memory (`CoreConfig::memory`; empty otherwise): where the
+    /// two candidates live in the cache, the bit of a bank's miss flag, and the
+    /// stage that parks a read that missed.
+    pick_cache: Vec<CacheMap>,
+    push_cache: Vec<CacheMap>,
+    miss_flag: Vec<Constant<BramWord>>,
+    park: Vec<MissPark<W>>,
 }
 
 impl<const W: usize> ReadIssue<W> {
@@ -130,6 +141,18 @@ impl<const W: usize> ReadIssue<W> {
             .map_or((0, 0), |b| (b.replicated_levels, b.bank_bits));
         let db = cfg.dist_bits();
         let stages = usize::from(cfg.banking.is_some());
+        // The external memory's placement and the cache's bank bits.
+        let memory: Vec<(MemoryLayout, u32)> = cfg
+            .memory
+            .zip(cfg.banking)
+            .map(|(m, b)| {
+                let layout =
+                    MemoryLayout::new(cfg.address_bits, b.replicated_levels, m.block_levels)
+                        .expect("a validated core's layout");
+                (layout, b.bank_bits)
+            })
+            .into_iter()
+            .collect();
         ReadIssue {
             clock: Default::default(),
             reset: Default::default(),
@@ -172,6 +195,13 @@ impl<const W: usize> ReadIssue<W> {
             issue_replica: many(stages),
             word_replica: Default::default(),
             replica_word: Default::default(),
+            pick_cache: memory.iter().map(|(l, b)| CacheMap::new(l, *b)).collect(),
+            push_cache: memory.iter().map(|(l, b)| CacheMap::new(l, *b)).collect(),
+            miss_flag: memory
+                .iter()
+                .map(|_| Constant::new(BramWord::from(1u64 << cfg.layout.word_bits())))
+                .collect(),
+            park: memory.iter().map(|_| MissPark::new()).collect(),
         }
     }
 
@@ -254,6 +284,20 @@ impl<const W: usize> Logic for ReadIssue<W> {
                 self.next.next.row = self.push_map.row.val();
             }
         }
+        // With external memory: the candidates' banks and rows are the cache's.
+        for m in 0..self.pick_cache.len() {
+            self.pick_cache[m].address.next =
+                bit_cast::<24, 32>(self.ctx_address.read_data.val()) & self.addr_mask.val();
+            self.push_cache[m].address.next = self.push_address.val();
+            self.next.next.replica = self.pick_cache[m].replicated.val();
+            self.next.next.bank = self.pick_cache[m].bank.val();
+            self.next.next.row = self.pick_cache[m].row.val();
+            if self.bypass.val() {
+                self.next.next.replica = self.push_cache[m].replicated.val();
+                self.next.next.bank = self.push_cache[m].bank.val();
+                self.next.next.row = self.push_cache[m].row.val();
+            }
+        }
         self.offer.inbound.valid.next = self.banked.val() && self.next_valid.val();
         self.offer.inbound.data.next = self.next.val();
         self.pending.d.next = self.pick.still_free.val();
@@ -323,6 +367,45 @@ impl<const W: usize> Logic for ReadIssue<W> {
             self.request_valid.next = self.issue_valid[b].q.val();
             self.request.next.query_module = self.issue_slot[b].q.val();
             self.request.next.address = self.issue_address[b].q.val();
+        }
+        // With external memory: the answer (the replica's or a bank's) meets a
+        // stage that parks a miss; a hit is the SearchModule's read a cycle later
+        // than with banks on chip, and a parked slot's retry joins the waiting reads.
+        for m in 0..self.park.len() {
+            self.park[m].clock.next = self.clock.val();
+            self.park[m].reset.next = self.reset.val();
+            self.park[m].read_valid.next = self.issue_valid[m].q.val();
+            self.park[m].read_slot.next = self.issue_slot[m].q.val();
+            self.park[m].read_address.next = self.issue_address[m].q.val();
+            self.park[m].answer.next = bit_cast::<W, 64>(self.bank_answer.word.val());
+            if self.word_replica.q.val() {
+                self.park[m].answer.next = self.replica_word.q.val();
+            }
+            self.park[m].missed.next = (!self.word_replica.q.val())
+                && ((self.bank_answer.word.val() & self.miss_flag[m].val()) != 0);
+            self.request_valid.next = self.park[m].request_valid.val();
+            self.request.next.query_module = self.park[m].request_slot.val();
+            self.request.next.address = self.park[m].request_address.val();
+            self.ctx_radius.read_index.next = self.park[m].request_slot.val();
+            self.ctx_full.read_index.next = self.park[m].request_slot.val();
+            self.word.next = self.park[m].word.val();
+            self.reading.next = self.park[m].request_valid.val();
+            self.pending.d.next = self.pick.still_free.val();
+            if self.push.val() && !self.bypass.val() {
+                self.pending.d.next =
+                    self.pick.still_free.val() | (self.one_slot.val() << self.push_slot.val());
+                if self.park[m].retry_valid.val() {
+                    self.pending.d.next = self.pick.still_free.val()
+                        | (self.one_slot.val() << self.push_slot.val())
+                        | (self.one_slot.val() << self.park[m].retry_slot.val());
+                }
+            } else if self.park[m].retry_valid.val() {
+                self.pending.d.next = self.pick.still_free.val()
+                    | (self.one_slot.val() << self.park[m].retry_slot.val());
+            }
+            if self.reset.val() {
+                self.pending.d.next = 0.into();
+            }
         }
     }
 }

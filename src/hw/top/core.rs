@@ -31,6 +31,7 @@
 //! whichever the controller.
 
 use crate::hw::config::core_config::{Addr, CoreConfig, PORTS};
+use crate::hw::primitives::axi4_read::AxiReadMaster;
 use crate::hw::primitives::stream::{LoadIn, QueryBeat, ResultBeat, StreamIn, StreamOut};
 use crate::hw::store::bank_store::BankStore;
 use crate::hw::store::tree_module::TreeModule;
@@ -56,6 +57,12 @@ pub struct PhotonSearchCore<const S: usize, const W: usize> {
     /// With banks (`CoreConfig::banking`): every port's reads this cycle (port
     /// 2t and 2t + 1 on tree t), for the reads-per-cycle measurement.
     pub ports_reading: Vec<Signal<Out, bool>>,
+    /// With the map in external memory (`CoreConfig::memory`; none otherwise): the
+    /// AXI4 read master that fetches its blocks. The memory holds the map's image
+    /// (`MemoryLayout::image`, written by the host); the load stream brings the
+    /// replicated levels and the last word (the photon count). A new map needs a
+    /// reset first, which empties the cache.
+    pub m_axi: Vec<AxiReadMaster<W>>,
     /// The TreeModules (the whole map, or with banks `trees` replicas of its top
     /// levels), ports A (also the load port) and B: one controller port each.
     trees: Vec<TreeModule<W>>,
@@ -102,6 +109,9 @@ impl<const S: usize, const W: usize> PhotonSearchCore<S, W> {
             port_b_reading: Default::default(),
             all_busy: Default::default(),
             ports_reading: (0..cfg.banking.map_or(0, |_| cfg.datapaths()))
+                .map(|_| Default::default())
+                .collect(),
+            m_axi: (0..usize::from(cfg.memory.is_some() && cfg.banking.is_some()))
                 .map(|_| Default::default())
                 .collect(),
             trees: (0..cfg.datapaths() / PORTS)
@@ -222,6 +232,9 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
         self.store.write_enable.next = self.load_fire.val() && !self.in_replica.val();
         self.store.write_address.next = self.load.address.val();
         self.store.write_word.next = self.load.word.val();
+        for m in 0..self.m_axi.len() {
+            AxiReadMaster::<W>::link(&mut self.m_axi[m], &mut self.store.m_axi[m]);
+        }
         for i in 0..self.store.clients.len() {
             self.store.clients[i].valid.next = self.ports[i].io.bank.valid.val();
             self.store.clients[i].bank.next = self.ports[i].io.bank.bank.val();
