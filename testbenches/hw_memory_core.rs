@@ -70,7 +70,7 @@ fn memory_core_matches_software_search() {
     ];
     for (metric, k, shape, seed) in cases {
         let mut r = rng(seed);
-        let mut points = random_points(&mut r, 1500, layout);
+        let mut points = random_points(&mut r, 700, layout);
         points.extend(vec![[5, 6, 7]; 20]);
         let tree = pack(&points, layout);
         let cfg = in_memory(&tree, k, metric, shape);
@@ -108,4 +108,32 @@ fn memory_core_second_map() {
     check_results(&cfg, &t1, &first, &q1, &sim.run_queries(&q1).unwrap());
     sim.load_map(t2.image()).unwrap();
     check_results(&cfg, &t2, &second, &q2, &sim.run_queries(&q2).unwrap());
+}
+
+/// The exported external-memory core under Verilator, its `m_axi` port answered
+/// by the same memory model (same seed), gives the native simulation's results
+/// in the same cycles.
+#[test]
+#[cfg_attr(not(has_verilator), ignore = "needs verilator")]
+fn memory_core_under_verilator_equals_the_native_simulation() {
+    use photon_fpga::hw::sim::native::Engine;
+    let layout = PhotonLayout::new([7, 7, 6]);
+    let mut r = rng(67);
+    let points = random_points(&mut r, 900, layout);
+    let tree = pack(&points, layout);
+    let cfg = in_memory(&tree, 6, Metric::L2, (2, 2, 4, BankPorts::Split, 16));
+    let queries = queries_for(&mut r, &points, layout, Metric::L2, 6);
+    let run = |engine| {
+        let opts = SimOptions {
+            engine,
+            memory: Some(unsteady(68)),
+            ..stalls(69)
+        };
+        run_gather(&cfg, tree.image(), &queries, &opts).expect("simulation")
+    };
+    let (native, ns) = run(Engine::Native);
+    let (verilated, vs) = run(Engine::Verilator);
+    assert_eq!(native, verilated, "results differ");
+    assert_eq!(ns, vs, "cycle and read counters differ");
+    check_results(&cfg, &tree, &points, &queries, &verilated);
 }

@@ -319,6 +319,7 @@ impl CoreSim {
                 Box::new(crate::hw::sim::verilator::VerilatorDut::new(
                     cfg,
                     vcd_path.as_deref(),
+                    opts.memory.unwrap_or_else(AxiTiming::ecp5_ddr3),
                 )?)
             }
         };

@@ -21,12 +21,15 @@
 //! vectors for T > 1.
 
 use crate::hw::config::core_config::{Addr, CoreConfig, MAX_RESULT_STREAMS};
+use crate::hw::config::photon_word::TreeImage;
 use crate::hw::error::HwError;
 use crate::hw::export::ports::Port;
 use crate::hw::export::verilog::{export_verilog, Exported};
 use crate::hw::primitives::stream::{QueryBeat, ResultBeat};
+use crate::hw::sim::axi_memory::{AxiBurst, AxiMemory, AxiSlaveOut, AxiTiming};
 use crate::hw::sim::driver::{Dut, Inputs, Outputs};
 use crate::hw::sim::model_cache;
+use crate::hw::sim::native::memory_model;
 use libloading::Library;
 use rust_hdl::prelude::*;
 use std::collections::HashMap;
@@ -314,6 +317,14 @@ pub struct VerilatorDut {
     /// One cycle's input and output records.
     in_words: Vec<u32>,
     out_words: Vec<u32>,
+    /// With external memory: its model, what it drives this cycle, and the
+    /// core's address channel and `rready` as sampled.
+    memory: Option<AxiMemory>,
+    timing: AxiTiming,
+    axi_in: AxiSlaveOut,
+    axi_ar: AxiBurst,
+    axi_arvalid: bool,
+    axi_rready: bool,
 }
 
 // SAFETY: the model has its own VerilatedContext and is only ever used through
@@ -393,7 +404,7 @@ fn symbol<T: Copy>(lib: &'static Library, name: &[u8]) -> Result<T, HwError> {
 impl VerilatorDut {
     /// Export the core for `cfg`, build it (or reuse the cached build) and start it;
     /// with `vcd`, trace every signal into that file.
-    pub fn new(cfg: &CoreConfig, vcd: Option<&Path>) -> Result<Self, HwError> {
+    pub fn new(cfg: &CoreConfig, vcd: Option<&Path>, timing: AxiTiming) -> Result<Self, HwError> {
         let exported = export_verilog(cfg)?;
         let harness = harness_cpp(&exported.ports);
         let trace = vcd.is_some();
@@ -415,6 +426,17 @@ impl VerilatorDut {
             free,
             outputs: Outputs::default(),
             status: vec![[false; 3]; cfg.trees],
+            memory: None,
+            timing,
+            axi_in: AxiSlaveOut::default(),
+            axi_ar: AxiBurst {
+                addr: 0,
+                len: 0,
+                size: 0,
+                burst: 0,
+            },
+            axi_arvalid: false,
+            axi_rready: false,
         };
         if let Some(path) = vcd {
             let start: TraceFn = symbol(lib, b"pf_trace")?;
@@ -429,9 +451,20 @@ impl VerilatorDut {
     }
 
     /// One port's value for `v`, as bits of the port's width at `at`.
-    fn input_bits(name: &str, v: &Inputs, out: &mut [u32], at: &mut usize) -> Result<(), HwError> {
+    fn input_bits(
+        name: &str,
+        v: &Inputs,
+        axi: &AxiSlaveOut,
+        out: &mut [u32],
+        at: &mut usize,
+    ) -> Result<(), HwError> {
         let q = &v.query;
         match name {
+            "m_axi$0$arready" => put(out, at, axi.arready as u64, 1),
+            "m_axi$0$rvalid" => put(out, at, axi.rvalid as u64, 1),
+            "m_axi$0$rdata" => put(out, at, axi.rdata, 64),
+            "m_axi$0$rlast" => put(out, at, axi.rlast as u64, 1),
+            "m_axi$0$rresp" => put(out, at, u64::from(axi.rresp), 2),
             "reset" => put(out, at, v.reset as u64, 1),
             "load$valid" => put(out, at, v.load_valid as u64, 1),
             "load$address" => put(out, at, v.load.address, Addr::BITS),
@@ -474,10 +507,13 @@ impl Dut for VerilatorDut {
     fn drive(&mut self, v: &Inputs) -> Result<(), HwError> {
         // The hot path of this backend: no allocation per cycle.
         self.in_words.fill(0);
+        if let Some(memory) = &mut self.memory {
+            self.axi_in = memory.drive();
+        }
         let mut base = 0;
         for p in self.ports.iter().filter(|p| p.input && p.name != "clock") {
             let mut at = 32 * base;
-            Self::input_bits(&p.name, v, &mut self.in_words, &mut at)?;
+            Self::input_bits(&p.name, v, &self.axi_in, &mut self.in_words, &mut at)?;
             base += words(p.width);
         }
         // SAFETY: the buffers have the harness' input and output record sizes.
@@ -495,7 +531,14 @@ impl Dut for VerilatorDut {
             let w = &out[k..k + words(p.width)];
             k += words(p.width);
             let bit = |t: usize| (w[0] >> t) & 1 == 1;
+            let low = u64::from(w[0]) | w.get(1).map_or(0, |&h| u64::from(h) << 32);
             match p.name.as_str() {
+                "m_axi$0$arvalid" => self.axi_arvalid = bit(0),
+                "m_axi$0$araddr" => self.axi_ar.addr = low,
+                "m_axi$0$arlen" => self.axi_ar.len = low as u8,
+                "m_axi$0$arsize" => self.axi_ar.size = low as u8,
+                "m_axi$0$arburst" => self.axi_ar.burst = low as u8,
+                "m_axi$0$rready" => self.axi_rready = bit(0),
                 "load$ready" => o.load_ready = bit(0),
                 "query$ready" => o.query_ready = bit(0),
                 "result$valid" => o.result_valid[0] = bit(0),
@@ -549,8 +592,16 @@ impl Dut for VerilatorDut {
     }
 
     fn rising_edge(&mut self) -> Result<(), HwError> {
+        if let Some(memory) = &mut self.memory {
+            memory.edge(self.axi_arvalid.then_some(self.axi_ar), self.axi_rready);
+        }
         // SAFETY: a live model.
         unsafe { (self.edge)(self.model) };
+        Ok(())
+    }
+
+    fn load_memory(&mut self, tree: TreeImage<'_>) -> Result<(), HwError> {
+        self.memory = Some(memory_model(&self.cfg, tree, self.timing)?);
         Ok(())
     }
 }

@@ -49,10 +49,13 @@ pub struct MissPark<const W: usize> {
     head: DFF<RamIndex>,
     tail: DFF<RamIndex>,
     now: DFF<Bits<8>>,
-    wait: Constant<Bits<8>>,
+    retry_after: Constant<Bits<8>>,
     index_mask: Constant<RamIndex>,
     miss: Signal<Local, bool>,
     head_entry: Signal<Local, Bits<32>>,
+    /// Cycles since the head parked, modulo 256 (a local of 8 bits, so that the
+    /// exported subtraction wraps as the simulation's does).
+    age: Signal<Local, Bits<8>>,
     due: Signal<Local, bool>,
 }
 
@@ -80,10 +83,11 @@ impl<const W: usize> MissPark<W> {
             head: Default::default(),
             tail: Default::default(),
             now: Default::default(),
-            wait: Constant::new(Bits::<8>::from(u64::from(RETRY_CYCLES))),
+            retry_after: Constant::new(Bits::<8>::from(u64::from(RETRY_CYCLES))),
             index_mask: Constant::new(RamIndex::from(PARKED as u64 - 1)),
             miss: Default::default(),
             head_entry: Default::default(),
+            age: Default::default(),
             due: Default::default(),
         }
     }
@@ -132,9 +136,9 @@ impl<const W: usize> Logic for MissPark<W> {
         // The head leaves once it has waited its cycles.
         self.parked.read_index.next = self.head.q.val() & self.index_mask.val();
         self.head_entry.next = self.parked.read_data.val();
-        self.due.next = (self.head.q.val() != self.tail.q.val())
-            && ((self.now.q.val() - bit_cast::<8, 32>(self.head_entry.val() >> 8))
-                >= self.wait.val());
+        self.age.next = self.now.q.val() - bit_cast::<8, 32>(self.head_entry.val() >> 8);
+        self.due.next =
+            (self.head.q.val() != self.tail.q.val()) && (self.age.val() >= self.retry_after.val());
         self.retry_valid.next = self.due.val();
         self.retry_slot.next = bit_cast::<8, 32>(self.head_entry.val());
         if self.due.val() {
