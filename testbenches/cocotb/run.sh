@@ -50,6 +50,11 @@ trap 'rm -rf "$work"' EXIT
 # the banks; in Verilator.
 "$bin" export-verilog --interface axis --address-bits 12 --banks 8 --replicas 2 \
   --replicated-levels 4 --result-streams 2 --out "$work/banked" >/dev/null
+# The external-memory core: four on-chip levels, the rest in the bench's AxiRamRead
+# (pauses on AR and R) behind a cache of 16 lines in four banks, so that lines are
+# replaced all the time; in Verilator.
+"$bin" export-verilog --interface axis --address-bits 12 --banks 4 --replicas 1 \
+  --replicated-levels 4 --cache-lines 16 --out "$work/memory" >/dev/null
 
 export PYTHONDONTWRITEBYTECODE=1
 tally="$work/tally"
@@ -58,6 +63,11 @@ for core in axis modules banked; do
   PATH="$vroot/bin:$PATH" VERILATOR_ROOT="$vroot" \
     "$py" "$here/run.py" --sim verilator --export "$work/$core" --queries "$queries" --tally "$tally"
 done
+# The memory core: the many-queries test (a second map and a reset are the Rust
+# testbenches' hw_memory_core, which the same export runs under Verilator).
+PATH="$vroot/bin:$PATH" VERILATOR_ROOT="$vroot" \
+  "$py" "$here/run.py" --sim verilator --export "$work/memory" --queries "$queries" --tally "$tally" \
+  --test one_map_many_queries
 
 # The bench must fail on a broken export (run.py --expect-fail exits 0 only if a
 # test failed, non-zero if all passed or nothing ran).
@@ -66,5 +76,9 @@ done
 "$py" "$here/mutate.py" --export "$work/axis" --out "$work/no-tlast" --mutation no-tlast
 "$py" "$here/run.py" --sim icarus --export "$work/no-tlast" --queries 50 --expect-fail --tally "$tally" \
   --test one_map_many_queries
+# A broken memory layout: the bench's image with its first two blocks swapped.
+PHOTON_AXIS_SWAP_BLOCKS=0,1 PATH="$vroot/bin:$PATH" VERILATOR_ROOT="$vroot" \
+  "$py" "$here/run.py" --sim verilator --export "$work/memory" --queries 50 --expect-fail \
+  --tally "$tally" --test one_map_many_queries --build "$work/memory/sim_build_swapped"
 # Tests passed in both simulators plus the broken exports rejected.
 echo "cocotb: $(awk '{ n += $1 } END { print n }' "$tally") passed, 0 failed"

@@ -16,8 +16,16 @@ import cocotb
 from cocotb.clock import Clock
 from cocotb.queue import Queue
 from cocotb.triggers import ClockCycles, RisingEdge, SimTimeoutError, with_timeout
-from cocotbext.axi import AxiStreamBus, AxiStreamFrame, AxiStreamSink, AxiStreamSource
+from cocotbext.axi import (
+    AxiRamRead,
+    AxiReadBus,
+    AxiStreamBus,
+    AxiStreamFrame,
+    AxiStreamSink,
+    AxiStreamSource,
+)
 
+import memory
 from layout import Layout
 from model import build_tree, check_result, check_tree
 
@@ -29,6 +37,11 @@ WATCHDOG = 5000
 PHOTON, QUERY, RESULT = LAYOUT["s_axis_photon"], LAYOUT["s_axis_query"], LAYOUT["m_axis_result"]
 # The result streams' ports (a core of R result streams has R, each RESULT's layout).
 RESULT_PORTS = CORE.get("result_ports", ["m_axis_result"])
+# The external-memory core: its map's image in an AxiRamRead behind m_axi.
+MEMORY = CORE.get("memory")
+# PHOTON_AXIS_SWAP_BLOCKS=i,j: the bench's image has blocks i and j swapped (a
+# broken layout, which the bench must reject).
+SWAP_BLOCKS = tuple(int(b) for b in os.environ["PHOTON_AXIS_SWAP_BLOCKS"].split(",")) if os.environ.get("PHOTON_AXIS_SWAP_BLOCKS") else None
 
 
 def pauses(rng, p):
@@ -41,6 +54,8 @@ class Map:
     """A random photon map on the core's grid (with duplicates: ties) and its tree."""
 
     def __init__(self, rng, n):
+        if MEMORY:  # the map reaches the memory (N >= 2^T, the export's rule)
+            n = max(n, 1 << MEMORY["on_chip_levels"])
         maxes = [(1 << b) - 1 for b in CORE["coord_bits"]]
         pts = [[rng.randint(0, m) for m in maxes] for _ in range(n)]
         for _ in range(n // 10):  # a tenth are copies of another photon
@@ -55,7 +70,24 @@ class Map:
             PHOTON.pack_bytes(x=c[0], y=c[1], z=c[2], axis=a)
             for c, a in zip(self.coords[1:], self.axis[1:])
         )
+        if MEMORY:
+            # The on-chip levels (padded beyond N), then a beat holding N.
+            nb = PHOTON.tdata_bytes
+            on_chip = (1 << MEMORY["on_chip_levels"]) - 1
+            data = data[: on_chip * nb].ljust(on_chip * nb, b"\0")
+            data += (len(self.coords) - 1).to_bytes(nb, "little")
         return AxiStreamFrame(data)
+
+    def image(self):
+        """The external memory's bytes for this map (memory.py)."""
+        words = [b""] + [
+            PHOTON.pack_bytes(x=c[0], y=c[1], z=c[2], axis=a)
+            for c, a in zip(self.coords[1:], self.axis[1:])
+        ]
+        return memory.image(
+            words, CORE["address_bits"], MEMORY["on_chip_levels"], MEMORY["block_levels"],
+            MEMORY["word_bytes"], SWAP_BLOCKS,
+        )
 
 
 def random_queries(rng, m, count):
@@ -99,6 +131,17 @@ class Bench:
             sink.set_pause_generator(pauses(random.Random(rng.random()), 0.4))
         for end in (self.photon, self.query, *self.results):
             end.log.setLevel(logging.WARNING)  # not a line per frame
+        self.ram = None
+        if MEMORY:
+            # Larger than any image the tests write (up to 2^H words).
+            size = MEMORY["word_bytes"] << (CORE["address_bits"] + 1)
+            self.ram = AxiRamRead(
+                AxiReadBus.from_prefix(dut, "m_axi"), dut.aclk, dut.aresetn,
+                reset_active_level=False, size=size,
+            )
+            self.ram.ar_channel.set_pause_generator(pauses(random.Random(rng.random()), 0.3))
+            self.ram.r_channel.set_pause_generator(pauses(random.Random(rng.random()), 0.3))
+            self.ram.log.setLevel(logging.WARNING)
         self.checked = 0
         # Packets received per result port.
         self.per_port = [0] * len(self.results)
@@ -116,7 +159,12 @@ class Bench:
     def results_empty(self):
         return all(sink.empty() for sink in self.results)
 
-    async def load(self, m):
+    async def load(self, m, fresh=False):
+        if self.ram is not None:
+            # A new map in memory: reset first (unless just reset), write the image.
+            if not fresh:
+                await self.reset()
+            self.ram.write(0, m.image())
         await self.photon.send(m.frame())
         await self.photon.wait()
 
@@ -221,7 +269,7 @@ async def one_map_many_queries(dut):
     """A random map through the photon stream, QUERIES random queries."""
     rng, bench = await start(dut)
     m = Map(rng, min(CORE["max_photons"], 300 + rng.randrange(100)))
-    await bench.load(m)
+    await bench.load(m, fresh=True)
     await bench.run_queries(m, random_queries(rng, m, QUERIES), tag_pool())
     # Every result stream carried packets (each serves its own datapaths).
     assert all(bench.per_port), f"packets per result port {bench.per_port}"
@@ -231,11 +279,12 @@ async def one_map_many_queries(dut):
 
 @cocotb.test()
 async def second_map_replaces_first(dut):
-    """Two maps one after the other without reset; each answers its own queries."""
+    """Two maps one after the other without reset (an external-memory core: with one,
+    as its export says); each answers its own queries."""
     rng, bench = await start(dut)
-    for n in (1 + rng.randrange(40), min(CORE["max_photons"], 200 + rng.randrange(200))):
+    for i, n in enumerate((1 + rng.randrange(40), min(CORE["max_photons"], 200 + rng.randrange(200)))):
         m = Map(rng, n)
-        await bench.load(m)
+        await bench.load(m, fresh=i == 0)
         await bench.run_queries(m, random_queries(rng, m, max(50, QUERIES // 5)), tag_pool())
     dut._log.info("%d results checked against brute force, 0 mismatches", bench.checked)
 
@@ -247,13 +296,13 @@ async def reset_mid_stream(dut):
     rng, bench = await start(dut)
     half = len(tag_pool()) // 2
     m = Map(rng, min(CORE["max_photons"], 250))
-    await bench.load(m)
+    await bench.load(m, fresh=True)
     qs = random_queries(rng, m, 400)
     aborted = await bench.run_queries(m, qs, range(half), stop_after=40)
     assert aborted, "no query was in flight at the reset"
     await bench.reset(cycles=3)
     m2 = Map(rng, min(CORE["max_photons"], 180))
-    await bench.load(m2)
+    await bench.load(m2, fresh=True)
     # New queries use the other half of the tags: a result with an old tag after
     # the reset is an aborted query's and fails run_queries ("not in flight").
     await bench.run_queries(m2, random_queries(rng, m2, max(50, QUERIES // 5)), range(half, 2 * half))

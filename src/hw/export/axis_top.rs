@@ -253,6 +253,12 @@ fn json_of(streams: &[StreamLayout], cfg: &CoreConfig) -> String {
             "result_ports": result_ports(cfg),
             "controller": cfg.controller.to_string(),
             "trees": cfg.trees,
+            "memory": cfg.memory_layout().map(|m| serde_json::json!({
+                "on_chip_levels": m.on_chip_levels,
+                "block_levels": m.block_levels,
+                "word_bytes": cfg.word_width() / 8,
+                "cache_lines": cfg.memory.map(|c| c.cache_lines),
+            })),
         }
     });
     let mut s = serde_json::to_string_pretty(&v).expect("a JSON value serialises");
@@ -324,6 +330,22 @@ pub fn axis_top(core: &Exported, cfg: &CoreConfig) -> Result<AxisTop, HwError> {
             cfg.datapaths()
         );
     }
+    let memory = cfg.memory_layout();
+    if let Some(m) = &memory {
+        v += &format!(
+            "// External memory: the map's levels below the top {t} live in the memory behind\n\
+             // m_axi (AXI4 read bursts of {} bytes, one photon word a {}-bit beat, at byte 0):\n\
+             // word b*{w} + o holds word o of block b, a subtree of {s} levels (docs/MEMORY.md).\n\
+             // Write that image, then stream words 1 .. {} (the on-chip levels) and one beat with\n\
+             // tlast whose tdata is N, the photon count. A new map: reset first.\n",
+            (cfg.word_width() / 8) << m.block_levels,
+            cfg.word_width(),
+            (1u64 << m.on_chip_levels) - 1,
+            t = m.on_chip_levels,
+            w = m.block_words(),
+            s = m.block_levels,
+        );
+    }
     v += "// s_axis_query: one query a beat. m_axis_result: per query a header beat, then its\n";
     v += "// photons one (or, with pair, two) a beat in found-list order; tlast on the last beat\n";
     v += "// (the header itself when count = 0). Packets of different queries may leave out of\n";
@@ -357,7 +379,27 @@ pub fn axis_top(core: &Exported, cfg: &CoreConfig) -> Result<AxisTop, HwError> {
             result.tdata_bits - 1
         );
     }
+    // The memory port, named as AXI4 names it.
+    for p in core.ports.iter().filter(|p| p.name.starts_with("m_axi$0$")) {
+        let dir = if p.input { "input " } else { "output" };
+        let range = if p.width > 1 {
+            format!("[{}:0] ", p.width - 1)
+        } else {
+            String::new()
+        };
+        v += &format!(
+            ",\n    {dir} wire {range}m_axi_{}",
+            &p.name["m_axi$0$".len()..]
+        );
+    }
+    // One ID (the bursts return in order): ARID is 0 and RID is not looked at.
+    if memory.is_some() {
+        v += ",\n    output wire [0:0] m_axi_arid,\n    input  wire [0:0] m_axi_rid";
+    }
     v += "\n);\n";
+    if memory.is_some() {
+        v += "    assign m_axi_arid = 1'b0;\n";
+    }
     v += "    reg reset_q;\n    always @(posedge aclk) reset_q <= !aresetn;\n";
     v += "    wire run = aresetn && !reset_q;\n\n";
     v += &format!(
@@ -428,6 +470,11 @@ pub fn axis_top(core: &Exported, cfg: &CoreConfig) -> Result<AxisTop, HwError> {
             "reset" => "reset_q".to_string(),
             "load$valid" => "s_axis_photon_tvalid && run".to_string(),
             "load$ready" => "load_ready".to_string(),
+            // In memory the last beat's data is the photon count (its address).
+            "load$address" if memory.is_some() => format!(
+                "s_axis_photon_tlast ? s_axis_photon_tdata[{}:0] : load_address",
+                addr_w - 1
+            ),
             "load$address" => "load_address".to_string(),
             "load$word" => format!("s_axis_photon_tdata[{}:0]", word_w - 1),
             "load$last" => "s_axis_photon_tlast".to_string(),
@@ -452,6 +499,7 @@ pub fn axis_top(core: &Exported, cfg: &CoreConfig) -> Result<AxisTop, HwError> {
                     _ => return Err(axis_error(format!("unknown core port `{name}`"))),
                 }
             }
+            name if name.starts_with("m_axi$0$") => format!("m_axi_{}", &name["m_axi$0$".len()..]),
             _ if !p.input => String::new(),
             other => return Err(axis_error(format!("unknown core input `{other}`"))),
         };
