@@ -8,6 +8,9 @@
 //! prompt memory fails). The figures of the memories modelled, and their sources,
 //! are in docs/MEMORY.md.
 
+use crate::hw::config::core_config::CoreConfig;
+use crate::hw::config::photon_word::TreeImage;
+use crate::hw::error::HwError;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use std::collections::VecDeque;
@@ -104,6 +107,24 @@ impl AxiMemory {
             faulty: vec![],
             bursts: vec![],
         }
+    }
+
+    /// The memory of `cfg`'s external-memory core holding `tree`'s image
+    /// (`MemoryLayout::image`, one photon word per `word_width() / 8` bytes, at
+    /// byte 0).
+    pub fn for_map(
+        cfg: &CoreConfig,
+        tree: TreeImage<'_>,
+        timing: AxiTiming,
+    ) -> Result<Self, HwError> {
+        let layout = cfg
+            .memory_layout()
+            .ok_or_else(|| HwError::Simulation("this core's map is on chip".into()))?;
+        Ok(AxiMemory::from_words(
+            &layout.image(tree),
+            cfg.word_width() / 8,
+            timing,
+        ))
     }
 
     /// Bursts at byte address `addr` answer SLVERR from now on.

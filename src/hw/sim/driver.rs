@@ -15,7 +15,10 @@ use crate::hw::config::core_config::{CoreConfig, MAX_RESULT_STREAMS};
 use crate::hw::config::photon_word::TreeImage;
 use crate::hw::error::HwError;
 use crate::hw::primitives::stream::{QueryBeat, ResultBeat};
+pub use crate::hw::sim::dut::{Cycle, Dut, Inputs, LoadBeat, Observer, Outputs};
 use crate::hw::sim::entry_distances::HeldMap;
+pub use crate::hw::sim::sim_stats::SimStats;
+use crate::hw::sim::sim_stats::StatsObserver;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 
@@ -59,151 +62,6 @@ pub struct HwResult {
     pub found: Vec<(u32 /*heap addr*/, u64 /*distance*/)>,
     /// Photon reads this query issued.
     pub visited: u32,
-}
-
-/// What a run cost, in clock cycles. Ports are listed tree by tree (A, B of tree 0,
-/// then of tree 1, ...).
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct SimStats {
-    pub cycles: u64,
-    /// Cycles from the first query presented on: the run without the map's load.
-    pub search_cycles: u64,
-    pub reads_per_port: Vec<u64>,
-    /// Cycles with every QueryModule (of every tree) occupied.
-    pub busy_cycles: u64,
-    pub busy_reads_per_port: Vec<u64>,
-    /// Result beats taken (valid and ready): what the result streams carry.
-    pub result_beats: u64,
-    /// The same, per result stream.
-    pub result_beats_per_stream: Vec<u64>,
-}
-
-/// The load beat the host presents.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct LoadBeat {
-    pub address: u64,
-    pub word: u64,
-    pub last: bool,
-}
-
-/// The core's inputs in one cycle, as the host drives them (data fields keep their
-/// last value while not valid).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Inputs {
-    pub reset: bool,
-    pub load_valid: bool,
-    pub load: LoadBeat,
-    pub query_valid: bool,
-    pub query: QueryBeat,
-    /// Per result stream (`CoreConfig::result_streams`; the rest unused).
-    pub result_ready: [bool; MAX_RESULT_STREAMS],
-}
-
-/// The core's stream outputs in one cycle.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Outputs {
-    pub load_ready: bool,
-    pub query_ready: bool,
-    /// Per result stream, as `Inputs::result_ready`.
-    pub result_valid: [bool; MAX_RESULT_STREAMS],
-    pub result: [ResultBeat; MAX_RESULT_STREAMS],
-}
-
-/// A simulated core, cycle by cycle.
-pub trait Dut {
-    fn config(&self) -> &CoreConfig;
-    /// Apply `inputs` with the clock low and settle (this is also the falling edge
-    /// of the previous cycle).
-    fn drive(&mut self, inputs: &Inputs) -> Result<(), HwError>;
-    /// The stream outputs, settled.
-    fn outputs(&mut self) -> Outputs;
-    /// Tree `t`'s status: port A reads, port B reads, all its QueryModules busy.
-    fn tree_status(&self, t: usize) -> [bool; 3];
-    /// The rising clock edge.
-    fn rising_edge(&mut self) -> Result<(), HwError>;
-    /// With the map in external memory (`CoreConfig::memory`): put `tree`'s
-    /// image (`MemoryLayout::image`) into the memory model that answers the
-    /// core's AXI4 master, replacing what it held.
-    fn load_memory(&mut self, _tree: TreeImage<'_>) -> Result<(), HwError> {
-        Err(HwError::Simulation(
-            "this simulated core has no external memory".into(),
-        ))
-    }
-    /// Settle passes so far (every block's `update`, repeated until nothing
-    /// changes), for simulators that settle by passes (native): bench-core's
-    /// simulation profile.
-    fn settle_passes(&self) -> Option<u64> {
-        None
-    }
-    /// The rust-hdl block, for observers that read every port (native simulation).
-    fn block(&self) -> Option<&dyn rust_hdl::prelude::Block> {
-        None
-    }
-}
-
-/// One cycle as observers see it.
-pub struct Cycle<'a> {
-    /// Cycle number since the core was built (the reset cycles are 0 and 1).
-    pub index: u64,
-    pub dut: &'a dyn Dut,
-    pub inputs: &'a Inputs,
-    pub outputs: &'a Outputs,
-}
-
-/// Sees every cycle of a run.
-pub trait Observer {
-    /// The cycle's inputs are applied and settled; its rising edge comes next.
-    fn sampled(&mut self, _cycle: &Cycle<'_>) -> Result<(), HwError> {
-        Ok(())
-    }
-    /// The cycle's rising edge has happened.
-    fn edge(&mut self, _cycle: &Cycle<'_>) -> Result<(), HwError> {
-        Ok(())
-    }
-}
-
-/// Counts cycles and photon reads ([`SimStats`]).
-#[derive(Default)]
-struct StatsObserver {
-    stats: SimStats,
-    /// A query has been presented (the load is over).
-    searching: bool,
-}
-
-impl Observer for StatsObserver {
-    fn sampled(&mut self, c: &Cycle<'_>) -> Result<(), HwError> {
-        let trees = c.dut.config().trees;
-        let s = &mut self.stats;
-        if s.reads_per_port.is_empty() {
-            s.reads_per_port = vec![0; 2 * trees];
-            s.busy_reads_per_port = vec![0; 2 * trees];
-        }
-        // Twice over the trees rather than collecting: no allocation per cycle.
-        let all_busy = (0..trees).all(|t| c.dut.tree_status(t)[2]);
-        s.busy_cycles += all_busy as u64;
-        for t in 0..trees {
-            let [a, b, _] = c.dut.tree_status(t);
-            for (port, reading) in [(2 * t, a), (2 * t + 1, b)] {
-                s.reads_per_port[port] += reading as u64;
-                if all_busy {
-                    s.busy_reads_per_port[port] += reading as u64;
-                }
-            }
-        }
-        s.cycles += 1;
-        let streams = c.dut.config().result_streams;
-        if s.result_beats_per_stream.is_empty() {
-            s.result_beats_per_stream = vec![0; streams];
-        }
-        for (i, beats) in s.result_beats_per_stream.iter_mut().enumerate() {
-            let beat = (c.outputs.result_valid[i] && c.inputs.result_ready[i]) as u64;
-            *beats += beat;
-            s.result_beats += beat;
-        }
-        self.searching |= c.inputs.query_valid;
-        s.search_cycles += self.searching as u64;
-        Ok(())
-    }
 }
 
 /// One step of a run: load a map (if any), then run queries on the loaded map.

@@ -7,8 +7,11 @@
 
 pub mod axi_memory;
 pub mod driver;
+pub mod dut;
 pub mod entry_distances;
 pub mod model_cache;
 pub mod native;
+pub mod sim_stats;
 pub mod top;
 pub mod verilator;
+pub mod verilator_harness;

@@ -168,7 +168,7 @@ impl<const W: usize, U: SearchTop<W>> Dut for NativeDut<W, U> {
     }
 
     fn load_memory(&mut self, tree: TreeImage<'_>) -> Result<(), HwError> {
-        self.memory = Some(memory_model(&self.cfg, tree, self.timing)?);
+        self.memory = Some(AxiMemory::for_map(&self.cfg, tree, self.timing)?);
         Ok(())
     }
 
@@ -235,23 +235,6 @@ fn native_dut<const S: usize, const W: usize>(
     } else {
         Box::new(NativeDut::<W, PhotonSearchArray<S, W>>::new(cfg, timing)?)
     })
-}
-
-/// The memory model holding `tree`'s image for `cfg`'s external memory (one
-/// photon word per `word_width() / 8` bytes, at byte 0).
-pub fn memory_model(
-    cfg: &CoreConfig,
-    tree: TreeImage<'_>,
-    timing: AxiTiming,
-) -> Result<AxiMemory, HwError> {
-    let layout = cfg
-        .memory_layout()
-        .ok_or_else(|| sim_error("this core's map is on chip"))?;
-    Ok(AxiMemory::from_words(
-        &layout.image(tree),
-        cfg.word_width() / 8,
-        timing,
-    ))
 }
 
 /// rust-hdl's simulation of the core for any configuration: the slot-mask width is
