@@ -18,7 +18,9 @@
 //! ├── BankStore (store/bank_store.rs)         with banks: the levels below, over B banks
 //! │   ├── BankMap (store/bank_map.rs)          heap address → bank and row (XOR-fold)
 //! │   ├── TreeModule × B                 one bank each
-//! │   └── BankCrossbar (store/bank_crossbar.rs)  D datapaths × B banks, round robin per port
+//! │   ├── BankCrossbar (store/bank_crossbar.rs)  D datapaths × B banks, round robin per port
+//! │   ├── CacheBank × B (memory/cache_bank.rs)  with external memory, the banks are a cache
+//! │   └── LineFill (memory/line_fill.rs)         its AXI4 master: the core's m_axi port
 //! │       ├── PortArbiter, PriorityEncoder  per bank port: its grant and its index
 //! │       └── MuxTrees × 2 (primitives/mux_trees.rs)   rows to the banks, words back
 //! └── ControllerPort × 2T (top/controller_port.rs)  a tree's port A (also the load
@@ -46,7 +48,9 @@
 //!         │                             pipelined datapath
 //!         ├── SearchModule                       as above
 //!         ├── ReadIssue (store/read_issue.rs)          its reads to the replica or a bank
-//!         │                                      (wires without banks)
+//!         │   │                                  (wires without banks)
+//!         │   ├── CacheMap (memory/cache_map.rs)        with external memory: bank and row
+//!         │   └── MissPark (store/miss_park.rs)         parks a missed read, retries it
 //!         ├── FreePick                           the free slot the next query takes
 //!         ├── FoundRule, QueryLimits             as in the QueryModule
 //!         ├── SlotStore (barrel/slot_store.rs)          per-slot state in LUT-RAM

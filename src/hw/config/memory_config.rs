@@ -72,6 +72,15 @@ impl ExternalMemory {
                 1u64 << bank_bits
             ));
         }
+        if u64::from(self.cache_lines) << self.block_levels > 1 << 16 {
+            return fail(format!(
+                "cache_lines = {}: the fills address the cache's words with 16 bits, so at \
+                 most {} lines of {} words",
+                self.cache_lines,
+                (1u64 << 16) >> self.block_levels,
+                1u64 << self.block_levels
+            ));
+        }
         if address_bits > MAX_MEMORY_ADDRESS_BITS {
             return fail(format!(
                 "address_bits (H) = {address_bits} with external memory: unsupported \
