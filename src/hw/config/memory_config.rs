@@ -23,9 +23,9 @@ pub const MAX_BANK_LINES: usize = 256;
 pub const MAX_CACHE_BANK_BITS: u32 = 5;
 
 /// Cycles a read that missed waits before it is offered again: about one
-/// burst's round trip in the modelled memories (docs/MEMORY.md: 22–24 cycles of
-/// latency and 16 beats of a 64-byte block); earlier costs a bank read that
-/// misses again, later costs the slot's wait.
+/// burst's round trip in the modelled memories (their latency and a block's
+/// beats, docs/MEMORY.md); earlier costs a bank read that misses again, later
+/// costs the slot's wait.
 pub const RETRY_CYCLES: u32 = 40;
 
 /// The external-memory store: the cache's lines (all banks together, each bank

@@ -30,10 +30,10 @@ pub struct AxiTiming {
 
 impl AxiTiming {
     /// The memory every simulation of the external-memory core answers with
-    /// unless told otherwise: the ECP5-85k board's 16-bit DDR3 behind LiteDRAM
-    /// at the controller's 75 MHz (docs/MEMORY.md, "Memories modelled": the
-    /// PHY's 13 cycles and 9 assumed for the controller and a row miss, 22 in
-    /// all), a beat a cycle, no pauses.
+    /// unless told otherwise: the ECP5-85k board's 16-bit DDR3 behind LiteDRAM,
+    /// its latency in controller cycles the PHY's and the controller's as
+    /// docs/MEMORY.md ("Memories modelled") derives and sources them, a beat a
+    /// cycle, no pauses.
     pub fn ecp5_ddr3() -> Self {
         AxiTiming::fixed(22)
     }
