@@ -34,7 +34,8 @@ fn renders_with(runs: &[&[&str]], size: &str, photons: &str, k: &str) -> Vec<(Ve
         .map(|(i, args)| {
             let out = dir.path().join(format!("{i}.png"));
             let run = bin()
-                .args(["render", "--size", size, "--spp", "1", "--photons", photons])
+                .args(["render", "--method", "direct", "--size", size, "--spp", "1"])
+                .args(["--photons", photons])
                 .args(["--k", k, "--out", out.to_str().unwrap()])
                 .args(*args)
                 .assert()

@@ -339,7 +339,7 @@ fn two_pass_render_is_the_same_for_any_thread_count() {
     let (one, _) = two_pass_png(&["--threads", "1"]);
     let (two, _) = two_pass_png(&["--threads", "2"]);
     assert!(one == two, "two-pass: 1 and 2 threads differ");
-    // `--method direct` is the default, and a different image.
+    // `--method two-pass-irradiance` is the default; direct is a different image.
     let dir = tempfile::tempdir().unwrap();
     let png = |args: &[&str], name: &str| {
         let out = dir.path().join(name);
@@ -360,8 +360,8 @@ fn two_pass_render_is_the_same_for_any_thread_count() {
         std::fs::read(out).unwrap()
     };
     let default = png(&[], "d.png");
-    assert!(default == png(&["--method", "direct"], "e.png"));
-    assert!(default != one);
+    assert!(default == png(&["--method", "two-pass-irradiance"], "i.png"));
+    assert!(default != png(&["--method", "direct"], "e.png"));
 }
 
 #[test]
@@ -379,8 +379,13 @@ fn two_pass_options_refuse_bad_input() {
             "--gather-rays must be in 1..=4096, got 0",
         ),
         (
-            vec!["--gather-rays", "8"],
+            vec!["--method", "direct", "--gather-rays", "8"],
             "--gather-rays sets the final gather of --method two-pass",
+        ),
+        // The default method is two-pass: a bare render's --vcd is refused too.
+        (
+            vec!["--backend", "rtl", "--vcd", vcd.to_str().unwrap()],
+            "--vcd (or PHOTON_FPGA_VCD) records one simulation of one map",
         ),
         (
             vec![

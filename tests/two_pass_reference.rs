@@ -9,7 +9,9 @@ use glam::Vec3;
 use photon_fpga::host::gather::{FloatBackend, GatherParams};
 use photon_fpga::host::render::photons::Photon;
 use photon_fpga::host::render::scene::{glass_scatter, reflect, Material, Ray, Scene, Surface};
-use photon_fpga::host::render::{eye_queries, photon_points, render_image, RenderSettings};
+use photon_fpga::host::render::{
+    eye_queries, photon_points, render_image, RenderMethod, RenderSettings,
+};
 use photon_fpga::host::stages::StageTimes;
 use rand::{Rng, SeedableRng};
 use rayon::prelude::*;
@@ -177,6 +179,7 @@ pub fn direct_error_at(
         height: h,
         spp,
         seed: 2,
+        method: RenderMethod::Direct,
         ..RenderSettings::default()
     };
     let unbounded = GatherParams {

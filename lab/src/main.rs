@@ -24,7 +24,7 @@ enum Cmd {
     /// Speed against error: sweep bits, metric, k and photons; write the table,
     /// the Pareto plot and the paper's Figs. 3-6.
     Study(StudyArgs),
-    /// The banked photon store's bank conflicts, measured on the default render's
+    /// The banked photon store's bank conflicts, measured on the direct render's
     /// read stream (bank mappings, query orders, D datapaths x B banks); writes
     /// docs/BANKING.md.
     Banking(BankingArgs),

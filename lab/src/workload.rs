@@ -51,7 +51,7 @@ pub fn cornell(emitted: usize, max_photons: usize, bits: u32, side: u32, seed: u
 }
 
 /// [`cornell`] for any image: every eye-ray query of `settings` (size, samples
-/// per pixel, seed), e.g. the default render's whole stream.
+/// per pixel, seed), e.g. the direct render's whole stream.
 pub fn cornell_image(
     emitted: usize,
     max_photons: usize,

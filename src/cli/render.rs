@@ -45,7 +45,7 @@ pub struct RenderArgs {
     pub spp: u32,
     /// How photons become pixels. With the two-pass methods and no --radius, every
     /// lookup is capped at 5 % of the photon map's longest extent.
-    #[arg(long, value_enum, default_value_t = RenderMethod::Direct)]
+    #[arg(long, value_enum, default_value_t = RenderMethod::default())]
     pub method: RenderMethod,
     /// With the two-pass methods: final-gather rays per shading point, 1..=4096
     /// [default: 16].
@@ -219,7 +219,8 @@ fn check_method(args: &RenderArgs) -> Result<u32> {
                 )));
             }
             let env_vcd = std::env::var_os(crate::hw::sim::native::VCD_ENV).is_some();
-            if args.opts.vcd.is_some() || (env_vcd && args.opts.backend.simulates()) {
+            // Without a simulated core, --vcd is refused for that (GatherOpts::vcd).
+            if (args.opts.vcd.is_some() || env_vcd) && args.opts.backend.simulates() {
                 return Err(Error::new(
                     "--vcd (or PHOTON_FPGA_VCD) records one simulation of one map; --method \
                      two-pass gathers from several maps in many batches (give --method direct)",

@@ -91,7 +91,7 @@ mod tests {
 
     #[test]
     fn the_memory_budget_counts_queries_times_k() {
-        // The default render: 256 x 256 x 4 queries, k = 32.
+        // The direct render: 256 x 256 x 4 queries, k = 32.
         assert!(check_gather_memory(262_144, 32, 1 << 20, "--size, --spp").is_ok());
         // k beyond the photon count costs nothing more.
         assert!(check_gather_memory(1000, usize::MAX, 500, "q").is_ok());

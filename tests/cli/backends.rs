@@ -21,6 +21,7 @@ fn each_backend_has_its_own_photon_limit() {
     }
     let run = bin()
         .args(render(&["--backend", "float", "--photons", "2000000"]))
+        .args(["--method", "direct"])
         .args(["--size", "4x4", "--spp", "1"])
         .assert()
         .success();

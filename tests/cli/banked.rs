@@ -10,7 +10,10 @@ use photon_fpga::hw::config::core_file::{from_toml, CORE_FILE_NAME};
 fn render_png(dir: &Path, name: &str, args: &[&str]) -> Vec<u8> {
     let out = dir.join(name);
     bin()
-        .args(["render", "--size", "8x6", "--spp", "1", "--photons", "1500"])
+        .args([
+            "render", "--method", "direct", "--size", "8x6", "--spp", "1",
+        ])
+        .args(["--photons", "1500"])
         .args(args)
         .arg("--out")
         .arg(&out)
@@ -116,6 +119,8 @@ fn what_the_banked_core_cannot_build_is_refused() {
     let render = |extra: &[&str]| -> Vec<String> {
         [
             "render",
+            "--method",
+            "direct",
             "--size",
             "8x6",
             "--spp",
@@ -179,6 +184,8 @@ fn what_the_banked_core_cannot_build_is_refused() {
         dir.path(),
         &[
             "render",
+            "--method",
+            "direct",
             "--size",
             "8x6",
             "--spp",

@@ -201,6 +201,8 @@ fn one_model_renders_maps_of_every_size_like_sw() {
                 .env("PHOTON_FPGA_CACHE_DIR", cache.path())
                 .args([
                     "render",
+                    "--method",
+                    "direct",
                     "--size",
                     "12x10",
                     "--spp",

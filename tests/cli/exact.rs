@@ -124,11 +124,13 @@ fn render_exact_at_the_defaults_is_the_float_render() {
     let dir = tempfile::tempdir().unwrap();
     let (f, e) = (dir.path().join("f.png"), dir.path().join("e.png"));
     bin()
-        .args(["render", "--backend", "float", "--out", f.to_str().unwrap()])
+        .args(["render", "--method", "direct", "--backend", "float"])
+        .args(["--out", f.to_str().unwrap()])
         .assert()
         .success();
     let run = bin()
-        .args(["render", "--exact", "--out", e.to_str().unwrap()])
+        .args(["render", "--method", "direct", "--exact"])
+        .args(["--out", e.to_str().unwrap()])
         .assert()
         .success();
     let stdout = String::from_utf8_lossy(&run.get_output().stdout).to_string();
@@ -149,6 +151,8 @@ fn render_exact_on_the_simulated_core_is_the_float_render() {
         bin()
             .args([
                 "render",
+                "--method",
+                "direct",
                 "--size",
                 "16x12",
                 "--spp",
@@ -244,6 +248,8 @@ fn render_exact_is_the_float_render_at_the_series_points() {
         bin()
             .args([
                 "render",
+                "--method",
+                "direct",
                 "--photons",
                 "3000",
                 "--size",

@@ -427,7 +427,8 @@ fn scenes_at_any_scale() {
         let scene = write(dir.path(), &format!("s{f:e}.toml"), &scaled(f));
         let out = dir.path().join(format!("s{f:e}.png"));
         let mut cmd = bin();
-        cmd.args(["render", "--size", "24x24", "--photons", "5000", "--scene"])
+        cmd.args(["render", "--method", "direct", "--size", "24x24"])
+            .args(["--photons", "5000", "--scene"])
             .arg(&scene)
             .arg("--out")
             .arg(&out);

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 /// What the sweeps measured, and how they were made.
 pub struct RtlSweeps<'a> {
     pub curve: &'a [RtlPoint],
-    /// The stream of the curve, in words ("the default render's whole stream ...").
+    /// The stream of the curve, in words ("the direct render's whole stream ...").
     pub curve_stream: String,
     pub maps: &'a [MapPoint],
     pub device: &'a str,

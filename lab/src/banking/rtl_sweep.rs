@@ -69,7 +69,7 @@ impl RtlPoint {
     }
 }
 
-/// The barrel core the sweeps measure: k = K, squared L2 (the default render's
+/// The barrel core the sweeps measure: k = K, squared L2 (the direct render's
 /// gather), the cell traversal, 16 slots a datapath.
 fn base(k: usize) -> CoreBuilder {
     CoreConfig::builder()

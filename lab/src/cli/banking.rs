@@ -1,5 +1,5 @@
 //! `photon-fpga-lab banking`: the banked photon store's bank-conflict measurements
-//! (`host::banking`) on the default render's whole query stream, written to
+//! (`host::banking`) on the direct render's whole query stream, written to
 //! docs/BANKING.md.
 
 use crate::banking::report::{report, Sweep};
@@ -24,16 +24,16 @@ pub struct BankingArgs {
     /// Photons emitted from the light (the default render's).
     #[arg(long, default_value_t = 200_000)]
     pub photons: usize,
-    /// Image size (the default render's).
+    /// Image size (the direct render's).
     #[arg(long, default_value = "256x256", value_parser = parse_size)]
     pub size: (u32, u32),
-    /// Eye samples per pixel (the default render's).
+    /// Eye samples per pixel (the direct render's).
     #[arg(long, default_value_t = 4)]
     pub spp: u32,
-    /// Photons gathered per query (the default render's).
+    /// Photons gathered per query (the direct render's).
     #[arg(long, default_value_t = 32)]
     pub k: usize,
-    /// Seed of the photon map and the eye rays (the default render's).
+    /// Seed of the photon map and the eye rays (the direct render's).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// A reduced sweep (for tests).

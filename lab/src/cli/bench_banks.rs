@@ -22,13 +22,13 @@ pub struct BenchBanksArgs {
     /// Photons emitted for the conflict curve's map (the default render's).
     #[arg(long, default_value_t = 200_000)]
     pub photons: usize,
-    /// Image of the queries (the default render's).
+    /// Image of the queries (the direct render's).
     #[arg(long, default_value = "256x256", value_parser = parse_size)]
     pub size: (u32, u32),
-    /// Eye samples per pixel (the default render's).
+    /// Eye samples per pixel (the direct render's).
     #[arg(long, default_value_t = 4)]
     pub spp: u32,
-    /// Photons gathered per query (the default render's).
+    /// Photons gathered per query (the direct render's).
     #[arg(long, default_value_t = 32)]
     pub k: usize,
     /// Seed of the photon map and the eye rays.

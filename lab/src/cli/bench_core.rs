@@ -53,7 +53,7 @@ pub struct BenchCoreArgs {
     cornell_photons: usize,
     /// Image of the `cornell` workload: width x height (one query per eye sample
     /// that hits a diffuse surface). `--cornell-size 256x256 --cornell-spp 4
-    /// --cornell-photons 200000` is the default render's whole stream.
+    /// --cornell-photons 200000` is the direct render's whole stream.
     #[arg(long, default_value = "64x64", value_parser = photon_fpga::cli::render::parse_size)]
     cornell_size: (u32, u32),
     /// Eye samples per pixel of the `cornell` workload.
@@ -310,6 +310,20 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         "reads per cycle (all ports of all trees, whole run): {:.3}",
         reads as f64 / cycles.max(1) as f64
     );
+    if cfg.memory.is_some() {
+        // What the cache asked of the external memory (its model's count).
+        let m = st.memory;
+        let q = queries.len().max(1) as f64;
+        println!(
+            "external memory: {} line fills ({:.3} per query, one per {:.0} reads), {} beats              ({:.1} per query; the read data channel busy {:.1} % of the cycles)",
+            m.bursts,
+            m.bursts as f64 / q,
+            reads as f64 / m.bursts.max(1) as f64,
+            m.beats,
+            m.beats as f64 / q,
+            100.0 * m.beats as f64 / cycles.max(1) as f64
+        );
+    }
     // Per port (a barrel datapath, or a port's QueryModules) over the whole run,
     // fill and drain included: a lower bound on its rate while its slots are busy.
     println!(

@@ -27,13 +27,13 @@ pub struct MemoryArgs {
     /// Photons emitted for the smaller map.
     #[arg(long, default_value_t = 100_000)]
     pub small_photons: usize,
-    /// Image of the queries (the default render's size).
+    /// Image of the queries (the direct render's size).
     #[arg(long, default_value = "256x256", value_parser = parse_size)]
     pub size: (u32, u32),
     /// Eye samples per pixel.
     #[arg(long, default_value_t = 1)]
     pub spp: u32,
-    /// The two k measured: the default render's and the paper's high-quality one.
+    /// The two k measured: the direct render's and the paper's high-quality one.
     #[arg(long, value_delimiter = ',', default_value = "32,500")]
     pub k: Vec<usize>,
     /// Seed of the photon maps and the eye rays.

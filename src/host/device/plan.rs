@@ -64,7 +64,7 @@ impl Device {
 /// Lattice ECP5-85k: 208 DP16KD of 18 Kbit (widest true-dual-port shape 1K × 18;
 /// the 512 × 36 shape is pseudo-dual-port, one read port, which is all a
 /// single-ported bank needs; two read ports take two 1K × 18 halves of a word).
-/// Barrel datapath at K = 32 (the default render's k), from the placed banked
+/// Barrel datapath at K = 32 (the direct render's k), from the placed banked
 /// cores of synth/REPORT.md (B = 16 split, the same map): D = 8 takes 74,674 LUT4s
 /// and 200 DP16KD, D = 4 37,940 and 164, so four datapaths cost 36,734 LUT4s less
 /// the crossbar's growth (4 × 16 × ECP5_XBAR_SPLIT): about 7,930 each, and 36
