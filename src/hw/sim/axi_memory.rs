@@ -75,6 +75,15 @@ struct InFlight {
     due: u64,
 }
 
+/// What a memory model has carried since its map was put in it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MemoryTraffic {
+    /// Bursts asked for (AR handshakes): the cache's line fills.
+    pub bursts: u64,
+    /// Read beats taken (R handshakes).
+    pub beats: u64,
+}
+
 /// The memory: a byte image (little-endian words), its timing and the bursts in
 /// flight. Beats of up to 64 bits.
 pub struct AxiMemory {
@@ -88,6 +97,8 @@ pub struct AxiMemory {
     faulty: Vec<u64>,
     /// Every burst asked for, in order (for the tests' checks of the master).
     pub bursts: Vec<AxiBurst>,
+    /// Read beats taken (`rvalid` and `rready`): the data channel's busy cycles.
+    pub beats: u64,
 }
 
 impl AxiMemory {
@@ -106,6 +117,7 @@ impl AxiMemory {
             out: AxiSlaveOut::default(),
             faulty: vec![],
             bursts: vec![],
+            beats: 0,
         }
     }
 
@@ -180,6 +192,7 @@ impl AxiMemory {
             self.bursts.push(b);
         }
         if self.out.rvalid && rready {
+            self.beats += 1;
             let f = self.queue.front_mut().expect("a beat came from a burst");
             f.beat += 1;
             if f.beat > u64::from(f.burst.len) {
@@ -187,6 +200,14 @@ impl AxiMemory {
             }
         }
         self.cycle += 1;
+    }
+
+    /// What the memory has carried: bursts asked for and beats taken.
+    pub fn traffic(&self) -> MemoryTraffic {
+        MemoryTraffic {
+            bursts: self.bursts.len() as u64,
+            beats: self.beats,
+        }
     }
 
     /// Bursts asked for and not yet answered in full.

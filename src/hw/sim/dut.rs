@@ -6,6 +6,7 @@ use crate::hw::config::core_config::{CoreConfig, MAX_RESULT_STREAMS};
 use crate::hw::config::photon_word::TreeImage;
 use crate::hw::error::HwError;
 use crate::hw::primitives::stream::{QueryBeat, ResultBeat};
+use crate::hw::sim::axi_memory::MemoryTraffic;
 
 /// The load beat the host presents.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -57,6 +58,11 @@ pub trait Dut {
         Err(HwError::Simulation(
             "this simulated core has no external memory".into(),
         ))
+    }
+    /// With external memory: what its model has carried since the map was put in
+    /// it (zero without).
+    fn memory_traffic(&self) -> MemoryTraffic {
+        MemoryTraffic::default()
     }
     /// Settle passes so far (every block's `update`, repeated until nothing
     /// changes), for simulators that settle by passes (native): bench-core's

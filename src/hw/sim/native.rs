@@ -9,7 +9,7 @@
 use crate::hw::config::core_config::{dispatch_widths, CoreConfig};
 use crate::hw::config::photon_word::TreeImage;
 use crate::hw::error::HwError;
-use crate::hw::sim::axi_memory::{AxiBurst, AxiMemory, AxiTiming};
+use crate::hw::sim::axi_memory::{AxiBurst, AxiMemory, AxiTiming, MemoryTraffic};
 use crate::hw::sim::driver::{
     Cycle, Driver, Dut, HwQuery, HwResult, Inputs, Job, Observer, Outputs, RunLimits, SimStats,
 };
@@ -172,6 +172,13 @@ impl<const W: usize, U: SearchTop<W>> Dut for NativeDut<W, U> {
         Ok(())
     }
 
+    fn memory_traffic(&self) -> MemoryTraffic {
+        self.memory
+            .as_ref()
+            .map(AxiMemory::traffic)
+            .unwrap_or_default()
+    }
+
     fn settle_passes(&self) -> Option<u64> {
         Some(self.passes)
     }
@@ -275,6 +282,9 @@ impl Dut for Box<dyn Dut> {
     }
     fn load_memory(&mut self, tree: TreeImage<'_>) -> Result<(), HwError> {
         self.as_mut().load_memory(tree)
+    }
+    fn memory_traffic(&self) -> MemoryTraffic {
+        self.as_ref().memory_traffic()
     }
 }
 

@@ -2,6 +2,7 @@
 //! by cycle, from the streams and the core's read status.
 
 use crate::hw::error::HwError;
+use crate::hw::sim::axi_memory::MemoryTraffic;
 use crate::hw::sim::dut::{Cycle, Observer};
 
 /// What a run cost, in clock cycles. Ports are listed tree by tree (A, B of tree 0,
@@ -19,6 +20,8 @@ pub struct SimStats {
     pub result_beats: u64,
     /// The same, per result stream.
     pub result_beats_per_stream: Vec<u64>,
+    /// With external memory: what it has carried since the map was put in it.
+    pub memory: MemoryTraffic,
 }
 
 /// Counts cycles and photon reads ([`SimStats`]).
@@ -59,6 +62,7 @@ impl Observer for StatsObserver {
             *beats += beat;
             s.result_beats += beat;
         }
+        s.memory = c.dut.memory_traffic();
         self.searching |= c.inputs.query_valid;
         s.search_cycles += self.searching as u64;
         Ok(())

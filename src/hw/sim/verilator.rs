@@ -26,7 +26,7 @@ use crate::hw::error::HwError;
 use crate::hw::export::ports::Port;
 use crate::hw::export::verilog::{export_verilog, Exported};
 use crate::hw::primitives::stream::{QueryBeat, ResultBeat};
-use crate::hw::sim::axi_memory::{AxiBurst, AxiMemory, AxiSlaveOut, AxiTiming};
+use crate::hw::sim::axi_memory::{AxiBurst, AxiMemory, AxiSlaveOut, AxiTiming, MemoryTraffic};
 use crate::hw::sim::driver::{Dut, Inputs, Outputs};
 use crate::hw::sim::model_cache;
 use crate::hw::sim::verilator_harness::{harness_cpp, input_words, output_words, words};
@@ -468,5 +468,12 @@ impl Dut for VerilatorDut {
     fn load_memory(&mut self, tree: TreeImage<'_>) -> Result<(), HwError> {
         self.memory = Some(AxiMemory::for_map(&self.cfg, tree, self.timing)?);
         Ok(())
+    }
+
+    fn memory_traffic(&self) -> MemoryTraffic {
+        self.memory
+            .as_ref()
+            .map(AxiMemory::traffic)
+            .unwrap_or_default()
     }
 }
