@@ -14,6 +14,19 @@ use photon_fpga::hw::sim::native::{Engine, SimOptions};
 /// (`render --gather-rays`).
 const FINAL_GATHER_RAYS: u32 = 16;
 
+/// The order in which the queries go to the core (and to kiddo): the workload's
+/// own, or sorted along a space-filling curve of their grid points, which a cache
+/// of the map rewards (docs/MEMORY.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum StreamOrder {
+    /// As the workload makes them (an image's in pixel order).
+    Given,
+    /// Z-order of the grid points.
+    Morton,
+    /// Hilbert order of the grid points.
+    Hilbert,
+}
+
 /// The query streams `bench-core` can run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum WorkloadKind {
@@ -81,6 +94,9 @@ pub struct BenchCoreArgs {
         conflicts_with_all = ["queries_per_port", "core"]
     )]
     fit_q: bool,
+    /// The order of the queries (the core and kiddo get the same stream).
+    #[arg(long, value_enum, default_value_t = StreamOrder::Given)]
+    order: StreamOrder,
     /// The simulator.
     #[arg(long, value_enum, default_value_t = Engine::Native)]
     engine: Engine,
@@ -110,7 +126,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     let spec = args.core.builder()?;
     let mut cfg = args.core.config_of(spec)?;
     let mut radius = args.radius;
-    let w = if args.workload != WorkloadKind::Uniform {
+    let mut w = if args.workload != WorkloadKind::Uniform {
         let settings = photon_fpga::host::render::RenderSettings {
             width: args.cornell_size.0,
             height: args.cornell_size.1,
@@ -179,6 +195,11 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         let n = (1usize << cfg.address_bits) - 1;
         workload::uniform(cfg.layout, n, args.queries.unwrap_or(400), args.seed)
     };
+    order_queries(
+        &mut w.queries,
+        args.order,
+        cfg.layout.bits.into_iter().max().unwrap_or(0),
+    );
     let (points, tree) = (&w.points, &w.tree);
     let n = tree.len();
     // Every query's initial radius: an inclusive bound on the grid (the search's
@@ -315,7 +336,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         let m = st.memory;
         let q = queries.len().max(1) as f64;
         println!(
-            "external memory: {} line fills ({:.3} per query, one per {:.0} reads), {} beats              ({:.1} per query; the read data channel busy {:.1} % of the cycles)",
+            "external memory: {} line fills ({:.3} per query, one per {:.0} reads), {} beats ({:.1} per query; the read data channel busy {:.1} % of the cycles)",
             m.bursts,
             m.bursts as f64 / q,
             reads as f64 / m.bursts.max(1) as f64,
@@ -429,4 +450,15 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Put `queries` (grid points of `bits`-bit coordinates) in `order`; ties keep
+/// the given order.
+fn order_queries(queries: &mut [[u32; 3]], order: StreamOrder, bits: u32) {
+    use crate::banking::order::{hilbert, morton};
+    match order {
+        StreamOrder::Given => {}
+        StreamOrder::Morton => queries.sort_by_key(|&c| morton(c, bits)),
+        StreamOrder::Hilbert => queries.sort_by_key(|&c| hilbert(c, bits)),
+    }
 }

@@ -12,6 +12,7 @@ use crate::host::gather::{GatherBackend, GatherParams, Gathered};
 use crate::host::map::quantize::Point;
 use crate::host::output::Output;
 use crate::host::render::l1_area::l1_section_area;
+use crate::host::render::lookup::gather_sorted;
 use crate::host::render::photons::{stream_rng, Photon};
 use crate::host::render::scene::{facing, glass_scatter, reflect, Material, Ray, Scene, Surface};
 use crate::host::stages::StageTimes;
@@ -325,7 +326,12 @@ pub fn render_image(
     times: &mut StageTimes,
 ) -> Result<EyePass> {
     let (queries, emitted) = times.time("ray emission", || eye_queries(scene, settings));
-    let gathered = times.time("kd-tree search", || backend.gather(&query_points(&queries)))?;
+    // Along a Morton curve, as every two-pass lookup: neighbouring queries read the
+    // same nodes, which a cache of the map (an external-memory core's) rewards;
+    // the answers come back in pixel order.
+    let gathered = times.time("kd-tree search", || {
+        gather_sorted(backend, &query_points(&queries), params.k)
+    })?;
     let linear = times.time("other", || {
         let radiance = radiance(
             &queries,
