@@ -106,8 +106,10 @@ class Config:
     core: dict
     # bench-core's workload: none given, random queries on a full random map; else a
     # Cornell-box map from `cornell_photons` emitted photons (on the core's grid),
-    # queried at the eye-ray hits of a CORNELL_SIZE image; `radius` (world units)
-    # for every query; `sim_queries` (default SIM_QUERIES) for a wide core's slots.
+    # queried at the eye-ray hits of a CORNELL_SIZE image (`spp` samples a pixel,
+    # default 1; `workload` another of bench-core's Cornell streams); `radius` (world
+    # units) for every query; `sim_queries` (default SIM_QUERIES) for a wide core's
+    # slots; `order` the queries' order (bench-core --order).
     bench: dict = field(default_factory=dict)
     # In README.md's headline table.
     headline: bool = False
@@ -202,6 +204,13 @@ CONFIGS = [
     Config("banked D=6, K=500 (L2, 3x2x16 slots, B=16 split, R=2, Cornell 16 K photons)",
            {**BANKED, "k": 500, "address_bits": 14, "replicas": 3, "result_streams": 2},
            {"cornell_photons": 8300, "sim_queries": 12000}, headline=True, nowidelut=True),
+    # The final gathers of the default render (`render --method two-pass-irradiance`,
+    # docs/TWO_PASS.md): 1-nearest lookups capped at the render's radius in the
+    # irradiance points of the same Cornell map, on the banked D = 8 layout built
+    # with K = 1 (the points' map: H = 14).
+    Config("banked D=8, K=1, radius-capped (L2, 14-bit distances, 4x2x16 slots, B=16 split, R=2, irradiance points of the Cornell 65 K map)",
+           {**BANKED, "k": 1, "address_bits": 14, "replicas": 4, "result_streams": 2, "radius_bits": 14},
+           {"cornell_photons": 33500, "workload": "two-pass-irradiance", "spp": 4}),
     # The paper's quality regime (§3: 1 M emitted photons, 1,945,886 stored, H = 21)
     # with the map in external memory (docs/MEMORY_CORE.md): the banked D = 4 core's
     # banks become a cache of 4,096 lines of 4-level blocks, the replicas keep the
@@ -727,8 +736,8 @@ def bench_cli(c, d):
     a = ["--core", os.path.join(d, CORE_FILE)]
     b = c.bench
     if b.get("cornell_photons") is not None:
-        a += ["--workload", "cornell", "--cornell-photons", str(b["cornell_photons"]),
-              "--cornell-size", CORNELL_SIZE, "--cornell-spp", "1"]
+        a += ["--workload", b.get("workload", "cornell"), "--cornell-photons", str(b["cornell_photons"]),
+              "--cornell-size", CORNELL_SIZE, "--cornell-spp", str(b.get("spp", 1))]
     if b.get("radius") is not None:
         a += ["--radius", str(b["radius"])]
     if b.get("order") is not None:
