@@ -56,8 +56,9 @@ impl CoreFileArg {
 #[derive(Args, Clone, Debug, Default)]
 pub struct DeviceOpt {
     /// Plan the banked barrel core this FPGA holds for the map (banks, replicated
-    /// levels, datapaths, result streams: `device::plan`, docs/BANKING.md); refused,
-    /// naming the largest map that fits, if the map does not.
+    /// levels, datapaths, result streams: `device::plan`, docs/BANKING.md); a map
+    /// beyond its BlockRAM gets the external-memory core (the largest cache it holds,
+    /// docs/MEMORY_CORE.md), refused, naming the largest, beyond 2^24 − 1 photons.
     #[arg(long, value_enum, conflicts_with_all = ["trees", "core"])]
     pub device: Option<DeviceArg>,
 }
@@ -195,9 +196,11 @@ impl CoreArgs {
     /// `spec` (this command's [`CoreArgs::builder`]) built, planned for `--device`
     /// on a full map of 2^H − 1 photons.
     pub fn config_of(&self, spec: CoreBuilder) -> Result<CoreConfig> {
-        let unplanned = spec.build()?;
-        let photons = (1usize << unplanned.address_bits.min(30)) - 1;
-        let word_bits = unplanned.layout.word_bits();
-        Ok(self.device.for_device(spec, photons, word_bits)?.build()?)
+        let (h, layout) = spec.chosen_map();
+        let photons = (1usize << h.min(30)) - 1;
+        Ok(self
+            .device
+            .for_device(spec, photons, layout.word_bits())?
+            .build()?)
     }
 }

@@ -13,8 +13,9 @@ use crate::host::map::quantize::Point;
 use crate::host::output::{Output, Staged};
 use crate::hw::config::config_builder::CoreBuilder;
 use crate::hw::config::controller::Controller;
-use crate::hw::config::core_config::{MAX_ADDRESS_BITS, MAX_HW_COORD_BITS};
+use crate::hw::config::core_config::MAX_HW_COORD_BITS;
 use crate::hw::config::core_spec::{CoreBuild, CoreChoice, CoreSpec};
+use crate::hw::config::memory_config::MAX_MEMORY_ADDRESS_BITS;
 use crate::hw::config::metric::Metric;
 use crate::hw::config::photon_word::PhotonLayout;
 use crate::hw::sim::native::SimOptions;
@@ -42,9 +43,10 @@ pub struct GatherOpts {
     /// Who answers the gathers.
     #[arg(long, value_enum, default_value_t = BackendKind::Sw)]
     pub backend: BackendKind,
-    /// Largest photon map accepted [default: what the backend can hold: 2^20 - 1
-    /// photons for rtl and verilator (the core's 20 address bits), the memory
-    /// budget for float and sw].
+    /// Largest photon map accepted [default: what the backend can hold: 2^24 - 1
+    /// photons for native and verilator (beyond 2^20 - 1 the map is in external
+    /// memory: the core --device plans, or the ECP5-85k's), the memory budget for
+    /// float and sw].
     #[arg(long)]
     pub capacity: Option<usize>,
     /// With --backend rtl or verilator: stream the simulation's waveform to this
@@ -215,7 +217,8 @@ impl GatherOpts {
             (Some(c), true) if c > HW_CAPACITY => {
                 return Err(Error::new(format!(
                     "--capacity {c} exceeds what --backend {} can hold: the core addresses \
-                     at most {HW_CAPACITY} photons ({MAX_ADDRESS_BITS} address bits)",
+                     at most {HW_CAPACITY} photons ({MAX_MEMORY_ADDRESS_BITS} address bits, the \
+                     map in external memory)",
                     self.backend
                 )))
             }

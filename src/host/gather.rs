@@ -8,7 +8,8 @@ use crate::host::map::kdtree::{KdTree, PackedTree};
 use crate::host::map::knn::{self, FloatDist, Scalar};
 use crate::host::map::quantize::{GridPoint, Point, Quantizer};
 use crate::hw::config::config_builder::CoreBuilder;
-use crate::hw::config::core_config::{CoreConfig, ReadProfile, MAX_ADDRESS_BITS};
+use crate::hw::config::core_config::{CoreConfig, ReadProfile};
+use crate::hw::config::memory_config::MAX_MEMORY_ADDRESS_BITS;
 use crate::hw::config::metric::Metric;
 use crate::hw::config::traversal::Traversal;
 use crate::hw::sim::driver::{HwQuery, HwResult, SimStats};
@@ -58,8 +59,10 @@ impl BackendKind {
     }
 }
 
-/// Photons a simulated core holds at most: 2^H − 1 for the largest tree height H.
-pub const HW_CAPACITY: usize = (1 << MAX_ADDRESS_BITS) - 1;
+/// Photons a simulated core holds at most: 2^H − 1 for the largest tree height H,
+/// the external-memory core's (a map beyond the BlockRAM tree's H goes to the
+/// board's memory, `banked_core::for_device_opt`).
+pub const HW_CAPACITY: usize = (1 << MAX_MEMORY_ADDRESS_BITS) - 1;
 /// Default photon capacity of [`GatherParams`]: what every backend can hold.
 pub const DEFAULT_CAPACITY: usize = HW_CAPACITY;
 

@@ -110,6 +110,33 @@ fn a_device_plans_a_banked_core_file() {
     assert_eq!(cfg.address_bits, 14);
     assert!(b.replicated_levels < 14 && b.bank_bits <= b.replicated_levels);
     assert!(cfg.datapaths() >= 2);
+    assert!(cfg.memory.is_none(), "{text}");
+    // The paper's 1 M-photon map (H = 21) is beyond the BlockRAM: the plan keeps
+    // the top levels on chip and the rest in the board's memory behind a cache.
+    let big = dir.path().join("big");
+    bin()
+        .args([
+            "export-verilog",
+            "--device",
+            "ecp5-85k",
+            "--address-bits",
+            "21",
+        ])
+        .arg("--out")
+        .arg(&big)
+        .assert()
+        .success();
+    let path = big.join(CORE_FILE_NAME);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let cfg = from_toml(&text, &path.display().to_string()).unwrap();
+    let m = cfg.memory.expect("an external-memory core");
+    let b = cfg.banking.expect("banks: the cache's");
+    assert_eq!(cfg.address_bits, 21);
+    assert!(b.replicated_levels < 21 && m.cache_lines >= 1 << b.bank_bits);
+    assert!(
+        text.contains(&format!("cache_lines = {}", m.cache_lines)),
+        "{text}"
+    );
 }
 
 #[test]
@@ -179,26 +206,20 @@ fn what_the_banked_core_cannot_build_is_refused() {
         &render(&["--device", "ecp5-85k", "--controller", "modules"]),
         "cannot wait for a bank",
     );
-    // The default render's map is larger than an ECP5-85k holds banked.
+    // A map beyond the BlockRAM gets the external-memory core (planned below);
+    // beyond its 24 address bits it is refused with the largest map named.
     refused(
         dir.path(),
-        &[
-            "render",
-            "--method",
-            "direct",
-            "--size",
-            "8x6",
-            "--spp",
-            "1",
-            "--backend",
-            "rtl",
+        &strings(&[
+            "export-verilog",
             "--device",
             "ecp5-85k",
+            "--address-bits",
+            "25",
             "--out",
-            &out,
-        ]
-        .map(String::from),
-        "the largest that fits is",
+            &v,
+        ]),
+        "the largest that fits is 16777215 photons",
     );
     // Result streams split the datapaths evenly (four here: 1, 2 or 4 streams).
     refused(

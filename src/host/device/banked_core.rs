@@ -2,11 +2,12 @@
 //! and D made into core options. D datapaths are D / 2 replicas of the top levels
 //! (two datapaths share one dual-port BlockRAM replica), so an odd D loses one.
 
-use crate::host::device::plan::{plan, Device, Limits};
+use crate::host::device::plan::{plan, plan_memory, Device, Limits, PlanError, ECP5_85K};
 use crate::host::error::{Error, Result};
+use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::config_builder::CoreBuilder;
 use crate::hw::config::controller::Controller;
-use crate::hw::config::core_config::PORTS;
+use crate::hw::config::core_config::{bits_for, MAX_ADDRESS_BITS, PORTS};
 
 /// `b` with the banked barrel core that `dev` holds for `photons` photons of
 /// `word_bits`-bit words: a clear error (naming the largest map that fits) if
@@ -24,10 +25,25 @@ pub fn for_device(
             b.chosen_controller()
         )));
     }
-    let p =
-        plan(photons, word_bits, dev, &Limits::default()).map_err(|e| Error::new(e.to_string()))?;
+    let lim = Limits::default();
+    let p = match plan(photons, word_bits, dev, &lim) {
+        Ok(p) => p,
+        // Beyond the BlockRAM: the map in the board's memory behind a cache.
+        Err(PlanError::MapTooLarge { .. }) => {
+            let m = plan_memory(photons, word_bits, dev, &lim)
+                .map_err(|e| Error::new(e.to_string()))?;
+            let trees = (m.datapaths as usize / PORTS).max(1);
+            return Ok(b
+                .trees(trees)
+                .banks(m.bank_bits, Some(m.replicated_levels))
+                .bank_ports(BankPorts::Split)
+                .cache_lines(Some(m.cache_lines))
+                .result_streams(result_streams(PORTS * trees)));
+        }
+        Err(e) => return Err(Error::new(e.to_string())),
+    };
     let trees = (p.datapaths as usize / PORTS).max(1);
-    let address_bits = crate::hw::config::core_config::bits_for(photons as u64);
+    let address_bits = bits_for(photons as u64);
     Ok(
         if photons < 1 << p.replicated_levels || p.replicated_levels >= address_bits {
             // The whole map fits every replica: whole trees, no banks.
@@ -58,12 +74,28 @@ pub fn result_streams(d: usize) -> usize {
         .unwrap_or(1)
 }
 
-/// [`for_device`] if a device is given, else `b` as it is.
+/// [`for_device`] if a device is given; else `b` as it is for a map the core's
+/// BlockRAM tree holds, and beyond that (H > `MAX_ADDRESS_BITS`) the
+/// external-memory core the smallest modelled board (the ECP5-85k's) holds.
 pub fn for_device_opt(
     b: CoreBuilder,
     photons: usize,
     word_bits: u32,
     dev: Option<&Device>,
 ) -> Result<CoreBuilder> {
-    dev.map_or(Ok(b), |d| for_device(b, photons, word_bits, d))
+    match dev {
+        Some(d) => for_device(b, photons, word_bits, d),
+        None if bits_for(photons as u64) > MAX_ADDRESS_BITS => {
+            if b.chosen_controller() != Controller::Barrel {
+                return Err(Error::new(format!(
+                    "a map of {photons} photons needs the external-memory core (more than \
+                     {MAX_ADDRESS_BITS} address bits), a banked barrel core: --controller {} \
+                     cannot wait for a bank",
+                    b.chosen_controller()
+                )));
+            }
+            for_device(b, photons, word_bits, &ECP5_85K)
+        }
+        None => Ok(b),
+    }
 }

@@ -27,6 +27,10 @@
 
 use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::core_config::{MAX_BANKED_TREES, MAX_TREES};
+use crate::hw::config::memory_config::{
+    MAX_BANK_LINES, MAX_CACHE_BANK_BITS, MAX_CACHE_LINES, MAX_MEMORY_ADDRESS_BITS,
+    MEMORY_BLOCK_LEVELS,
+};
 use std::fmt;
 
 /// A device's BlockRAM and logic.
@@ -318,4 +322,148 @@ pub fn largest_map(dev: &Device, lim: &Limits) -> usize {
         }
     }
     lo
+}
+
+/// The external-memory core for a map the BlockRAM cannot hold (docs/MEMORY_CORE.md):
+/// the top levels in every replica as above, the levels below in the board's DRAM
+/// behind a cache in the BlockRAM the datapaths leave.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MemoryPlan {
+    pub photons: usize,
+    /// `T`: the levels every replica holds (one BlockRAM's words).
+    pub replicated_levels: u32,
+    /// Cache banks `2^bank_bits`, their lines in all, and the BlockRAMs they take.
+    pub bank_bits: u32,
+    pub cache_lines: u32,
+    pub cache_brams: u32,
+    /// `D`, their BlockRAMs (replicas and own memories) and logic, and the
+    /// crossbar's logic (split ports).
+    pub datapaths: u32,
+    pub datapath_brams: u32,
+    pub datapath_luts: u64,
+    pub crossbar_luts: u64,
+}
+
+/// Largest map of an external-memory core: its 24-bit heap addresses (every
+/// modelled board's DRAM holds that many 32-bit words many times over).
+pub const MEMORY_MAP_LIMIT: usize = (1 << MAX_MEMORY_ADDRESS_BITS) - 1;
+
+/// BlockRAMs of a cache of `lines` lines of `2^s` words over `2^b` banks: with
+/// split ports each port has its own copy of the words and of the tags (a tag
+/// BlockRAM a bank and port, however few its lines).
+fn cache_brams(dev: &Device, lines: u32, b: u32) -> u32 {
+    let words_per_bank = (lines >> b) << MEMORY_BLOCK_LEVELS;
+    let per_copy = words_per_bank.div_ceil(dev.shape.0) + 1;
+    (2 * per_copy) << b
+}
+
+/// The external-memory core for `photons` photons of `word_bits` bits on `dev`:
+/// the most datapaths (two a replica, at most `2^b / banks_per_datapath` for `2^b`
+/// cache banks, within the logic budget beside a split-port crossbar), then the
+/// most cache lines the BlockRAM left holds (a power of two, at most 256 a bank
+/// and 4,096 in all: `ExternalMemory::check`); refused only for a map beyond
+/// [`MEMORY_MAP_LIMIT`] or a word the cache cannot flag.
+pub fn plan_memory(
+    photons: usize,
+    word_bits: u32,
+    dev: &Device,
+    lim: &Limits,
+) -> Result<MemoryPlan, PlanError> {
+    let too_large = PlanError::MapTooLarge {
+        photons,
+        device: dev.name,
+        largest: MEMORY_MAP_LIMIT,
+    };
+    // The cache's words carry a miss flag above the photon word.
+    if word_bits >= dev.shape.1 {
+        return Err(PlanError::WordTooWide {
+            bits: word_bits,
+            device: dev.name,
+        });
+    }
+    if photons > MEMORY_MAP_LIMIT {
+        return Err(too_large);
+    }
+    let l = 31 - (dev.shape.0 + 1).leading_zeros();
+    let per_dp = 1 + dev.datapath_brams;
+    let budget = dev.luts as f64 * lim.logic_share;
+    let mut best: Option<MemoryPlan> = None;
+    for b in 1..=MAX_CACHE_BANK_BITS {
+        let banks = 1u32 << b;
+        let logic = |d: u32| {
+            u64::from(d * dev.datapath_luts) + dev.crossbar_luts(d, banks, BankPorts::Split)
+        };
+        let mut d = (banks / lim.banks_per_datapath.max(1)).min(lim.max_datapaths) & !1;
+        while d > 0 && logic(d) as f64 > budget {
+            d -= 2;
+        }
+        // The largest cache beside the datapaths, from one line a bank up.
+        let fits = |lines: u32| cache_brams(dev, lines, b) + d * per_dp <= dev.brams;
+        let mut lines = banks;
+        if d < lim.min_datapaths.max(1) || !fits(lines) {
+            continue;
+        }
+        while lines * 2 <= ((MAX_BANK_LINES as u32) << b).min(MAX_CACHE_LINES) && fits(lines * 2) {
+            lines *= 2;
+        }
+        let p = MemoryPlan {
+            photons,
+            replicated_levels: l,
+            bank_bits: b,
+            cache_lines: lines,
+            cache_brams: cache_brams(dev, lines, b),
+            datapaths: d,
+            datapath_brams: d * per_dp,
+            datapath_luts: u64::from(d * dev.datapath_luts),
+            crossbar_luts: dev.crossbar_luts(d, banks, BankPorts::Split),
+        };
+        let key = |p: &MemoryPlan| (p.datapaths, p.cache_lines, std::cmp::Reverse(p.bank_bits));
+        if best.as_ref().is_none_or(|q| key(&p) > key(q)) {
+            best = Some(p);
+        }
+    }
+    best.ok_or(too_large)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The paper's 1 M-photon map on each device: a plan that fits the BlockRAM,
+    /// a cache twice as large that would not, and a map one photon beyond the
+    /// 24-bit addresses refused with the largest named.
+    #[test]
+    fn a_map_beyond_the_blockram_gets_the_largest_cache_that_fits() {
+        let lim = Limits::default();
+        for dev in [ECP5_85K, XC6VSX475T] {
+            let p = plan_memory(1_945_886, 32, &dev, &lim).unwrap();
+            assert!(plan(1_945_886, 32, &dev, &lim).is_err(), "{}", dev.name);
+            assert!(p.datapaths >= lim.min_datapaths && p.datapaths.is_multiple_of(2));
+            assert_eq!(1u32 << p.replicated_levels, dev.shape.0);
+            // Words: two copies (split ports) of every line's 16 words, in
+            // BlockRAMs of shape.0 words a bank, plus a tag BlockRAM a copy.
+            let banks = 1u32 << p.bank_bits;
+            let words_per_bank = p.cache_lines / banks * 16;
+            let brams = |words: u32| 2 * banks * (words.div_ceil(dev.shape.0) + 1);
+            assert_eq!(p.cache_brams, brams(words_per_bank));
+            assert!(p.cache_brams + p.datapath_brams <= dev.brams, "{p:?}");
+            let doubled = brams(2 * words_per_bank) + p.datapath_brams > dev.brams;
+            assert!(doubled || p.cache_lines == 4096 || p.cache_lines / banks == 256);
+            assert!(
+                (p.datapath_luts + p.crossbar_luts) as f64 <= dev.luts as f64 * lim.logic_share
+            );
+        }
+        // The ECP5-85k's: the core docs/MEMORY_CORE.md measures.
+        let e = plan_memory(1_945_886, 32, &ECP5_85K, &lim).unwrap();
+        assert_eq!(
+            (e.datapaths, e.bank_bits, e.cache_lines, e.replicated_levels),
+            (4, 4, 2048, 9)
+        );
+        let err = plan_memory(1 << 24, 32, &ECP5_85K, &lim).unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("the largest that fits is 16777215"),
+            "{err}"
+        );
+    }
 }

@@ -11,10 +11,9 @@ use crate::host::error::{Error, Result};
 use crate::host::gather::{GatherBackend, GatherParams, Gathered};
 use crate::host::map::quantize::Point;
 use crate::host::output::Output;
-use crate::host::render::l1_area::l1_section_area;
-use crate::host::render::lookup::gather_sorted;
 use crate::host::render::photons::{stream_rng, Photon};
 use crate::host::render::scene::{facing, glass_scatter, reflect, Material, Ray, Scene, Surface};
+use crate::host::render::{l1_area::l1_section_area, lookup::gather_sorted};
 use crate::host::stages::StageTimes;
 use crate::hw::config::metric::Metric;
 use glam::Vec3;
@@ -326,11 +325,10 @@ pub fn render_image(
     times: &mut StageTimes,
 ) -> Result<EyePass> {
     let (queries, emitted) = times.time("ray emission", || eye_queries(scene, settings));
-    // Along a Morton curve, as every two-pass lookup: neighbouring queries read the
-    // same nodes, which a cache of the map (an external-memory core's) rewards;
-    // the answers come back in pixel order.
+    // Morton order, which a cache of the map rewards (`lookup.rs`); answers in pixel order.
+    let points = query_points(&queries);
     let gathered = times.time("kd-tree search", || {
-        gather_sorted(backend, &query_points(&queries), params.k)
+        gather_sorted(backend, &points, params.k)
     })?;
     let linear = times.time("other", || {
         let radiance = radiance(

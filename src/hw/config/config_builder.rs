@@ -281,6 +281,11 @@ impl CoreBuilder {
             .address_bits(tree.address_bits().max(1))
     }
 
+    /// The address bits H and the grid chosen (a map of up to `2^H − 1` photons).
+    pub fn chosen_map(&self) -> (u32, PhotonLayout) {
+        (self.address_bits, self.layout)
+    }
+
     /// The controller chosen (the default one unless `controller` was called).
     pub fn chosen_controller(&self) -> Controller {
         self.controller

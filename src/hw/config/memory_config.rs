@@ -19,6 +19,9 @@ pub const MAX_MEMORY_ADDRESS_BITS: u32 = 24;
 /// flip-flops, one 256-bit mask each).
 pub const MAX_BANK_LINES: usize = 256;
 
+/// Lines of a cache at most: the fills address its words with 16 bits.
+pub const MAX_CACHE_LINES: u32 = (1 << 16) >> MEMORY_BLOCK_LEVELS;
+
 /// Cache banks at most: one fill arbiter's requesters.
 pub const MAX_CACHE_BANK_BITS: u32 = 5;
 
