@@ -29,14 +29,12 @@ pub struct GatherArgs {
 
 pub fn gather(args: &GatherArgs) -> Result<()> {
     set_threads(args.opts.threads)?;
-    args.opts.check()?;
-    let params = args.opts.params(DEFAULT_K)?;
-    params.validate(1)?;
+    let mut request = args.opts.request(DEFAULT_K)?;
     // The core file is an input too: no output may replace it.
     let mut inputs = vec![args.photons.as_path(), args.queries.as_path()];
     inputs.extend(args.opts.core_file.file.as_deref());
     let out = Output::check(&args.out, &inputs)?;
-    let vcd = args.opts.vcd(&inputs)?;
+    request.stage_waveform(&inputs)?;
     let photons = csvio::read_points(&args.photons)?;
     let queries = csvio::read_points(&args.queries)?;
     if photons.points.is_empty() {
@@ -47,14 +45,12 @@ pub fn gather(args: &GatherArgs) -> Result<()> {
     }
     limits::check_gather_memory(
         queries.points.len() as u64,
-        args.opts.gathered_k(params.k)?,
+        request.gathered_k,
         photons.points.len() as u64,
         &format!("the lines of {}", args.queries.display()),
     )?;
     // The grid covers the photons alone: a query never changes another's answer.
-    let backend = args
-        .opts
-        .backend(&photons.points, &params, &args.opts.sim(&vcd))?;
+    let backend = request.backend(&photons.points)?;
     for (q, line) in queries.points.iter().zip(&queries.lines) {
         backend
             .check_query(*q)
@@ -62,13 +58,10 @@ pub fn gather(args: &GatherArgs) -> Result<()> {
     }
     let results = backend.gather(&queries.points)?;
     csvio::write_neighbours(&out, &results)?;
-    if args.opts.exact {
+    if request.exact.is_some() {
         if let Some(info) = backend.describe() {
             println!("{info}");
         }
     }
-    if let Some(v) = vcd {
-        v.commit()?;
-    }
-    Ok(())
+    request.finish()
 }

@@ -4,13 +4,8 @@
 
 use super::core_args::{hardware_option_given, CoreFileArg, DeviceOpt};
 use crate::host::error::{Error, Result};
-use crate::host::exact::ExactBackend;
-use crate::host::gather::{
-    make_backend, BackendKind, FixedCore, GatherBackend, GatherParams, HW_CAPACITY,
-};
+use crate::host::gather::{BackendKind, FixedCore, GatherParams, GatherRequest, HW_CAPACITY};
 use crate::host::limits::MEMORY_CAPACITY;
-use crate::host::map::quantize::Point;
-use crate::host::output::{Output, Staged};
 use crate::hw::config::config_builder::CoreBuilder;
 use crate::hw::config::controller::Controller;
 use crate::hw::config::core_config::MAX_HW_COORD_BITS;
@@ -18,7 +13,6 @@ use crate::hw::config::core_spec::{CoreBuild, CoreChoice, CoreSpec};
 use crate::hw::config::memory_config::MAX_MEMORY_ADDRESS_BITS;
 use crate::hw::config::metric::Metric;
 use crate::hw::config::photon_word::PhotonLayout;
-use crate::hw::sim::native::SimOptions;
 use clap::Args;
 use std::path::PathBuf;
 
@@ -92,71 +86,42 @@ impl GatherOpts {
         self.core.controller.unwrap_or(Controller::Barrel)
     }
 
-    /// Photons gathered per query as the memory sees them: k, or with `--exact` the
-    /// most candidates the core may return.
-    pub fn gathered_k(&self, k: usize) -> Result<usize> {
-        if self.exact {
+    /// The gather these options ask for, validated whole before any work starts:
+    /// the options the backend would ignore refused, the parameters checked as far
+    /// as they can be without the photon map, the waveform's path resolved
+    /// (`--vcd`, or env PHOTON_FPGA_VCD with a simulating backend).
+    pub fn request(&self, default_k: usize) -> Result<GatherRequest> {
+        self.check()?;
+        let params = self.params(default_k)?;
+        params.validate(1)?;
+        let gathered_k = if self.exact {
             crate::host::exact::largest_k_prime(
                 self.backend,
-                k,
+                params.k,
                 self.refine,
                 self.controller().max_k(),
-            )
+            )?
         } else {
-            Ok(k)
-        }
-    }
-
-    /// The backend these options ask for over `photons` (`--exact` wraps the
-    /// quantized one).
-    pub fn backend(
-        &self,
-        photons: &[Point],
-        params: &GatherParams,
-        sim: &SimOptions,
-    ) -> Result<Box<dyn GatherBackend>> {
-        if self.exact {
-            Ok(Box::new(ExactBackend::new(
-                self.backend,
-                photons,
-                params,
-                self.refine,
-                sim,
-            )?))
-        } else {
-            make_backend(self.backend, photons, params, sim)
-        }
-    }
-
-    /// The waveform output (`--vcd` or env PHOTON_FPGA_VCD; rtl and verilator), checked now
-    /// and staged: the simulator writes a temporary file that becomes the VCD only
-    /// when the whole run succeeds.
-    pub fn vcd(&self, inputs: &[&std::path::Path]) -> Result<Option<Staged>> {
-        let path = match &self.vcd {
-            Some(p) => p.clone(),
-            None if self.backend.simulates() => {
-                match std::env::var_os(crate::hw::sim::native::VCD_ENV) {
-                    Some(p) => PathBuf::from(p),
-                    None => return Ok(None),
-                }
-            }
-            None => return Ok(None),
+            params.k
         };
-        if !self.backend.simulates() {
-            return Err(Error::new("--vcd needs --backend native or verilator"));
-        }
-        Ok(Some(Output::check(&path, inputs)?.stage()?))
-    }
-
-    pub fn sim(&self, vcd: &Option<Staged>) -> SimOptions {
-        SimOptions {
-            vcd: vcd.as_ref().map(|v| v.path().to_path_buf()),
-            ..SimOptions::default()
-        }
+        let vcd = match &self.vcd {
+            Some(p) => Some(p.clone()),
+            None if self.backend.simulates() => {
+                std::env::var_os(crate::hw::sim::native::VCD_ENV).map(PathBuf::from)
+            }
+            None => None,
+        };
+        GatherRequest::new(
+            params,
+            self.backend,
+            self.exact.then_some(self.refine),
+            gathered_k,
+            vcd,
+        )
     }
 
     /// Options the chosen backend would ignore are errors, not silently dropped.
-    pub fn check(&self) -> Result<()> {
+    fn check(&self) -> Result<()> {
         self.core_file.check_alone(&self.choice())?;
         if self.backend == BackendKind::Float && self.bits.is_some() {
             return Err(Error::new(
@@ -185,7 +150,7 @@ impl GatherOpts {
     /// The gather's parameters, the core's options included, checked as far as
     /// they can be before the photon map exists: a core that cannot be built for
     /// any map (a bad combination, K, Q, T out of range) is refused now.
-    pub fn params(&self, default_k: usize) -> Result<GatherParams> {
+    fn params(&self, default_k: usize) -> Result<GatherParams> {
         if let Some(fixed) = self.core_file.read(&self.choice())? {
             return self.fixed_params(fixed);
         }

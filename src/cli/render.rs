@@ -4,6 +4,7 @@
 use crate::cli::gather_opts::GatherOpts;
 use crate::cli::set_threads;
 use crate::host::error::{Error, Result};
+use crate::host::gather::GatherRequest;
 use crate::host::limits::{self, MAX_EMITTED};
 use crate::host::output::Output;
 use crate::host::render::photons;
@@ -79,28 +80,26 @@ impl Default for RenderArgs {
 pub fn render(args: &RenderArgs) -> Result<()> {
     set_threads(args.opts.threads)?;
     // A radiance estimate wants more photons than a plain gather.
-    args.opts.check()?;
-    let mut params = args.opts.params(DEFAULT_K)?;
-    params.validate(1)?;
+    let mut request = args.opts.request(DEFAULT_K)?;
     // Everything that can be refused is refused before any photon is traced.
     check_photons_and_spp(args.photons, args.spp)?;
-    let gather_rays = check_method(args)?;
-    limits::check_photon_memory(params.capacity)?;
+    let gather_rays = check_method(args, &request)?;
+    limits::check_photon_memory(request.params.capacity)?;
     if let Some(e) = args.exposure {
         limits::check_positive("--exposure", e as f64)?;
     }
     let (w, h) = args.size;
     limits::check_gather_memory(
         w as u64 * h as u64 * args.spp as u64,
-        args.opts.gathered_k(params.k)?,
-        params.capacity as u64,
+        request.gathered_k,
+        request.params.capacity as u64,
         &format!("--size {w}x{h} × --spp {}", args.spp),
     )?;
     // The scene and the core file are inputs: no output may replace them.
     let mut inputs: Vec<&std::path::Path> = args.scene.iter().map(|p| p.as_path()).collect();
     inputs.extend(args.opts.core_file.file.as_deref());
     let out = Output::check(&args.out, &inputs)?;
-    let vcd = args.opts.vcd(&inputs)?;
+    request.stage_waveform(&inputs)?;
     let scene = match &args.scene {
         Some(p) => Scene::from_file(p)?,
         None => Scene::cornell_box(),
@@ -120,9 +119,16 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     let mut t = StageTimes::default();
     let (photons, caustic) = t
         .time("photon emission", || {
-            photons::trace_photon_paths(&scene, args.photons, args.seed, true, params.capacity)
+            photons::trace_photon_paths(
+                &scene,
+                args.photons,
+                args.seed,
+                true,
+                request.params.capacity,
+            )
         })
         .ok_or_else(|| {
+            let params = &request.params;
             Error::new(match &params.fixed {
                 Some(f) if f.max_photons() == params.capacity => format!(
                     "{} emitted photons store more than {}; tracing stopped early",
@@ -138,22 +144,20 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     if photons.is_empty() {
         return Err(Error::new("no photon reached a diffuse surface"));
     }
-    if args.method.is_two_pass() && params.radius.is_none() {
-        params.radius = Some(two_pass::default_radius(&photons));
+    if args.method.is_two_pass() && request.params.radius.is_none() {
+        request.params.radius = Some(two_pass::default_radius(&photons));
     }
     let positions = render::photon_points(&photons);
-    let backend = t.time("kd-tree build", || {
-        args.opts.backend(&positions, &params, &args.opts.sim(&vcd))
-    })?;
-    let sim = args.opts.sim(&None);
+    let backend = t.time("kd-tree build", || request.backend(&positions))?;
+    let params = &request.params;
     let (pass, two_pass) = two_pass::render_method(
         &scene,
         &settings,
         &photons,
         &caustic,
         backend.as_ref(),
-        &|p, prm| args.opts.backend(p, prm, &sim),
-        &params,
+        &|p, prm| request.other_backend(p, prm),
+        params,
         &mut t,
     )?;
     if let Some(s) = two_pass {
@@ -179,16 +183,15 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         true => render::pfm::save_pfm(w, h, &pass.linear, &out),
         false => render::save_png(&pass.image, &out),
     })?;
-    if let Some(v) = vcd {
-        v.commit()?;
-    }
+    let k = params.k;
+    request.finish()?;
     println!(
         "{} photons stored from {} emitted; {} queries; backend {}; k = {}",
         photons.len(),
         args.photons,
         pass.queries,
         backend.name(),
-        params.k
+        k
     );
     if let Some(info) = backend.describe() {
         println!("{info}");
@@ -204,7 +207,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
 
 /// `--method` and `--gather-rays`: the final-gather rays per shading point of a
 /// two-pass render; refused before any photon is traced.
-fn check_method(args: &RenderArgs) -> Result<u32> {
+fn check_method(args: &RenderArgs, request: &GatherRequest) -> Result<u32> {
     match (args.method, args.gather_rays) {
         (RenderMethod::Direct, Some(_)) => Err(Error::new(
             "--gather-rays sets the final gather of --method two-pass or \
@@ -218,9 +221,7 @@ fn check_method(args: &RenderArgs) -> Result<u32> {
                     "--gather-rays must be in 1..=4096, got {n}"
                 )));
             }
-            let env_vcd = std::env::var_os(crate::hw::sim::native::VCD_ENV).is_some();
-            // Without a simulated core, --vcd is refused for that (GatherOpts::vcd).
-            if (args.opts.vcd.is_some() || env_vcd) && args.opts.backend.simulates() {
+            if request.records_waveform() {
                 return Err(Error::new(
                     "--vcd (or PHOTON_FPGA_VCD) records one simulation of one map; --method \
                      two-pass gathers from several maps in many batches (give --method direct)",

@@ -19,8 +19,10 @@ use std::fmt;
 use std::sync::Mutex;
 
 mod fixed_core;
+mod request;
 mod sim_backend;
 pub use fixed_core::FixedCore;
+pub use request::GatherRequest;
 pub use sim_backend::{run_core, SimBackend};
 
 /// Which implementation answers the gathers.
