@@ -35,6 +35,7 @@ fn hits_are_the_blocks_words_and_every_read_hits_in_time() {
         extra_latency: 8,
         ar_pause: 0.3,
         r_pause: 0.25,
+        beat_interval: 1,
         seed: 3,
     };
     let mut r = rng(17);

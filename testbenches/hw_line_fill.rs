@@ -148,6 +148,7 @@ fn fills_arrive_whole_and_in_order_through_a_slow_paused_memory() {
             extra_latency: 10,
             ar_pause: 0.3,
             r_pause: 0.3,
+            beat_interval: seed,
             seed,
         };
         assert!(!run::<32>(64, 300, timing, None, false).0);
@@ -175,6 +176,7 @@ fn exported_verilog_lints_and_replays_cycle_for_cycle() {
         extra_latency: 6,
         ar_pause: 0.3,
         r_pause: 0.3,
+        beat_interval: 1,
         seed: 5,
     };
     let (failed, run) = run::<64>(64, 120, timing, None, true);

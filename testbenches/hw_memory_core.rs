@@ -48,6 +48,7 @@ fn unsteady(seed: u64) -> AxiTiming {
         extra_latency: 30,
         ar_pause: 0.3,
         r_pause: 0.3,
+        beat_interval: 1,
         seed,
     }
 }

@@ -5,11 +5,12 @@
 //! simulated sweeps (`banking`), and the speed-against-error study (`study`).
 //!
 //! Layers, lowest first (tests/layers.rs checks them): `workload`, `cpu_ref`,
-//! `lookups` →
+//! `lookups`, `core_run` →
 //! `banking`, `study` → `cli`.
 
 pub mod banking;
 pub mod cli;
+pub mod core_run;
 pub mod cpu_ref;
 pub mod lookups;
 pub mod memory;

@@ -6,6 +6,7 @@ use photon_fpga_lab::cli::banking::{banking, BankingArgs};
 use photon_fpga_lab::cli::bench_banks::{bench_banks, BenchBanksArgs};
 use photon_fpga_lab::cli::bench_core::{bench_core, BenchCoreArgs};
 use photon_fpga_lab::cli::memory::{memory, MemoryArgs};
+use photon_fpga_lab::cli::memory_core::{memory_core, MemoryCoreArgs};
 use photon_fpga_lab::cli::study::{study, StudyArgs};
 use std::process::ExitCode;
 
@@ -36,6 +37,10 @@ enum Cmd {
     /// DRAM bytes and reads per cycle against layout, cache and query order; writes
     /// docs/MEMORY.md.
     Memory(MemoryArgs),
+    /// The external-memory core simulated (Verilator, the memory model; every
+    /// answer checked) against map size, memory bandwidth, k and query order, kiddo
+    /// beside it; writes docs/memory_core.{csv,md} and two plots.
+    MemoryCore(MemoryCoreArgs),
 }
 
 fn main() -> ExitCode {
@@ -46,6 +51,7 @@ fn main() -> ExitCode {
         Cmd::Banking(a) => banking(a),
         Cmd::BenchBanks(a) => bench_banks(a),
         Cmd::Memory(a) => memory(a),
+        Cmd::MemoryCore(a) => memory_core(a),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -22,3 +22,24 @@ pub fn stdout_of(args: &[String]) -> String {
     let run = bin().args(args).assert().success();
     String::from_utf8_lossy(&run.get_output().stdout).to_string()
 }
+
+#[test]
+fn memory_core_refuses_bad_input_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    refused(
+        dir.path(),
+        &strings(&["memory-core", "--fmax-mhz", "0", "--out-dir", d]),
+        "--fmax-mhz",
+    );
+    refused(
+        dir.path(),
+        &strings(&["memory-core", "--photons", "0", "--out-dir", d]),
+        "--photons must be in",
+    );
+    refused(
+        dir.path(),
+        &strings(&["memory-core", "--out-dir", &format!("{d}/missing")]),
+        "missing",
+    );
+}

@@ -367,3 +367,54 @@ fn the_memory_command_writes_its_report_and_refuses_bad_options() {
         assert!(!out.exists());
     }
 }
+
+/// A point of the external-memory core's sweep with round counts: 1,000 queries,
+/// 100,000 reads (60,000 below the on-chip levels) in 40,000 cycles, 3,000 line
+/// fills of 16 beats, 17 result beats a query, at half the port's bandwidth.
+fn core_point() -> photon_fpga_lab::memory::core_sweep::CorePoint {
+    photon_fpga_lab::memory::core_sweep::CorePoint {
+        emitted: 1_000,
+        photons: 1_950,
+        k: 32,
+        order: photon_fpga_lab::cli::bench_core::StreamOrder::Morton,
+        beat_interval: 2,
+        queries: 1_000,
+        reads: 100_000,
+        cached_reads: 60_000,
+        cycles: 40_000,
+        fills: 3_000,
+        beats: 48_000,
+        result_beats: 17_000,
+        kiddo: 50_000.0,
+        kiddo_all: 90_000.0,
+        threads: 2,
+    }
+}
+
+#[test]
+fn the_memory_core_sweep_derives_its_figures_from_the_counts() {
+    use photon_fpga_lab::memory::core_report::{csv, table};
+    let p = core_point();
+    assert_eq!(p.bytes_per_cycle(), 2.0);
+    assert_eq!(p.reads_per_cycle(), 2.5);
+    assert_eq!(p.reads_per_query(), 100.0);
+    assert_eq!(p.hit_rate(), 0.95);
+    assert_eq!(p.dram_bytes_per_query(), 192.0);
+    assert_eq!(p.channel_busy(), 1.2);
+    // 1,000 queries in 40,000 cycles at 80 MHz.
+    assert_eq!(p.queries_per_s(80.0), 2_000_000.0);
+    assert_eq!(p.link_bytes_per_query(), 16.0 + 17.0 * 32.0);
+    let t = table(&[p.clone()], 80.0, "cmd");
+    let row = t.lines().last().unwrap();
+    for cell in [
+        "| 1 K | 1.95 K | 32 | 1000 | Morton | 2 | 100.0 | 95.00 % | 3.00 | 192 | 120.0 % | 2.500 |",
+        "| 2 M | 50 K | 40.0x | 90 K (2) | 22.2x |",
+    ] {
+        assert!(row.contains(cell), "{cell} in {row}");
+    }
+    let c = csv(&[p]);
+    assert_eq!(c.lines().count(), 2);
+    assert!(c.lines().nth(1).unwrap().starts_with(
+        "1000,1950,32,Morton,2,1000,100000,60000,40000,3000,48000,17000,50000,90000,2"
+    ));
+}

@@ -245,45 +245,15 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         engine,
         ..SimOptions::default()
     };
-    let mut sim = CoreSim::new(&cfg, &opts)?;
-    sim.load_map(tree.image())?;
-    let load_cycles = sim.stats().cycles;
-    let passes0 = sim.settle_passes();
-    let t0 = std::time::Instant::now();
-    let results = sim.run_queries(&queries)?;
-    let secs = t0.elapsed().as_secs_f64();
-    let passes = sim.settle_passes().zip(passes0).map(|(b, a)| b - a);
-    let st = sim.stats().clone();
-    let mut sw_visited = 0u64;
-    let mut sw_tested = 0u64;
+    let run = crate::core_run::run_checked(&cfg, tree, &queries, max, &opts)?;
+    let (results, secs, passes, load_cycles) =
+        (&run.results, run.secs, run.passes, run.load_cycles);
+    let (sw_visited, sw_tested) = (run.sw_visited, run.sw_tested);
+    let st = &run.stats;
     // Every traversal's reads on the same queries (software search).
     let traversals: Vec<Traversal> = Traversal::value_variants().to_vec();
     let mut each_visited = vec![0u64; traversals.len()];
-    for (q, r) in queries.iter().zip(&results) {
-        let f = search_with(tree, q.coords, cfg.k, max, cfg.metric, cfg.traversal);
-        if f.visited != r.visited
-            || f.sorted_dists() != {
-                let mut d: Vec<u64> = r.found.iter().map(|x| x.1).collect();
-                d.sort();
-                d
-            }
-        {
-            return Err(Error::new(format!(
-                "query {}: the core disagrees with the software search \
-                 (core: {} reads, distances {:?}; software: {} reads, {:?})",
-                q.id,
-                r.visited,
-                {
-                    let mut d: Vec<u64> = r.found.iter().map(|x| x.1).collect();
-                    d.sort();
-                    d
-                },
-                f.visited,
-                f.sorted_dists()
-            )));
-        }
-        sw_visited += f.visited as u64;
-        sw_tested += f.tested as u64;
+    for q in &queries {
         for (t, v) in traversals.iter().zip(&mut each_visited) {
             *v += search_with(tree, q.coords, cfg.k, max, cfg.metric, *t).visited as u64;
         }
@@ -412,7 +382,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         let results2 = sim2.run_queries(&queries)?;
         let secs2 = t0.elapsed().as_secs_f64();
         let cycles2 = sim2.stats().cycles - load_cycles;
-        if results2 != results || cycles2 != cycles {
+        if &results2 != results || cycles2 != cycles {
             return Err(Error::new(format!(
                 "{other:?} disagrees with {:?}: {cycles2} against {cycles} cycles",
                 engine
@@ -454,7 +424,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
 
 /// Put `queries` (grid points of `bits`-bit coordinates) in `order`; ties keep
 /// the given order.
-fn order_queries(queries: &mut [[u32; 3]], order: StreamOrder, bits: u32) {
+pub fn order_queries(queries: &mut [[u32; 3]], order: StreamOrder, bits: u32) {
     use crate::banking::order::{hilbert, morton};
     match order {
         StreamOrder::Given => {}

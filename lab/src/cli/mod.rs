@@ -6,4 +6,5 @@ pub mod banking;
 pub mod bench_banks;
 pub mod bench_core;
 pub mod memory;
+pub mod memory_core;
 pub mod study;

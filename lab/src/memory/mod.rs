@@ -50,6 +50,8 @@
 //! of the same crossbar), DRAM row hits and refresh beyond the assumed efficiency,
 //! and writes (the map is loaded once).
 pub mod cache;
+pub mod core_report;
+pub mod core_sweep;
 pub mod layout;
 pub mod memories;
 pub mod report;

@@ -17,7 +17,7 @@ pub type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
 pub type Drawn = std::result::Result<(), Box<dyn std::error::Error>>;
 
 /// The legend box every chart here draws.
-pub(super) fn legend<'a, CT: CoordTranslate>(
+pub fn legend<'a, CT: CoordTranslate>(
     chart: &mut ChartContext<'a, BitMapBackend<'a>, CT>,
     position: SeriesLabelPosition,
     size: u32,
@@ -32,8 +32,8 @@ pub(super) fn legend<'a, CT: CoordTranslate>(
     Ok(())
 }
 
-pub(super) const FONT: &str = "sans-serif";
-pub(super) const COLORS: [RGBColor; 4] = [
+pub const FONT: &str = "sans-serif";
+pub const COLORS: [RGBColor; 4] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),

@@ -29,17 +29,7 @@ pub fn for_device(
     let p = match plan(photons, word_bits, dev, &lim) {
         Ok(p) => p,
         // Beyond the BlockRAM: the map in the board's memory behind a cache.
-        Err(PlanError::MapTooLarge { .. }) => {
-            let m = plan_memory(photons, word_bits, dev, &lim)
-                .map_err(|e| Error::new(e.to_string()))?;
-            let trees = (m.datapaths as usize / PORTS).max(1);
-            return Ok(b
-                .trees(trees)
-                .banks(m.bank_bits, Some(m.replicated_levels))
-                .bank_ports(BankPorts::Split)
-                .cache_lines(Some(m.cache_lines))
-                .result_streams(result_streams(PORTS * trees)));
-        }
+        Err(PlanError::MapTooLarge { .. }) => return memory_core(b, photons, word_bits, dev),
         Err(e) => return Err(Error::new(e.to_string())),
     };
     let trees = (p.datapaths as usize / PORTS).max(1);
@@ -58,6 +48,25 @@ pub fn for_device(
                 .result_streams(result_streams(PORTS * trees))
         },
     )
+}
+
+/// `b` as the external-memory core `dev` holds for `photons` photons (whatever
+/// their number: a map the BlockRAM would hold too gets it when asked, as the
+/// lab's sweeps over map size do).
+pub fn memory_core(
+    b: CoreBuilder,
+    photons: usize,
+    word_bits: u32,
+    dev: &Device,
+) -> Result<CoreBuilder> {
+    let m = plan_memory(photons, word_bits, dev, &Limits::default())
+        .map_err(|e| Error::new(e.to_string()))?;
+    let trees = (m.datapaths as usize / PORTS).max(1);
+    Ok(b.trees(trees)
+        .banks(m.bank_bits, Some(m.replicated_levels))
+        .bank_ports(BankPorts::Split)
+        .cache_lines(Some(m.cache_lines))
+        .result_streams(result_streams(PORTS * trees)))
 }
 
 /// Datapaths one result stream serves in a planned core: a stream carries a beat

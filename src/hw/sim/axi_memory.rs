@@ -25,6 +25,9 @@ pub struct AxiTiming {
     /// Chance that `arready` is low in a cycle, and that a due beat waits a cycle.
     pub ar_pause: f64,
     pub r_pause: f64,
+    /// Cycles from one beat to the next at least: 1 is a beat a cycle (the
+    /// port's width a cycle), n a memory with 1/n of that bandwidth.
+    pub beat_interval: u64,
     pub seed: u64,
 }
 
@@ -45,7 +48,16 @@ impl AxiTiming {
             extra_latency: 0,
             ar_pause: 0.0,
             r_pause: 0.0,
+            beat_interval: 1,
             seed: 1,
+        }
+    }
+
+    /// This memory with `1/n` of its bandwidth (a beat every `n` cycles at most).
+    pub fn with_beat_interval(self, n: u64) -> Self {
+        AxiTiming {
+            beat_interval: n.max(1),
+            ..self
         }
     }
 }
@@ -91,6 +103,8 @@ pub struct AxiMemory {
     timing: AxiTiming,
     rng: Pcg64,
     cycle: u64,
+    /// The first cycle the next beat may come (`beat_interval`).
+    next_beat: u64,
     queue: VecDeque<InFlight>,
     out: AxiSlaveOut,
     /// Byte addresses whose bursts answer SLVERR (an injected fault).
@@ -113,6 +127,7 @@ impl AxiMemory {
             timing,
             rng: Pcg64::seed_from_u64(timing.seed),
             cycle: 0,
+            next_beat: 0,
             queue: VecDeque::new(),
             out: AxiSlaveOut::default(),
             faulty: vec![],
@@ -154,7 +169,7 @@ impl AxiMemory {
             ..AxiSlaveOut::default()
         };
         if let Some(f) = self.queue.front() {
-            if f.due <= self.cycle && !pause {
+            if f.due <= self.cycle && self.next_beat <= self.cycle && !pause {
                 let b = f.burst;
                 let beat_bytes = 1u64 << b.size;
                 let at = b.addr + f.beat * beat_bytes;
@@ -193,6 +208,7 @@ impl AxiMemory {
         }
         if self.out.rvalid && rready {
             self.beats += 1;
+            self.next_beat = self.cycle + self.timing.beat_interval.max(1);
             let f = self.queue.front_mut().expect("a beat came from a burst");
             f.beat += 1;
             if f.beat > u64::from(f.burst.len) {
@@ -213,5 +229,49 @@ impl AxiMemory {
     /// Bursts asked for and not yet answered in full.
     pub fn in_flight(&self) -> usize {
         self.queue.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cycles at which a prompt master (always ready) takes each beat of one
+    /// 16-beat burst of 4-byte beats.
+    fn beat_cycles(timing: AxiTiming) -> Vec<u64> {
+        let words: Vec<u64> = (0..16).collect();
+        let mut m = AxiMemory::from_words(&words, 4, timing);
+        let burst = AxiBurst {
+            addr: 0,
+            len: 15,
+            size: 2,
+            burst: 1,
+        };
+        let mut taken = vec![];
+        let mut asked = false;
+        for cycle in 0..200 {
+            let out = m.drive();
+            if out.rvalid {
+                assert_eq!(out.rdata, taken.len() as u64, "beats in address order");
+                assert_eq!(out.rlast, taken.len() == 15);
+                taken.push(cycle);
+            }
+            let ar = (!asked).then_some(burst);
+            asked |= out.arready;
+            m.edge(ar, true);
+        }
+        taken
+    }
+
+    #[test]
+    fn a_beat_interval_spaces_the_beats_by_that_many_cycles() {
+        for n in [1u64, 2, 3, 8] {
+            let t = beat_cycles(AxiTiming::fixed(5).with_beat_interval(n));
+            assert_eq!(t.len(), 16, "every beat of the burst");
+            assert_eq!(t[0], 5, "the first beat after the latency");
+            for w in t.windows(2) {
+                assert_eq!(w[1] - w[0], n, "a beat every {n} cycles");
+            }
+        }
     }
 }
