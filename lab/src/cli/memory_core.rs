@@ -3,7 +3,7 @@
 //! beside it; writes docs/memory_core.{csv,md}, docs/memory_core_sizes.png and
 //! docs/memory_core_bandwidth.png.
 
-use crate::memory::core_report::{bandwidth_plot, csv, size_plot, table};
+use crate::memory::core_report::{bandwidth_plot, csv, parse_csv, size_plot, table};
 use crate::memory::core_sweep::{measure, specs};
 use clap::Args;
 use photon_fpga::cli::render::check_photons_and_spp;
@@ -28,6 +28,13 @@ pub struct MemoryCoreArgs {
     /// The map of the bandwidth series (the paper's 1 M emitted, §3).
     #[arg(long, default_value_t = 1_000_000)]
     pub paper_photons: usize,
+    /// The image of the k = 32 series (square; its eye-ray hits are the queries):
+    /// the direct render's.
+    #[arg(long, default_value_t = 256)]
+    pub side: u32,
+    /// The image of the k = 500 series.
+    #[arg(long, default_value_t = 128)]
+    pub k500_side: u32,
     /// The core's clock in MHz for queries/s (a placed-and-routed fmax, or the
     /// memory controller's clock; labelled assumed in the report).
     #[arg(long, default_value_t = 75.0)]
@@ -35,12 +42,14 @@ pub struct MemoryCoreArgs {
     /// Do not time kiddo (the ratio columns stay empty).
     #[arg(long)]
     pub no_cpu: bool,
-    /// Small maps and images (for tests).
-    #[arg(long)]
-    pub quick: bool,
     /// Seed of the photon maps and the eye rays.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Render the table and the plots again from this CSV (an earlier run's
+    /// docs/memory_core.csv) instead of simulating; the other options must be
+    /// the ones that run was given (its command line is in the table).
+    #[arg(long)]
+    pub from_csv: Option<PathBuf>,
     /// Where the CSV, the table and the plots go.
     #[arg(long, default_value = "docs")]
     pub out_dir: PathBuf,
@@ -74,7 +83,30 @@ pub fn memory_core(args: &MemoryCoreArgs) -> Result<()> {
         photons.push(args.paper_photons);
     }
     let mut points = vec![];
-    for s in specs(&photons, &args.k500_photons, args.paper_photons, args.quick) {
+    for side in [args.side, args.k500_side] {
+        if !(1..=4096).contains(&side) {
+            return Err(Error::new(format!(
+                "--side and --k500-side must be in 1..=4096, got {side}"
+            )));
+        }
+    }
+    let sides = (args.side, args.k500_side);
+    if let Some(f) = &args.from_csv {
+        let text =
+            std::fs::read_to_string(f).map_err(|e| Error::new(format!("{}: {e}", f.display())))?;
+        points = parse_csv(&text).ok_or_else(|| {
+            Error::new(format!(
+                "{}: not a CSV of photon-fpga-lab memory-core",
+                f.display()
+            ))
+        })?;
+    }
+    let planned = if args.from_csv.is_some() {
+        vec![]
+    } else {
+        specs(&photons, &args.k500_photons, args.paper_photons, sides)
+    };
+    for s in planned {
         let p = measure(&s, args.seed, !args.no_cpu)?;
         eprintln!(
             "{} emitted, {} photons, k = {}, {:?}, {} B/cycle: {} queries, {:.3} reads/cycle, \
@@ -99,13 +131,14 @@ pub fn memory_core(args: &MemoryCoreArgs) -> Result<()> {
     };
     let command = format!(
         "photon-fpga-lab memory-core --photons {} --k500-photons {} --paper-photons {} \
-         --fmax-mhz {} --seed {}{}{} --out-dir {}",
+         --side {} --k500-side {} --fmax-mhz {} --seed {}{} --out-dir {}",
         list(&args.photons),
         list(&args.k500_photons),
         args.paper_photons,
+        args.side,
+        args.k500_side,
         args.fmax_mhz,
         args.seed,
-        if args.quick { " --quick" } else { "" },
         if args.no_cpu { " --no-cpu" } else { "" },
         dir.display()
     );

@@ -50,6 +50,46 @@ pub fn csv(points: &[CorePoint]) -> String {
     s
 }
 
+/// The points of a CSV [`csv`] wrote (to render the table and plots again without
+/// simulating); `None` for a line that is not one.
+pub fn parse_csv(text: &str) -> Option<Vec<CorePoint>> {
+    text.lines()
+        .skip(1)
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            if f.len() != 15 {
+                return None;
+            }
+            let n = |i: usize| f[i].parse::<u64>().ok();
+            let order = match f[3] {
+                "scanline" => StreamOrder::Given,
+                "Morton" => StreamOrder::Morton,
+                "Hilbert" => StreamOrder::Hilbert,
+                _ => return None,
+            };
+            let bytes: f64 = f[4].parse().ok()?;
+            Some(CorePoint {
+                emitted: n(0)? as usize,
+                photons: n(1)? as usize,
+                k: n(2)? as usize,
+                order,
+                beat_interval: (PORT_BYTES as f64 / bytes).round() as u64,
+                queries: n(5)? as usize,
+                reads: n(6)?,
+                cached_reads: n(7)?,
+                cycles: n(8)?,
+                fills: n(9)?,
+                beats: n(10)?,
+                result_beats: n(11)?,
+                kiddo: f[12].parse().ok()?,
+                kiddo_all: f[13].parse().ok()?,
+                threads: n(14)? as usize,
+            })
+        })
+        .collect()
+}
+
 /// The table: one row a point, derived figures at `mhz`.
 pub fn table(points: &[CorePoint], mhz: f64, command: &str) -> String {
     let mut s = String::new();
@@ -113,7 +153,8 @@ pub fn table(points: &[CorePoint], mhz: f64, command: &str) -> String {
 }
 
 /// A panel: `y` of `points`, one line per (k, order), against `x`; on a log axis
-/// (`log_x`: map size, ticks labelled 100 K, 1 M, ...) or at the values' own ticks.
+/// (`log_x`: map size, ticks labelled 100 K, 1 M, ...) or at the values' own ticks;
+/// the legend at `key`.
 #[allow(clippy::too_many_arguments)]
 fn panel(
     area: &Area,
@@ -123,7 +164,7 @@ fn panel(
     points: &[&CorePoint],
     x: &dyn Fn(&CorePoint) -> f64,
     y: &dyn Fn(&CorePoint) -> f64,
-    log_x: bool,
+    (log_x, key): (bool, SeriesLabelPosition),
 ) -> Drawn {
     let mut lines: Vec<(usize, StreamOrder)> = points.iter().map(|p| (p.k, p.order)).collect();
     lines.sort_by_key(|l| (l.0, l.1 as u8));
@@ -191,7 +232,7 @@ fn panel(
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2)));
         chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, c.filled())))?;
     }
-    legend(&mut chart, SeriesLabelPosition::UpperRight, 12)
+    legend(&mut chart, key, 12)
 }
 
 /// The sweep's points at the full bandwidth (the map-size series).
@@ -209,13 +250,13 @@ pub fn size_plot(path: &Path, points: &[CorePoint], mhz: f64) -> Result<()> {
         let x = "photons in the map (stored)";
         panel(
             &a[0],
-            "cache hit rate (%)",
+            "cache misses: cached reads that fill a line (%)",
             x,
             "%",
             &pts,
             &size,
-            &|p| 100.0 * p.hit_rate(),
-            true,
+            &|p| 100.0 * (1.0 - p.hit_rate()),
+            (true, SeriesLabelPosition::UpperLeft),
         )?;
         panel(
             &a[1],
@@ -225,7 +266,7 @@ pub fn size_plot(path: &Path, points: &[CorePoint], mhz: f64) -> Result<()> {
             &pts,
             &size,
             &|p| p.dram_bytes_per_query(),
-            true,
+            (true, SeriesLabelPosition::UpperLeft),
         )?;
         panel(
             &a[2],
@@ -235,7 +276,7 @@ pub fn size_plot(path: &Path, points: &[CorePoint], mhz: f64) -> Result<()> {
             &pts,
             &size,
             &|p| p.reads_per_cycle(),
-            true,
+            (true, SeriesLabelPosition::LowerLeft),
         )?;
         panel(
             &a[3],
@@ -251,7 +292,7 @@ pub fn size_plot(path: &Path, points: &[CorePoint], mhz: f64) -> Result<()> {
                     0.0
                 }
             },
-            true,
+            (true, SeriesLabelPosition::LowerLeft),
         )
     })
 }
@@ -275,7 +316,7 @@ pub fn bandwidth_plot(path: &Path, points: &[CorePoint], paper: usize) -> Result
             &pts,
             &bw,
             &|p| p.reads_per_cycle(),
-            false,
+            (false, SeriesLabelPosition::UpperLeft),
         )?;
         panel(
             &a[1],
@@ -285,7 +326,7 @@ pub fn bandwidth_plot(path: &Path, points: &[CorePoint], paper: usize) -> Result
             &pts,
             &bw,
             &|p| 100.0 * p.channel_busy(),
-            false,
+            (false, SeriesLabelPosition::LowerRight),
         )
     })
 }

@@ -15,7 +15,8 @@ use photon_fpga::host::device::plan::ECP5_85K;
 use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::render::RenderSettings;
 use photon_fpga::hw::config::config_builder::CoreBuilder;
-use photon_fpga::hw::config::controller::Controller;
+use photon_fpga::hw::config::core_spec::{CoreBuild, CoreSpec};
+use photon_fpga::hw::config::metric::Metric;
 use photon_fpga::hw::sim::axi_memory::AxiTiming;
 use photon_fpga::hw::sim::driver::HwQuery;
 use photon_fpga::hw::sim::native::{Engine, SimOptions};
@@ -29,7 +30,7 @@ pub const QUERY_BEAT_BYTES: u64 = 16;
 pub const RESULT_BEAT_BYTES: u64 = 32;
 
 /// One measured point.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct CorePoint {
     pub emitted: usize,
     pub photons: usize,
@@ -68,9 +69,10 @@ impl CorePoint {
     pub fn dram_bytes_per_query(&self) -> f64 {
         (self.beats * PORT_BYTES) as f64 / self.queries.max(1) as f64
     }
-    /// The read data channel's busy share.
+    /// The share of the memory's bandwidth used: beats taken against the beats
+    /// it could give (one every `beat_interval` cycles).
     pub fn channel_busy(&self) -> f64 {
-        self.beats as f64 / self.cycles.max(1) as f64
+        (self.beats * self.beat_interval) as f64 / self.cycles.max(1) as f64
     }
     /// Queries/s at `mhz`.
     pub fn queries_per_s(&self, mhz: f64) -> f64 {
@@ -96,8 +98,13 @@ pub struct PointSpec {
 
 /// The sweep: every map size at both k and both orders, and the memory's
 /// bandwidth at the paper's map (1 M emitted), k = 32, the coherent order.
-pub fn specs(sizes: &[usize], k500_sizes: &[usize], paper: usize, quick: bool) -> Vec<PointSpec> {
-    let (side32, side500) = if quick { (24, 16) } else { (128, 64) };
+/// `side32` and `side500`: the images of the k = 32 and k = 500 series.
+pub fn specs(
+    sizes: &[usize],
+    k500_sizes: &[usize],
+    paper: usize,
+    (side32, side500): (u32, u32),
+) -> Vec<PointSpec> {
     let mut v = vec![];
     for (k, sizes, side) in [(32, sizes, side32), (500, k500_sizes, side500)] {
         for &emitted in sizes {
@@ -138,7 +145,14 @@ pub fn measure(p: &PointSpec, seed: u64, cpu: bool) -> Result<CorePoint> {
     order_queries(&mut w.queries, p.order, bits);
     let map = w.tree.image();
     let cfg = memory_core(
-        CoreBuilder::default().controller(Controller::Barrel).k(p.k),
+        CoreBuilder::from_spec(&CoreSpec {
+            build: CoreBuild {
+                k: Some(p.k),
+                metric: Some(Metric::L2),
+                ..CoreBuild::default()
+            },
+            ..CoreSpec::default()
+        })?,
         map.len(),
         map.layout.word_bits(),
         &ECP5_85K,
@@ -148,6 +162,7 @@ pub fn measure(p: &PointSpec, seed: u64, cpu: bool) -> Result<CorePoint> {
         .memory_layout()
         .ok_or_else(|| Error::new("the planned core keeps the map on chip"))?
         .on_chip_levels;
+    eprintln!("core: {cfg}");
     let max = cfg.max_dist();
     let queries = HwQuery::within(&cfg, &w.queries, max);
     let opts = SimOptions {
