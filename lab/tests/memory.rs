@@ -405,7 +405,7 @@ fn the_memory_core_sweep_derives_its_figures_from_the_counts() {
     // 1,000 queries in 40,000 cycles at 80 MHz.
     assert_eq!(p.queries_per_s(80.0), 2_000_000.0);
     assert_eq!(p.link_bytes_per_query(), 16.0 + 17.0 * 32.0);
-    let t = table(&[p.clone()], 80.0, "cmd");
+    let t = table(std::slice::from_ref(&p), 80.0, "cmd");
     let row = t.lines().last().unwrap();
     for cell in [
         "| 1 K | 1.95 K | 32 | 1000 | Morton | 2 | 100.0 | 98.00 % | 1.00 | 64 | 80.0 % | 2.500 |",
@@ -413,7 +413,7 @@ fn the_memory_core_sweep_derives_its_figures_from_the_counts() {
     ] {
         assert!(row.contains(cell), "{cell} in {row}");
     }
-    let c = csv(&[p.clone()]);
+    let c = csv(std::slice::from_ref(&p));
     assert_eq!(
         c.lines().nth(1),
         Some("1000,1950,32,Morton,2,1000,100000,50000,40000,1000,16000,17000,50000,90000,2")
