@@ -137,6 +137,28 @@ fn a_device_plans_a_banked_core_file() {
         text.contains(&format!("cache_lines = {}", m.cache_lines)),
         "{text}"
     );
+    // A core file that names its cache is built as written, not re-planned.
+    let mine = dir.path().join("mine.toml");
+    std::fs::write(
+        &mine,
+        text.replace(
+            &format!("cache_lines = {}", m.cache_lines),
+            &format!("cache_lines = {}", m.cache_lines / 2),
+        ),
+    )
+    .unwrap();
+    let again = dir.path().join("again");
+    bin()
+        .args(["export-verilog", "--core"])
+        .arg(&mine)
+        .arg("--out")
+        .arg(&again)
+        .assert()
+        .success();
+    let path = again.join(CORE_FILE_NAME);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let cfg = from_toml(&text, &path.display().to_string()).unwrap();
+    assert_eq!(cfg.memory.map(|c| c.cache_lines), Some(m.cache_lines / 2));
 }
 
 #[test]

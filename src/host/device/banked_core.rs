@@ -84,8 +84,9 @@ pub fn result_streams(d: usize) -> usize {
 }
 
 /// [`for_device`] if a device is given; else `b` as it is for a map the core's
-/// BlockRAM tree holds, and beyond that (H > `MAX_ADDRESS_BITS`) the
-/// external-memory core the smallest modelled board (the ECP5-85k's) holds.
+/// BlockRAM tree holds or when it names its cache, and beyond that (H >
+/// `MAX_ADDRESS_BITS`) the external-memory core the smallest modelled board (the
+/// ECP5-85k's) holds.
 pub fn for_device_opt(
     b: CoreBuilder,
     photons: usize,
@@ -94,6 +95,9 @@ pub fn for_device_opt(
 ) -> Result<CoreBuilder> {
     match dev {
         Some(d) => for_device(b, photons, word_bits, d),
+        // An external-memory core given whole (its cache lines chosen) is built
+        // as given.
+        None if b.given_cache_lines().is_some() => Ok(b),
         None if bits_for(photons as u64) > MAX_ADDRESS_BITS => {
             if b.chosen_controller() != Controller::Barrel {
                 return Err(Error::new(format!(

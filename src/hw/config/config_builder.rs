@@ -302,6 +302,11 @@ impl CoreBuilder {
         self.bank_ports
     }
 
+    /// The cache lines given (an external-memory core asked for), if any.
+    pub fn given_cache_lines(&self) -> Option<u32> {
+        self.cache_lines
+    }
+
     /// The Q given for the chosen controller, if one was (else its default is used,
     /// and a host may size Q from the queries: [`CoreConfig::fit_queries_per_port`]).
     pub fn given_queries_per_port(&self) -> Option<usize> {
