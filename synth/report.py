@@ -213,17 +213,17 @@ CONFIGS = [
            {"cornell_photons": 33500, "workload": "two-pass-irradiance", "spp": 4}),
     # The paper's quality regime (§3: 1 M emitted photons, 1,945,886 stored, H = 21)
     # with the map in external memory (docs/MEMORY_CORE.md): the banked D = 4 core's
-    # banks become a cache of 2,048 lines of 4-level blocks (with split ports a
-    # copy of the words for each port: 2 x 128 KiB, what the ECP5-85k's DP16KDs hold
-    # beside the datapaths), the replicas keep the top 9 levels; the memory is the
-    # modelled DDR3 of an ECP5-85k board. The whole 256 x 256 image's queries, in
-    # the Morton order the renderer sends them.
-    Config("external memory D=4, K=32 (L2, 2x2x16 slots, B=16 split, T=9, 2048 lines, Cornell 1.9 M photons)",
-           {**BANKED, "address_bits": 21, "replicas": 2, "replicated_levels": 9, "cache_lines": 2048},
+    # banks become a cache of 1,024 lines of 4-level blocks, the ECP5-85k's plan
+    # (2,048 lines fit its DP16KDs but not its LUT4s: each line's state bits are
+    # logic), the replicas keep the top 9 levels; the memory is the modelled DDR3
+    # of an ECP5-85k board. The whole 256 x 256 image's queries, in the Morton
+    # order the renderer sends them.
+    Config("external memory D=4, K=32 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, Cornell 1.9 M photons)",
+           {**BANKED, "address_bits": 21, "replicas": 2, "replicated_levels": 9, "cache_lines": 1024},
            {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton"}),
-    Config("external memory D=4, K=500 (L2, 2x2x16 slots, B=16 split, T=9, 2048 lines, Cornell 1.9 M photons)",
+    Config("external memory D=4, K=500 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, Cornell 1.9 M photons)",
            {**BANKED, "k": 500, "address_bits": 21, "replicas": 2, "replicated_levels": 9,
-            "cache_lines": 2048},
+            "cache_lines": 1024},
            {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton"},
            nowidelut=True),
     # The default render's map (200,000 emitted photons, H = 19) on the XC6VSX475T as

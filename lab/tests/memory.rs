@@ -378,6 +378,7 @@ fn core_point() -> photon_fpga_lab::memory::core_sweep::CorePoint {
         k: 32,
         order: photon_fpga_lab::cli::bench_core::StreamOrder::Morton,
         beat_interval: 2,
+        cache_lines: 1_024,
         queries: 1_000,
         reads: 100_000,
         cached_reads: 50_000,
@@ -416,9 +417,10 @@ fn the_memory_core_sweep_derives_its_figures_from_the_counts() {
     let c = csv(std::slice::from_ref(&p));
     assert_eq!(
         c.lines().nth(1),
-        Some("1000,1950,32,Morton,2,1000,100000,50000,40000,1000,16000,17000,50000,90000,2")
+        Some("1000,1950,32,Morton,2,1024,1000,100000,50000,40000,1000,16000,17000,50000,90000,2")
     );
     // The CSV renders the table and plots again: it holds every count.
     assert_eq!(parse_csv(&c), Some(vec![p]));
     assert_eq!(parse_csv("header\n1,2,3\n"), None);
+    assert!(t.contains("cache of 1024 lines"), "{t}");
 }

@@ -35,6 +35,9 @@ pub struct MemoryCoreArgs {
     /// The image of the k = 500 series.
     #[arg(long, default_value_t = 128)]
     pub k500_side: u32,
+    /// The cache's lines [default: the ECP5-85k's plan for each map].
+    #[arg(long)]
+    pub cache_lines: Option<u32>,
     /// The core's clock in MHz for queries/s (a placed-and-routed fmax, or the
     /// memory controller's clock; labelled assumed in the report).
     #[arg(long, default_value_t = 75.0)]
@@ -104,7 +107,13 @@ pub fn memory_core(args: &MemoryCoreArgs) -> Result<()> {
     let planned = if args.from_csv.is_some() {
         vec![]
     } else {
-        specs(&photons, &args.k500_photons, args.paper_photons, sides)
+        specs(
+            &photons,
+            &args.k500_photons,
+            args.paper_photons,
+            sides,
+            args.cache_lines,
+        )
     };
     for s in planned {
         let p = measure(&s, args.seed, !args.no_cpu)?;
@@ -131,12 +140,14 @@ pub fn memory_core(args: &MemoryCoreArgs) -> Result<()> {
     };
     let command = format!(
         "photon-fpga-lab memory-core --photons {} --k500-photons {} --paper-photons {} \
-         --side {} --k500-side {} --fmax-mhz {} --seed {}{} --out-dir {}",
+         --side {} --k500-side {}{} --fmax-mhz {} --seed {}{} --out-dir {}",
         list(&args.photons),
         list(&args.k500_photons),
         args.paper_photons,
         args.side,
         args.k500_side,
+        args.cache_lines
+            .map_or(String::new(), |n| format!(" --cache-lines {n}")),
         args.fmax_mhz,
         args.seed,
         if args.no_cpu { " --no-cpu" } else { "" },

@@ -38,6 +38,8 @@ pub struct CorePoint {
     pub order: StreamOrder,
     /// The memory's beats: one every `beat_interval` cycles at most.
     pub beat_interval: u64,
+    /// The cache's lines.
+    pub cache_lines: u32,
     pub queries: usize,
     pub reads: u64,
     /// Reads below the on-chip levels (the ones the cache serves).
@@ -94,6 +96,8 @@ pub struct PointSpec {
     pub beat_interval: u64,
     /// The image whose eye-ray hits are the queries (square).
     pub side: u32,
+    /// The cache's lines, if not the plan's.
+    pub cache_lines: Option<u32>,
 }
 
 /// The sweep: every map size at both k and both orders, and the memory's
@@ -104,6 +108,7 @@ pub fn specs(
     k500_sizes: &[usize],
     paper: usize,
     (side32, side500): (u32, u32),
+    cache_lines: Option<u32>,
 ) -> Vec<PointSpec> {
     let mut v = vec![];
     for (k, sizes, side) in [(32, sizes, side32), (500, k500_sizes, side500)] {
@@ -115,6 +120,7 @@ pub fn specs(
                     order,
                     beat_interval: 1,
                     side,
+                    cache_lines,
                 });
             }
         }
@@ -126,6 +132,7 @@ pub fn specs(
             order: StreamOrder::Morton,
             beat_interval,
             side: side32,
+            cache_lines,
         });
     }
     v
@@ -156,7 +163,11 @@ pub fn measure(p: &PointSpec, seed: u64, cpu: bool) -> Result<CorePoint> {
         map.len(),
         map.layout.word_bits(),
         &ECP5_85K,
-    )?
+    )?;
+    let cfg = match p.cache_lines {
+        Some(n) => cfg.cache_lines(Some(n)),
+        None => cfg,
+    }
     .build_for(map)?;
     let on_chip = cfg
         .memory_layout()
@@ -202,6 +213,7 @@ pub fn measure(p: &PointSpec, seed: u64, cpu: bool) -> Result<CorePoint> {
         k: p.k,
         order: p.order,
         beat_interval: p.beat_interval,
+        cache_lines: cfg.memory.map_or(0, |m| m.cache_lines),
         queries: queries.len(),
         reads: run.reads(),
         cached_reads,

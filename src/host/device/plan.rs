@@ -50,6 +50,13 @@ pub struct Device {
     /// split bank ports (yosys counts of the crossbar alone, see each device).
     pub crossbar_luts_shared: f64,
     pub crossbar_luts_split: f64,
+    /// The external-memory cache's logic cells per line and per cache bank: each
+    /// line's valid, filling and used bits are flip-flops beside its bank, with
+    /// the logic that reads and updates them, and each bank has its miss register,
+    /// tag compare and fill request (`hw::memory::cache_bank`), so the cache costs
+    /// logic as well as BlockRAM.
+    pub cache_line_luts: f64,
+    pub cache_bank_luts: f64,
 }
 
 impl Device {
@@ -83,7 +90,18 @@ pub const ECP5_85K: Device = Device {
     datapath_luts: 7_930,
     crossbar_luts_shared: ECP5_XBAR_SHARED,
     crossbar_luts_split: ECP5_XBAR_SPLIT,
+    cache_line_luts: ECP5_CACHE_LINE,
+    cache_bank_luts: ECP5_CACHE_BANK,
 };
+
+/// The ECP5 cache's logic: two external-memory cores, D = 4 on 16 cache banks,
+/// synthesised as the banked rows are (Debian yosys `synth_ecp5` without its
+/// share pass) and packed by nextpnr-ecp5, with 2,048 lines (90,558 LUT4s) and
+/// with 1,024 (77,654): the difference per line; the rest beyond the banked D = 4
+/// core without a cache (39,471 LUT4s, synth/REPORT.md) and beyond those lines,
+/// per bank. docs/MEMORY_CORE.md ("What fits").
+const ECP5_CACHE_LINE: f64 = (90_558.0 - 77_654.0) / 1_024.0;
+const ECP5_CACHE_BANK: f64 = (77_654.0 - 39_471.0 - 1_024.0 * ECP5_CACHE_LINE) / 16.0;
 
 /// The ECP5 crossbar per requester and bank: Debian yosys `synth_ecp5` (coarse
 /// step without share, as synth/report.py does for banked rows) of the crossbar
@@ -106,6 +124,10 @@ pub const XC6VSX475T: Device = Device {
     datapath_luts: 3_654 + 4 * 254,
     crossbar_luts_shared: 16_125.0 / 256.0,
     crossbar_luts_split: 6_639.0 / 256.0,
+    // Not synthesised for the Virtex-6: the ECP5's counts of 4-input LUTs, an
+    // upper bound for the same logic in 6-input LUTs.
+    cache_line_luts: ECP5_CACHE_LINE,
+    cache_bank_luts: ECP5_CACHE_BANK,
 };
 
 /// What the plan is asked to respect.
@@ -122,6 +144,9 @@ pub struct Limits {
     /// Share of the device's logic the datapaths and the crossbar may take (the
     /// rest: the result path, the load path and the I/O).
     pub logic_share: f64,
+    /// Share of the device's logic an external-memory core may take in all, its
+    /// cache included (the memory core placed on the ECP5-85k takes 92 %).
+    pub device_share: f64,
 }
 
 impl Default for Limits {
@@ -132,6 +157,7 @@ impl Default for Limits {
             max_banks: 1024,
             max_datapaths: 2 * MAX_BANKED_TREES as u32,
             logic_share: 0.6,
+            device_share: 0.95,
         }
     }
 }
@@ -357,11 +383,21 @@ fn cache_brams(dev: &Device, lines: u32, b: u32) -> u32 {
     (2 * per_copy) << b
 }
 
+/// Logic of an external-memory core of `d` datapaths with `lines` cache lines
+/// over `2^b` banks: the datapaths, the split-port crossbar and the cache.
+fn cache_logic(dev: &Device, d: u32, lines: u32, b: u32) -> f64 {
+    f64::from(d * dev.datapath_luts)
+        + dev.crossbar_luts(d, 1 << b, BankPorts::Split) as f64
+        + dev.cache_bank_luts * f64::from(1u32 << b)
+        + dev.cache_line_luts * f64::from(lines)
+}
+
 /// The external-memory core for `photons` photons of `word_bits` bits on `dev`:
 /// the most datapaths (two a replica, at most `2^b / banks_per_datapath` for `2^b`
 /// cache banks, within the logic budget beside a split-port crossbar), then the
-/// most cache lines the BlockRAM left holds (a power of two, at most 256 a bank
-/// and 4,096 in all: `ExternalMemory::check`); refused only for a map beyond
+/// most cache lines the BlockRAM left and the logic budget hold (a line's state
+/// bits cost [`Device::cache_line_luts`]; a power of two, at most 256 a bank and
+/// 4,096 in all: `ExternalMemory::check`); refused only for a map beyond
 /// [`MEMORY_MAP_LIMIT`] or a word the cache cannot flag.
 pub fn plan_memory(
     photons: usize,
@@ -398,7 +434,11 @@ pub fn plan_memory(
             d -= 2;
         }
         // The largest cache beside the datapaths, from one line a bank up.
-        let fits = |lines: u32| cache_brams(dev, lines, b) + d * per_dp <= dev.brams;
+        // ... in the BlockRAM left, and with its logic in the device's.
+        let fits = |lines: u32| {
+            cache_brams(dev, lines, b) + d * per_dp <= dev.brams
+                && cache_logic(dev, d, lines, b) <= dev.luts as f64 * lim.device_share
+        };
         let mut lines = banks;
         if d < lim.min_datapaths.max(1) || !fits(lines) {
             continue;
@@ -447,17 +487,26 @@ mod tests {
             let brams = |words: u32| 2 * banks * (words.div_ceil(dev.shape.0) + 1);
             assert_eq!(p.cache_brams, brams(words_per_bank));
             assert!(p.cache_brams + p.datapath_brams <= dev.brams, "{p:?}");
-            let doubled = brams(2 * words_per_bank) + p.datapath_brams > dev.brams;
-            assert!(doubled || p.cache_lines == 4096 || p.cache_lines / banks == 256);
+            // Logic: the datapaths, the crossbar, each bank's and each line's state.
+            let budget = dev.luts as f64 * lim.device_share;
+            let logic = |lines: u32| {
+                (p.datapath_luts + p.crossbar_luts) as f64
+                    + f64::from(banks) * dev.cache_bank_luts
+                    + f64::from(lines) * dev.cache_line_luts
+            };
+            assert!(logic(p.cache_lines) <= budget, "{p:?}");
             assert!(
                 (p.datapath_luts + p.crossbar_luts) as f64 <= dev.luts as f64 * lim.logic_share
             );
+            let doubled = brams(2 * words_per_bank) + p.datapath_brams > dev.brams
+                || logic(2 * p.cache_lines) > budget;
+            assert!(doubled || p.cache_lines == 4096 || p.cache_lines / banks == 256);
         }
         // The ECP5-85k's: the core docs/MEMORY_CORE.md measures.
         let e = plan_memory(1_945_886, 32, &ECP5_85K, &lim).unwrap();
         assert_eq!(
             (e.datapaths, e.bank_bits, e.cache_lines, e.replicated_levels),
-            (4, 4, 2048, 9)
+            (4, 4, 1024, 9)
         );
         let err = plan_memory(1 << 24, 32, &ECP5_85K, &lim).unwrap_err();
         assert!(
