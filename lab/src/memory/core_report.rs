@@ -5,7 +5,7 @@
 use super::core_sweep::{CorePoint, PORT_BYTES};
 use crate::cli::bench_core::StreamOrder;
 use crate::study::plot_axes::{count, log_ticks, trim, Ticked};
-use crate::study::plots::{legend, png, Area, Drawn, COLORS, FONT};
+use crate::study::plots::{chart_on, legend, png, Area, Drawn, COLORS, FONT};
 use photon_fpga::host::error::Result;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
@@ -197,15 +197,10 @@ fn panel(
         0.0..hi * 1.1
     };
     let y1 = points.iter().map(|p| y(p)).fold(0.0, f64::max) * 1.25;
-    let mut chart = ChartBuilder::on(area)
-        .caption(title, (FONT, 16))
-        .margin(12)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d(
-            Ticked::<RangedCoordf64>::new(range, bold, light),
-            0.0..y1.max(1e-9),
-        )?;
+    let mut chart = chart_on(area, title).build_cartesian_2d(
+        Ticked::<RangedCoordf64>::new(range, bold, light),
+        0.0..y1.max(1e-9),
+    )?;
     chart
         .configure_mesh()
         .x_label_formatter(&|v| {

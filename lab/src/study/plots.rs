@@ -52,6 +52,20 @@ fn register_font() {
     });
 }
 
+/// A chart on `area` in the plots' style: `title` above, the margins and label
+/// areas every panel here has; the caller builds its axes.
+pub fn chart_on<'a, 'b>(
+    area: &'a Area<'b>,
+    title: &str,
+) -> ChartBuilder<'a, 'a, BitMapBackend<'b>> {
+    let mut b = ChartBuilder::on(area);
+    b.caption(title.to_string(), (FONT, 16))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(70);
+    b
+}
+
 /// Draw a `w` x `h` PNG at `path`.
 pub fn png(path: &Path, w: u32, h: u32, draw: impl FnOnce(&Area) -> Drawn) -> Result<()> {
     register_font();
@@ -102,15 +116,10 @@ fn exact_panel(
     ms.dedup();
     let top = s.points.iter().map(|p| p.m).max().unwrap_or(1).max(1) as f64;
     let ticks: Vec<f64> = ms.iter().map(|&m| m as f64).collect();
-    let mut chart = ChartBuilder::on(area)
-        .caption(title, (FONT, 16))
-        .margin(12)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d(
-            Ticked::<RangedCoordf64>::new(-0.02 * top..top * 1.04, ticks, vec![]),
-            y_range.0..y_range.1,
-        )?;
+    let mut chart = chart_on(area, title).build_cartesian_2d(
+        Ticked::<RangedCoordf64>::new(-0.02 * top..top * 1.04, ticks, vec![]),
+        y_range.0..y_range.1,
+    )?;
     chart
         .configure_mesh()
         .x_label_formatter(&|x| trim(*x))
