@@ -59,7 +59,7 @@ pub fn chart_on<'a, 'b>(
     title: &str,
 ) -> ChartBuilder<'a, 'a, BitMapBackend<'b>> {
     let mut b = ChartBuilder::on(area);
-    b.caption(title.to_string(), (FONT, 16))
+    b.caption(title, (FONT, 16))
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(70);
