@@ -376,7 +376,7 @@ fn core_point() -> photon_fpga_lab::memory::core_sweep::CorePoint {
         emitted: 1_000,
         photons: 1_950,
         k: 32,
-        order: photon_fpga_lab::cli::bench_core::StreamOrder::Morton,
+        order: photon_fpga_lab::banking::order::StreamOrder::Morton,
         beat_interval: 2,
         cache_lines: 1_024,
         queries: 1_000,

@@ -112,3 +112,26 @@ pub fn hilbert(c: [u32; 3], bits: u32) -> u64 {
     }
     morton(x, bits)
 }
+
+/// The order in which the queries go to the core (and to kiddo): the workload's
+/// own, or sorted along a space-filling curve of their grid points, which a cache
+/// of the map rewards (docs/MEMORY.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum StreamOrder {
+    /// As the workload makes them (an image's in pixel order).
+    Given,
+    /// Z-order of the grid points.
+    Morton,
+    /// Hilbert order of the grid points.
+    Hilbert,
+}
+
+/// Put `queries` (grid points of `bits`-bit coordinates) in `order`; ties keep
+/// the given order.
+pub fn order_queries(queries: &mut [[u32; 3]], order: StreamOrder, bits: u32) {
+    match order {
+        StreamOrder::Given => {}
+        StreamOrder::Morton => queries.sort_by_key(|&c| morton(c, bits)),
+        StreamOrder::Hilbert => queries.sort_by_key(|&c| hilbert(c, bits)),
+    }
+}

@@ -2,6 +2,7 @@
 //! against the software search, with reads per cycle and per query, and (on request)
 //! kiddo and the software search timed on the same queries.
 
+use crate::banking::order::{order_queries, StreamOrder};
 use clap::{Args, ValueEnum};
 use photon_fpga::cli::core_args::CoreArgs;
 use photon_fpga::host::error::{Error, Result};
@@ -13,19 +14,6 @@ use photon_fpga::hw::sim::native::{Engine, SimOptions};
 /// Final-gather rays per eye hit of the `two-pass` workload: the render's default
 /// (`render --gather-rays`).
 const FINAL_GATHER_RAYS: u32 = 16;
-
-/// The order in which the queries go to the core (and to kiddo): the workload's
-/// own, or sorted along a space-filling curve of their grid points, which a cache
-/// of the map rewards (docs/MEMORY.md).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum StreamOrder {
-    /// As the workload makes them (an image's in pixel order).
-    Given,
-    /// Z-order of the grid points.
-    Morton,
-    /// Hilbert order of the grid points.
-    Hilbert,
-}
 
 /// The query streams `bench-core` can run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -420,15 +408,4 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// Put `queries` (grid points of `bits`-bit coordinates) in `order`; ties keep
-/// the given order.
-pub fn order_queries(queries: &mut [[u32; 3]], order: StreamOrder, bits: u32) {
-    use crate::banking::order::{hilbert, morton};
-    match order {
-        StreamOrder::Given => {}
-        StreamOrder::Morton => queries.sort_by_key(|&c| morton(c, bits)),
-        StreamOrder::Hilbert => queries.sort_by_key(|&c| hilbert(c, bits)),
-    }
 }

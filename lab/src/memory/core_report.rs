@@ -3,7 +3,7 @@
 //! kiddo's (measured in the same run) and the clock (given, and labelled so).
 
 use super::core_sweep::{CorePoint, PORT_BYTES};
-use crate::cli::bench_core::StreamOrder;
+use crate::banking::order::StreamOrder;
 use crate::study::plot_axes::{count, log_ticks, trim, Ticked};
 use crate::study::plots::{chart_on, legend, png, Area, Drawn, COLORS, FONT};
 use photon_fpga::host::error::Result;

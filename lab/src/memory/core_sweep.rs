@@ -5,8 +5,8 @@
 //! timed on the same map and queries in the same run. What `photon-fpga-lab
 //! memory-core` writes to docs/memory_core.{csv,md} and its two plots.
 
+use crate::banking::order::{order_queries, StreamOrder};
 use crate::banking::stream::read_stream;
-use crate::cli::bench_core::{order_queries, StreamOrder};
 use crate::core_run::run_checked;
 use crate::cpu_ref;
 use crate::workload;
