@@ -18,8 +18,11 @@
 //! forever (each fill replaced before its reader's next try), and the reader of a
 //! filled line always comes back for it (its slot wakes when the fill is done).
 //!
-//! The valid and filling bits are flip-flops (a bank holds at most
-//! [`MAX_BANK_LINES`] lines); each port has its own copy of the words and tags.
+//! The valid, filling and used bits are flip-flops (a bank holds at most
+//! [`MAX_BANK_LINES`] lines); the bits of lines the bank does not have are held at
+//! 0 on their inputs, so synthesis drops them and the logic that reads them (the
+//! masks' width is fixed, the bank's lines are not). Each port has its own copy
+//! of the words and tags.
 
 use crate::hw::config::core_config::Addr;
 use crate::hw::memory::block_map::MemoryWord;
@@ -57,6 +60,8 @@ pub struct CacheBank {
     bank_mask: Constant<Addr>,
     line_mask: Constant<Addr>,
     offset_mask: Constant<Addr>,
+    /// One bit for each line the bank has.
+    lines_held: Constant<LineMask>,
     ports: Vec<CachePort>,
     valid: DFF<LineMask>,
     filling: DFF<LineMask>,
@@ -116,6 +121,9 @@ impl CacheBank {
             bank_mask: Constant::new(Addr::from((1u64 << bank_bits) - 1)),
             line_mask: Constant::new(Addr::from((lines as u64) - 1)),
             offset_mask: Constant::new(Addr::from((1u64 << block_levels) - 1)),
+            lines_held: Constant::new(
+                (0..lines).fold(LineMask::default(), |m, i| m.replace_bit(i, true)),
+            ),
             ports: (0..ports)
                 .map(|_| CachePort::new(bank, bank_bits, line_bits, block_levels, word_bits))
                 .collect(),
@@ -236,9 +244,9 @@ impl Logic for CacheBank {
                 self.miss_tag.d.next = self.ports[p].miss_tag.val();
             }
         }
-        self.valid.d.next = self.next_valid.val();
-        self.filling.d.next = self.next_filling.val();
-        self.used.d.next = self.next_used.val();
+        self.valid.d.next = self.next_valid.val() & self.lines_held.val();
+        self.filling.d.next = self.next_filling.val() & self.lines_held.val();
+        self.used.d.next = self.next_used.val() & self.lines_held.val();
         self.miss_valid.d.next = self.next_miss.val();
         if self.reset.val() {
             self.valid.d.next = 0.into();
