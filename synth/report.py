@@ -216,12 +216,13 @@ CONFIGS = [
     # banks become a cache of 1,024 lines of 4-level blocks, the ECP5-85k's plan
     # (2,048 lines fit its DP16KDs but not its LUT4s: each line's state bits are
     # logic), the replicas keep the top 9 levels; the memory is the modelled DDR3
-    # of an ECP5-85k board. The whole 256 x 256 image's queries, in the Morton
-    # order the renderer sends them.
-    Config("external memory D=4, K=32 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, Cornell 1.9 M photons)",
+    # of an ECP5-85k board behind its controller's 64-bit port (two photon words
+    # a beat). The whole 256 x 256 image's queries, in the Morton order the
+    # renderer sends them.
+    Config("external memory D=4, K=32 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, 64-bit memory, Cornell 1.9 M photons)",
            {**BANKED, "address_bits": 21, "replicas": 2, "replicated_levels": 9, "cache_lines": 1024},
            {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton"}),
-    Config("external memory D=4, K=500 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, Cornell 1.9 M photons)",
+    Config("external memory D=4, K=500 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, 64-bit memory, Cornell 1.9 M photons)",
            {**BANKED, "k": 500, "address_bits": 21, "replicas": 2, "replicated_levels": 9,
             "cache_lines": 1024},
            {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton"},

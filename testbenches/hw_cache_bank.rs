@@ -4,10 +4,12 @@
 //! answers with latency and random pauses. A hit must be the image's word of the
 //! row's block (never another block's that shares the line, never a line being
 //! filled); every read must hit within a bound (the miss was fetched); lines
-//! are replaced as blocks that share them are read.
+//! are replaced as blocks that share them are read. Run with one photon word a
+//! memory beat and with two (a 64-bit memory: each RAM word a pair).
 
 use crate::common::{rng, settle};
 use photon_fpga::hw::memory::cache_bank::CacheBank;
+use photon_fpga::hw::memory::cache_port::LineShape;
 use photon_fpga::hw::memory::line_fill::LineFill;
 use photon_fpga::hw::sim::axi_memory::{AxiBurst, AxiMemory, AxiTiming};
 use rand::Rng;
@@ -28,21 +30,41 @@ fn row(block: u64, offset: u64) -> u64 {
     (tag << (LINE_BITS + S)) | (line << S) | offset
 }
 
+/// The line of `2^lane_shift` 32-bit words a beat.
+fn shape(lane_shift: u32) -> LineShape {
+    LineShape {
+        block_levels: S,
+        word_bits: WORD,
+        lane_shift,
+        lane_bits: 32,
+    }
+}
+
 #[test]
 fn hits_are_the_blocks_words_and_every_read_hits_in_time() {
+    hits_are_the_blocks_words(0);
+}
+
+#[test]
+fn hits_are_the_blocks_words_with_two_words_a_beat() {
+    hits_are_the_blocks_words(1);
+}
+
+fn hits_are_the_blocks_words(lane_shift: u32) {
     let timing = AxiTiming {
         latency: 14,
         extra_latency: 8,
         ar_pause: 0.3,
         r_pause: 0.25,
         beat_interval: 1,
+        sustained_bytes: 0.0,
         seed: 3,
     };
     let mut r = rng(17);
     let image: Vec<u64> = (0..BLOCKS << S).map(|_| r.gen::<u32>() as u64).collect();
     let mut memory = AxiMemory::from_words(&image, 4, timing);
-    let mut fill = LineFill::<32>::new(0, 4 << S);
-    let mut bank = CacheBank::new(BANK as u32, BANK_BITS, 1 << LINE_BITS, S, 2, WORD);
+    let mut fill = LineFill::<64>::new(0, 4 << S, 4 << lane_shift);
+    let mut bank = CacheBank::new(BANK as u32, BANK_BITS, 1 << LINE_BITS, 2, shape(lane_shift));
     fill.connect_all();
     bank.connect_all();
     check_all(&fill).expect("LineFill checks");
@@ -161,7 +183,7 @@ fn hits_are_the_blocks_words_and_every_read_hits_in_time() {
 )]
 fn exported_verilog_lints() {
     use photon_fpga::hw::export::verilog::export_block;
-    let e = export_block(CacheBank::new(BANK as u32, BANK_BITS, 256, S, 2, WORD)).unwrap();
+    let e = export_block(CacheBank::new(BANK as u32, BANK_BITS, 256, 2, shape(1))).unwrap();
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("top.v"), &e.verilog).unwrap();
     crate::common::lint_top(dir.path());

@@ -41,7 +41,7 @@ fn run<const D: usize>(
     if let Some(b) = fault {
         memory.fail_at(base + b * block_bytes);
     }
-    let mut uut = LineFill::<D>::new(base, block_bytes);
+    let mut uut = LineFill::<D>::new(base, block_bytes, D as u64 / 8);
     let mut recorder = record.then(Recorder::default);
     uut.connect_all();
     check_all(&uut).expect("LineFill checks");
@@ -149,6 +149,7 @@ fn fills_arrive_whole_and_in_order_through_a_slow_paused_memory() {
             ar_pause: 0.3,
             r_pause: 0.3,
             beat_interval: seed,
+            sustained_bytes: 0.0,
             seed,
         };
         assert!(!run::<32>(64, 300, timing, None, false).0);
@@ -177,13 +178,14 @@ fn exported_verilog_lints_and_replays_cycle_for_cycle() {
         ar_pause: 0.3,
         r_pause: 0.3,
         beat_interval: 1,
+        sustained_bytes: 0.0,
         seed: 5,
     };
     let (failed, run) = run::<64>(64, 120, timing, None, true);
     assert!(!failed);
     let run = run.expect("recorded");
     // The same block as the run's: 64-byte blocks from byte 4 x 64.
-    let e = export_block(LineFill::<64>::new(256, 64)).unwrap();
+    let e = export_block(LineFill::<64>::new(256, 64, 8)).unwrap();
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("top.v"), &e.verilog).unwrap();
     lint_top(dir.path());

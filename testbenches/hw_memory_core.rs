@@ -17,12 +17,13 @@ use photon_fpga::hw::sim::axi_memory::AxiTiming;
 use photon_fpga::hw::sim::native::{run_gather, CoreSim, SimOptions};
 
 /// A memory core for `tree`: `replicas` replicas of `levels` levels, 2^`bank_bits`
-/// cache banks of `lines` lines in all.
+/// cache banks of `lines` lines in all, a memory of `data_bits`-bit beats.
 fn in_memory(
     tree: &photon_fpga::host::map::kdtree::PackedTree,
     k: usize,
     metric: Metric,
     (replicas, bank_bits, levels, ports, lines): (usize, u32, u32, BankPorts, u32),
+    data_bits: u32,
 ) -> CoreConfig {
     CoreConfig::builder()
         .k(k)
@@ -37,6 +38,7 @@ fn in_memory(
             mapping: BankMapping::Xor,
         }))
         .cache_lines(Some(lines))
+        .memory_data_bits(Some(data_bits))
         .build_for(tree.image())
         .expect("a memory core within the limits")
 }
@@ -49,6 +51,7 @@ fn unsteady(seed: u64) -> AxiTiming {
         ar_pause: 0.3,
         r_pause: 0.3,
         beat_interval: 1,
+        sustained_bytes: 0.0,
         seed,
     }
 }
@@ -57,24 +60,26 @@ fn unsteady(seed: u64) -> AxiTiming {
 fn memory_core_matches_software_search() {
     let layout = PhotonLayout::new([7, 7, 6]);
     let cases = [
-        // (metric, k, (replicas, bank bits, on-chip levels, ports, cache lines), seed)
+        // (metric, k, (replicas, bank bits, on-chip levels, ports, cache lines),
+        // memory data bits (one or two photon words a beat), seed)
         (
             Metric::L2,
             6,
             (1usize, 2u32, 4u32, BankPorts::One, 8u32),
+            32u32,
             61u64,
         ),
-        (Metric::L1, 5, (2, 2, 5, BankPorts::Shared, 16), 62),
-        (Metric::L2, 8, (2, 3, 3, BankPorts::Split, 64), 63),
+        (Metric::L1, 5, (2, 2, 5, BankPorts::Shared, 16), 64, 62),
+        (Metric::L2, 8, (2, 3, 3, BankPorts::Split, 64), 32, 63),
         // Found lists as heaps (K > 64).
-        (Metric::L2, 70, (1, 2, 4, BankPorts::Shared, 32), 64),
+        (Metric::L2, 70, (1, 2, 4, BankPorts::Shared, 32), 64, 64),
     ];
-    for (metric, k, shape, seed) in cases {
+    for (metric, k, shape, data_bits, seed) in cases {
         let mut r = rng(seed);
         let mut points = random_points(&mut r, 700, layout);
         points.extend(vec![[5, 6, 7]; 20]);
         let tree = pack(&points, layout);
-        let cfg = in_memory(&tree, k, metric, shape);
+        let cfg = in_memory(&tree, k, metric, shape, data_bits);
         let queries = queries_for(&mut r, &points, layout, metric, k);
         // The unsteady memory and stalls on every stream (the default memory,
         // prompt, runs in `memory_core_second_map`).
@@ -100,7 +105,7 @@ fn memory_core_second_map() {
     let first = random_points(&mut r, 900, layout);
     let second = random_points(&mut r, 700, layout);
     let (t1, t2) = (pack(&first, layout), pack(&second, layout));
-    let cfg = in_memory(&t1, 5, metric, (1, 2, 4, BankPorts::Split, 16));
+    let cfg = in_memory(&t1, 5, metric, (1, 2, 4, BankPorts::Split, 16), 64);
     let q1 = queries_for(&mut r, &first, layout, metric, 5);
     let q2 = queries_for(&mut r, &second, layout, metric, 5);
     let mut sim = CoreSim::new(&cfg, &stalls(66)).unwrap();
@@ -121,7 +126,7 @@ fn memory_core_under_verilator_equals_the_native_simulation() {
     let mut r = rng(67);
     let points = random_points(&mut r, 900, layout);
     let tree = pack(&points, layout);
-    let cfg = in_memory(&tree, 6, Metric::L2, (2, 2, 4, BankPorts::Split, 16));
+    let cfg = in_memory(&tree, 6, Metric::L2, (2, 2, 4, BankPorts::Split, 16), 64);
     let queries = queries_for(&mut r, &points, layout, Metric::L2, 6);
     let run = |engine| {
         let opts = SimOptions {

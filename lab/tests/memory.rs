@@ -370,13 +370,15 @@ fn the_memory_command_writes_its_report_and_refuses_bad_options() {
 
 /// A point of the external-memory core's sweep with round counts: 1,000 queries,
 /// 100,000 reads (50,000 below the on-chip levels) in 40,000 cycles, 1,000 line
-/// fills of 16 beats, 17 result beats a query, at half the port's bandwidth.
+/// fills of 16 beats of 4 bytes, 17 result beats a query, at half the port's
+/// bandwidth.
 fn core_point() -> photon_fpga_lab::memory::core_sweep::CorePoint {
     photon_fpga_lab::memory::core_sweep::CorePoint {
         emitted: 1_000,
         photons: 1_950,
         k: 32,
         order: photon_fpga_lab::banking::order::StreamOrder::Morton,
+        beat_bytes: 4,
         beat_interval: 2,
         cache_lines: 1_024,
         queries: 1_000,
@@ -417,10 +419,25 @@ fn the_memory_core_sweep_derives_its_figures_from_the_counts() {
     let c = csv(std::slice::from_ref(&p));
     assert_eq!(
         c.lines().nth(1),
-        Some("1000,1950,32,Morton,2,1024,1000,100000,50000,40000,1000,16000,17000,50000,90000,2")
+        Some("1000,1950,32,Morton,2,1024,1000,100000,50000,40000,1000,16000,17000,50000,90000,2,4")
     );
-    // The CSV renders the table and plots again: it holds every count.
-    assert_eq!(parse_csv(&c), Some(vec![p]));
+    // The CSV renders the table and plots again: it holds every count; one
+    // without the beat's bytes is of 4-byte beats.
+    assert_eq!(parse_csv(&c), Some(vec![p.clone()]));
+    let old = c.replace(",2,4\n", ",2\n").replace(",beat_bytes", "");
+    assert_eq!(parse_csv(&old), Some(vec![p.clone()]));
+    // 8-byte beats at the DRAM's sustained 6.4 bytes a cycle: a beat a cycle.
+    let wide = photon_fpga_lab::memory::core_sweep::CorePoint {
+        beat_bytes: 8,
+        beat_interval: 1,
+        ..p.clone()
+    };
+    assert_eq!(wide.bytes_per_cycle(), 6.4);
+    assert_eq!(wide.dram_bytes_per_query(), 128.0);
+    assert_eq!(
+        parse_csv(&csv(std::slice::from_ref(&wide))),
+        Some(vec![wide])
+    );
     assert_eq!(parse_csv("header\n1,2,3\n"), None);
     assert!(t.contains("cache of 1024 lines"), "{t}");
 }

@@ -243,6 +243,25 @@ fn what_the_banked_core_cannot_build_is_refused() {
         ]),
         "the largest that fits is 16777215 photons",
     );
+    // The memory's data width: one or two photon words a beat, and only with a
+    // memory.
+    refused(
+        dir.path(),
+        &export(&[
+            "--banks",
+            "4",
+            "--cache-lines",
+            "16",
+            "--memory-data-bits",
+            "48",
+        ]),
+        "memory_data_bits = 48: one or two 32-bit photon words a beat",
+    );
+    refused(
+        dir.path(),
+        &export(&["--banks", "4", "--memory-data-bits", "32"]),
+        "--cache-lines",
+    );
     // Result streams split the datapaths evenly (four here: 1, 2 or 4 streams).
     refused(
         dir.path(),

@@ -22,8 +22,6 @@ use photon_fpga::hw::sim::driver::HwQuery;
 use photon_fpga::hw::sim::native::{Engine, SimOptions};
 use std::time::Duration;
 
-/// Bytes of one beat of the core's memory port (a photon word).
-pub const PORT_BYTES: u64 = 4;
 /// Bytes of a query beat and of a result beat on the AXI4-Stream top (its
 /// tdata layout, docs/AXIS.md): what the host link carries per query.
 pub const QUERY_BEAT_BYTES: u64 = 16;
@@ -36,7 +34,9 @@ pub struct CorePoint {
     pub photons: usize,
     pub k: usize,
     pub order: StreamOrder,
-    /// The memory's beats: one every `beat_interval` cycles at most.
+    /// The memory's beats: `beat_bytes` each (its data width), one every
+    /// `beat_interval` cycles at most.
+    pub beat_bytes: u64,
     pub beat_interval: u64,
     /// The cache's lines.
     pub cache_lines: u32,
@@ -55,8 +55,11 @@ pub struct CorePoint {
 }
 
 impl CorePoint {
+    /// The memory's bandwidth: its beats' rate, at most the DRAM's sustained
+    /// rate (`AxiTiming::ecp5_ddr3`).
     pub fn bytes_per_cycle(&self) -> f64 {
-        PORT_BYTES as f64 / self.beat_interval as f64
+        (self.beat_bytes as f64 / self.beat_interval as f64)
+            .min(AxiTiming::ecp5_ddr3().sustained_bytes)
     }
     pub fn reads_per_cycle(&self) -> f64 {
         self.reads as f64 / self.cycles.max(1) as f64
@@ -69,12 +72,12 @@ impl CorePoint {
         1.0 - self.fills as f64 / self.cached_reads.max(1) as f64
     }
     pub fn dram_bytes_per_query(&self) -> f64 {
-        (self.beats * PORT_BYTES) as f64 / self.queries.max(1) as f64
+        (self.beats * self.beat_bytes) as f64 / self.queries.max(1) as f64
     }
-    /// The share of the memory's bandwidth used: beats taken against the beats
-    /// it could give (one every `beat_interval` cycles).
+    /// The share of the memory's bandwidth used: bytes taken against the bytes
+    /// it could give.
     pub fn channel_busy(&self) -> f64 {
-        (self.beats * self.beat_interval) as f64 / self.cycles.max(1) as f64
+        (self.beats * self.beat_bytes) as f64 / (self.cycles.max(1) as f64 * self.bytes_per_cycle())
     }
     /// Queries/s at `mhz`.
     pub fn queries_per_s(&self, mhz: f64) -> f64 {
@@ -212,6 +215,7 @@ pub fn measure(p: &PointSpec, seed: u64, cpu: bool) -> Result<CorePoint> {
         photons: w.tree.len(),
         k: p.k,
         order: p.order,
+        beat_bytes: cfg.memory.map_or(0, |m| u64::from(m.data_bits / 8)),
         beat_interval: p.beat_interval,
         cache_lines: cfg.memory.map_or(0, |m| m.cache_lines),
         queries: queries.len(),

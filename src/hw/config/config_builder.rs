@@ -38,8 +38,10 @@ pub struct CoreBuilder {
     bank_mapping: BankMapping,
     result_streams: usize,
     radius_bits: Option<u32>,
-    /// With banks: the external memory's cache lines (None: the map on chip).
+    /// With banks: the external memory's cache lines (None: the map on chip)
+    /// and its data width (None: the default).
     cache_lines: Option<u32>,
+    memory_data_bits: Option<u32>,
 }
 
 impl Default for CoreBuilder {
@@ -62,6 +64,7 @@ impl Default for CoreBuilder {
             result_streams: 1,
             radius_bits: None,
             cache_lines: None,
+            memory_data_bits: None,
         }
     }
 }
@@ -146,6 +149,15 @@ impl CoreBuilder {
     pub fn cache_lines(self, cache_lines: Option<u32>) -> Self {
         CoreBuilder {
             cache_lines,
+            ..self
+        }
+    }
+
+    /// With `cache_lines`, the memory's AXI4 data width in bits (`None`: the
+    /// default, [`ExternalMemory::new`]).
+    pub fn memory_data_bits(self, memory_data_bits: Option<u32>) -> Self {
+        CoreBuilder {
+            memory_data_bits,
             ..self
         }
     }
@@ -271,6 +283,15 @@ impl CoreBuilder {
         if b.cache_lines.is_some() {
             out = out.cache_lines(b.cache_lines);
         }
+        match (b.memory_data_bits, b.cache_lines) {
+            (Some(d), None) => {
+                return fail(format!(
+                    "memory_data_bits = {d} without cache_lines: only an external memory has a \
+                     data width"
+                ))
+            }
+            (d, _) => out = out.memory_data_bits(d),
+        }
         Ok(out)
     }
 
@@ -343,7 +364,10 @@ impl CoreBuilder {
             }),
             result_streams: self.result_streams,
             radius_bits: self.radius_bits,
-            memory: self.cache_lines.map(ExternalMemory::new),
+            memory: self.cache_lines.map(|l| {
+                let m = ExternalMemory::new(l);
+                self.memory_data_bits.map_or(m, |d| m.with_data_bits(d))
+            }),
         };
         cfg.queries_per_port = match self.given_queries_per_port() {
             Some(q) => q,
@@ -382,6 +406,7 @@ impl From<CoreConfig> for CoreBuilder {
             result_streams: cfg.result_streams,
             radius_bits: cfg.radius_bits,
             cache_lines: cfg.memory.map(|m| m.cache_lines),
+            memory_data_bits: cfg.memory.map(|m| m.data_bits),
         }
         .queries_per_port(cfg.queries_per_port)
         .banking(cfg.banking)

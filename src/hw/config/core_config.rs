@@ -382,7 +382,7 @@ impl CoreConfig {
                     m.cache_lines
                 )));
             };
-            m.check(b.bank_bits, self.address_bits)?;
+            m.check(b.bank_bits, self.address_bits, self.word_width())?;
             if self.layout.word_bits() >= MAX_WORD_BITS {
                 return Err(HwError::Config(format!(
                     "coordinate widths {b:?} with external memory: a {}-bit photon word leaves no \
@@ -570,8 +570,9 @@ impl std::fmt::Display for CoreConfig {
         if let Some(m) = self.memory {
             write!(
                 f,
-                ", the levels below in external memory behind {} cache lines of {}-level blocks",
-                m.cache_lines, m.block_levels
+                ", the levels below in external memory ({}-bit beats) behind {} cache lines of \
+                 {}-level blocks",
+                m.data_bits, m.cache_lines, m.block_levels
             )?;
         }
         if self.result_streams != 1 {

@@ -132,6 +132,14 @@ pub struct CoreBuild {
     #[cfg_attr(feature = "cli", arg(long, value_name = "LINES"))]
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cache_lines: Option<u32>,
+    /// With --cache-lines: the memory's AXI4 data width, one or two photon words
+    /// a beat (32 or 64 for 10-bit grids, 64 for wider ones) [default: 64].
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "BITS", requires = "cache_lines")
+    )]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub memory_data_bits: Option<u32>,
     /// Result streams R: the datapaths' result packets leave on R streams, D / R
     /// datapaths each (a divisor of D = 2 x --replicas with --banks, else of 2); one
     /// stream carries a beat a cycle, which about 8 busy datapaths fill at k = 32
@@ -236,6 +244,7 @@ impl From<&CoreConfig> for CoreSpec {
                 bank_ports: c.banking.map(|b| b.ports),
                 bank_map: c.banking.map(|b| b.mapping),
                 cache_lines: c.memory.map(|m| m.cache_lines),
+                memory_data_bits: c.memory.map(|m| m.data_bits),
                 result_streams: Some(c.result_streams),
             },
         }

@@ -31,21 +31,47 @@ pub const MAX_CACHE_BANK_BITS: u32 = 5;
 /// costs the slot's wait.
 pub const RETRY_CYCLES: u32 = 40;
 
+/// Width of the core's AXI4 read data port (`rdata`): the widest memory data
+/// width; a narrower memory uses its low bits (the AXI4-Stream top exposes only
+/// those).
+pub const MEMORY_PORT_BITS: usize = 64;
+
+/// The memory's data width unless a core names one: the native port of both
+/// modelled memories' controllers (docs/MEMORY.md, "Memories modelled":
+/// LiteDRAM's 16-bit DDR3 at 1:2 gives 64 bits a controller cycle on the ECP5
+/// boards; MIG's 64-bit DDR3 more), so a block of `2^s` narrow photon words
+/// comes in half as many beats as one word a beat would take.
+pub const DEFAULT_MEMORY_DATA_BITS: u32 = 64;
+
 /// The external-memory store: the cache's lines (all banks together, each bank
-/// the lines whose index is its own modulo B) and the levels per block.
+/// the lines whose index is its own modulo B), the levels per block and the
+/// memory's data width (AXI4 `rdata` bits: one or two photon words a beat).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ExternalMemory {
     pub cache_lines: u32,
     pub block_levels: u32,
+    pub data_bits: u32,
 }
 
 impl ExternalMemory {
-    /// A cache of `cache_lines` lines of [`MEMORY_BLOCK_LEVELS`]-level blocks.
+    /// A cache of `cache_lines` lines of [`MEMORY_BLOCK_LEVELS`]-level blocks,
+    /// behind a memory of [`DEFAULT_MEMORY_DATA_BITS`].
     pub fn new(cache_lines: u32) -> Self {
         ExternalMemory {
             cache_lines,
             block_levels: MEMORY_BLOCK_LEVELS,
+            data_bits: DEFAULT_MEMORY_DATA_BITS,
         }
+    }
+
+    /// This cache behind a memory of `data_bits`-bit beats.
+    pub fn with_data_bits(self, data_bits: u32) -> Self {
+        ExternalMemory { data_bits, ..self }
+    }
+
+    /// Photon words of `word_width` bits (the image's word: 32 or 64) a beat.
+    pub fn words_per_beat(self, word_width: usize) -> u32 {
+        (self.data_bits / word_width as u32).max(1)
     }
 
     /// Lines of each of `2^bank_bits` banks.
@@ -53,9 +79,24 @@ impl ExternalMemory {
         self.cache_lines >> bank_bits
     }
 
-    /// Check the cache for `2^bank_bits` banks and H = `address_bits`.
-    pub fn check(self, bank_bits: u32, address_bits: u32) -> Result<(), HwError> {
+    /// Check the cache for `2^bank_bits` banks, H = `address_bits` and image
+    /// words of `word_width` bits.
+    pub fn check(
+        self,
+        bank_bits: u32,
+        address_bits: u32,
+        word_width: usize,
+    ) -> Result<(), HwError> {
         let fail = |m: String| Err(HwError::Config(m));
+        let w = word_width as u32;
+        if self.data_bits != w && self.data_bits != 2 * w.min(32) {
+            return fail(format!(
+                "memory_data_bits = {}: one or two {w}-bit photon words a beat, at most \
+                 {MEMORY_PORT_BITS} bits ({})",
+                self.data_bits,
+                if w < 64 { "32 or 64" } else { "64" }
+            ));
+        }
         if bank_bits > MAX_CACHE_BANK_BITS {
             return fail(format!(
                 "{} banks with cache_lines: the cache has at most {} banks",

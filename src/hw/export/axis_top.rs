@@ -258,6 +258,7 @@ fn json_of(streams: &[StreamLayout], cfg: &CoreConfig) -> String {
                 "block_levels": m.block_levels,
                 "word_bytes": cfg.word_width() / 8,
                 "cache_lines": cfg.memory.map(|c| c.cache_lines),
+                "data_bits": cfg.memory.map(|c| c.data_bits),
             })),
         }
     });
@@ -331,15 +332,17 @@ pub fn axis_top(core: &Exported, cfg: &CoreConfig) -> Result<AxisTop, HwError> {
         );
     }
     let memory = cfg.memory_layout();
+    let data_bits = cfg.memory.map_or(0, |m| m.data_bits);
     if let Some(m) = &memory {
         v += &format!(
             "// External memory: the map's levels below the top {t} live in the memory behind\n\
-             // m_axi (AXI4 read bursts of {} bytes, one photon word a {}-bit beat, at byte 0):\n\
-             // word b*{w} + o holds word o of block b, a subtree of {s} levels (docs/MEMORY.md).\n\
+             // m_axi (AXI4 read bursts of {} bytes in {}-bit beats, at byte 0): {}-byte word\n\
+             // b*{w} + o holds word o of block b, a subtree of {s} levels (docs/MEMORY.md).\n\
              // Write that image, then stream words 1 .. {} (the on-chip levels) and one beat with\n\
              // tlast whose tdata is N, the photon count. A new map: reset first.\n",
             (cfg.word_width() / 8) << m.block_levels,
-            cfg.word_width(),
+            data_bits,
+            cfg.word_width() / 8,
             (1u64 << m.on_chip_levels) - 1,
             t = m.on_chip_levels,
             w = m.block_words(),
@@ -382,8 +385,14 @@ pub fn axis_top(core: &Exported, cfg: &CoreConfig) -> Result<AxisTop, HwError> {
     // The memory port, named as AXI4 names it.
     for p in core.ports.iter().filter(|p| p.name.starts_with("m_axi$0$")) {
         let dir = if p.input { "input " } else { "output" };
-        let range = if p.width > 1 {
-            format!("[{}:0] ", p.width - 1)
+        // The data as wide as the memory's (the core's port is the widest).
+        let width = if p.name.ends_with("$rdata") {
+            data_bits as usize
+        } else {
+            p.width
+        };
+        let range = if width > 1 {
+            format!("[{}:0] ", width - 1)
         } else {
             String::new()
         };
@@ -498,6 +507,9 @@ pub fn axis_top(core: &Exported, cfg: &CoreConfig) -> Result<AxisTop, HwError> {
                     Some("data") => format!("result_data_{s}"),
                     _ => return Err(axis_error(format!("unknown core port `{name}`"))),
                 }
+            }
+            name if name.ends_with("$rdata") && (data_bits as usize) < p.width => {
+                format!("{{{}'b0, m_axi_rdata}}", p.width - data_bits as usize)
             }
             name if name.starts_with("m_axi$0$") => format!("m_axi_{}", &name["m_axi$0$".len()..]),
             _ if !p.input => String::new(),

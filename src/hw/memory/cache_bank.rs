@@ -26,7 +26,7 @@
 
 use crate::hw::config::core_config::Addr;
 use crate::hw::memory::block_map::MemoryWord;
-use crate::hw::memory::cache_port::{CachePort, LineMask, MAX_BANK_LINES};
+use crate::hw::memory::cache_port::{CachePort, LineMask, LineShape, MAX_BANK_LINES};
 use crate::hw::memory::line_fill::LineIndex;
 use crate::hw::primitives::bank_bus::BankMemoryPort;
 use crate::hw::primitives::block_ram::{BramIndex, BramWord};
@@ -45,21 +45,21 @@ pub struct CacheBank {
     pub fill_ready: Signal<In, bool>,
     pub fill_block: Signal<Out, MemoryWord>,
     pub fill_line: Signal<Out, LineIndex>,
-    /// `LineFill`'s writes (global line × words per line + word) and its filled
+    /// `LineFill`'s writes (global line × beats a line + beat) and its filled
     /// lines: those of this bank are taken.
     pub write_enable: Signal<In, bool>,
     pub write_index: Signal<In, BramIndex>,
     pub write_data: Signal<In, BramWord>,
     pub filled_valid: Signal<In, bool>,
     pub filled_line: Signal<In, LineIndex>,
-    /// This bank's index, `b` (B = 2^b banks), `s`, masks of a global line's
-    /// bank and of a line in the bank and of a word in a block.
+    /// This bank's index, `b` (B = 2^b banks), log2 of a line's beats, masks of
+    /// a global line's bank and of a line in the bank and of a beat in a line.
     bank: Constant<Addr>,
     bank_bits: Constant<Addr>,
-    block_levels: Constant<Addr>,
+    beat_levels: Constant<Addr>,
     bank_mask: Constant<Addr>,
     line_mask: Constant<Addr>,
-    offset_mask: Constant<Addr>,
+    beat_mask: Constant<Addr>,
     /// One bit for each line the bank has.
     lines_held: Constant<LineMask>,
     ports: Vec<CachePort>,
@@ -87,17 +87,9 @@ pub struct CacheBank {
 
 impl CacheBank {
     /// Bank `bank` of `2^bank_bits`, holding `lines` lines (a power of two, at
-    /// most [`MAX_BANK_LINES`]) of blocks of `block_levels` levels, with `ports`
-    /// read ports (1 or 2) and `word_bits`-bit words (below 64: bit `word_bits`
-    /// is the miss flag).
-    pub fn new(
-        bank: u32,
-        bank_bits: u32,
-        lines: usize,
-        block_levels: u32,
-        ports: usize,
-        word_bits: u32,
-    ) -> Self {
+    /// most [`MAX_BANK_LINES`]) of `shape` (bit `word_bits` of an answer is the
+    /// miss flag), with `ports` read ports (1 or 2).
+    pub fn new(bank: u32, bank_bits: u32, lines: usize, ports: usize, shape: LineShape) -> Self {
         assert!(lines.is_power_of_two() && lines <= MAX_BANK_LINES);
         assert!((1..=2).contains(&ports) && bank_bits <= 10 && bank < (1 << bank_bits));
         let line_bits = lines.trailing_zeros();
@@ -117,15 +109,15 @@ impl CacheBank {
             filled_line: Default::default(),
             bank: Constant::new(Addr::from(u64::from(bank))),
             bank_bits: Constant::new(Addr::from(u64::from(bank_bits))),
-            block_levels: Constant::new(Addr::from(u64::from(block_levels))),
+            beat_levels: Constant::new(Addr::from(u64::from(shape.beat_levels()))),
             bank_mask: Constant::new(Addr::from((1u64 << bank_bits) - 1)),
             line_mask: Constant::new(Addr::from((lines as u64) - 1)),
-            offset_mask: Constant::new(Addr::from((1u64 << block_levels) - 1)),
+            beat_mask: Constant::new(Addr::from((1u64 << shape.beat_levels()) - 1)),
             lines_held: Constant::new(
                 (0..lines).fold(LineMask::default(), |m, i| m.replace_bit(i, true)),
             ),
             ports: (0..ports)
-                .map(|_| CachePort::new(bank, bank_bits, line_bits, block_levels, word_bits))
+                .map(|_| CachePort::new(bank, bank_bits, line_bits, shape))
                 .collect(),
             valid: Default::default(),
             filling: Default::default(),
@@ -153,15 +145,14 @@ impl Logic for CacheBank {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, valid, filling, used, miss_valid, miss_block, miss_line, miss_tag);
-        // The fills' words and finished lines that are this bank's.
-        self.write_line.next =
-            bit_cast::<24, 16>(self.write_index.val()) >> self.block_levels.val();
+        // The fills' beats and finished lines that are this bank's.
+        self.write_line.next = bit_cast::<24, 16>(self.write_index.val()) >> self.beat_levels.val();
         self.mine_write.next = self.write_enable.val()
             && ((self.write_line.val() & self.bank_mask.val()) == self.bank.val());
         self.word_index.next = (((self.write_line.val() >> self.bank_bits.val())
             & self.line_mask.val())
-            << self.block_levels.val())
-            | (bit_cast::<24, 16>(self.write_index.val()) & self.offset_mask.val());
+            << self.beat_levels.val())
+            | (bit_cast::<24, 16>(self.write_index.val()) & self.beat_mask.val());
         self.done_global.next = bit_cast::<24, 16>(self.filled_line.val());
         self.done.next = self.filled_valid.val()
             && ((self.done_global.val() & self.bank_mask.val()) == self.bank.val());

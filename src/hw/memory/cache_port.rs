@@ -4,6 +4,12 @@
 //! `W`: set unless the line was valid, not being filled, not written in the
 //! read's cycle, and holds the row's tag. A read that missed names its block and
 //! line, for the bank's fill request.
+//!
+//! The words' RAM is written a memory beat at a time (`LineFill`): with two
+//! photon words a beat, each RAM word holds a pair (the even word in the low
+//! lane), the read takes the pair and picks its lane the next cycle, so a fill
+//! takes one write a beat and the RAM's depth halves as its width doubles (the
+//! same BlockRAMs).
 
 use crate::hw::config::core_config::Addr;
 pub use crate::hw::config::memory_config::MAX_BANK_LINES;
@@ -13,6 +19,25 @@ use rust_hdl::prelude::*;
 
 /// One bit per line of a bank.
 pub type LineMask = Bits<MAX_BANK_LINES>;
+
+/// What a cache line holds and how it is written: a block of `block_levels`
+/// levels of `word_bits`-bit photon words (below 64), written a memory beat of
+/// `2^lane_shift` words (1 or 2) at a time, each word in a `lane_bits`-bit lane
+/// of the beat (the image's word width).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LineShape {
+    pub block_levels: u32,
+    pub word_bits: u32,
+    pub lane_shift: u32,
+    pub lane_bits: u32,
+}
+
+impl LineShape {
+    /// Levels of a block's beats: log2 of the beats a line.
+    pub fn beat_levels(self) -> u32 {
+        self.block_levels - self.lane_shift
+    }
+}
 
 #[derive(LogicBlock)]
 pub struct CachePort {
@@ -31,6 +56,7 @@ pub struct CachePort {
     pub done_line: Signal<In, Addr>,
     /// The writes every copy takes: a word, a line's tag.
     pub word_write: Signal<In, bool>,
+    /// The beat's index in this bank's RAM (line in bank × beats a line + beat).
     pub word_index: Signal<In, BramIndex>,
     pub word_data: Signal<In, BramWord>,
     pub tag_write: Signal<In, bool>,
@@ -44,7 +70,8 @@ pub struct CachePort {
     pub miss_line: Signal<Out, Addr>,
     pub miss_tag: Signal<Out, Addr>,
     /// The bank's index, log2 of its lines and of the banks, `s`, masks of the
-    /// row's fields, and the miss flag's bit.
+    /// row's fields, the miss flag's bit, log2 of the words a beat, the lane's
+    /// width and mask, and a word's mask.
     bank: Constant<Addr>,
     line_bits: Constant<Addr>,
     bank_bits: Constant<Addr>,
@@ -52,6 +79,10 @@ pub struct CachePort {
     line_mask: Constant<Addr>,
     index_mask: Constant<Addr>,
     miss_bit: Constant<BramWord>,
+    lane_shift: Constant<Addr>,
+    lane_bits: Constant<BramWord>,
+    lane_mask: Constant<Addr>,
+    word_mask: Constant<BramWord>,
     words: BlockRam,
     tags: BlockRam,
     line: Signal<Local, Addr>,
@@ -59,22 +90,26 @@ pub struct CachePort {
     read_ok: DFF<bool>,
     read_tag: DFF<Addr>,
     read_line: DFF<Addr>,
+    read_lane: DFF<Addr>,
+    lane_word: Signal<Local, BramWord>,
     found: Signal<Local, bool>,
     blocked: Signal<Local, bool>,
 }
 
 impl CachePort {
-    /// A port of bank `bank` of `2^bank_bits`, `2^line_bits` lines of blocks of
-    /// `block_levels` levels, `word_bits`-bit words (below 64).
-    pub fn new(
-        bank: u32,
-        bank_bits: u32,
-        line_bits: u32,
-        block_levels: u32,
-        word_bits: u32,
-    ) -> Self {
+    /// A port of bank `bank` of `2^bank_bits`, `2^line_bits` lines of `shape`.
+    pub fn new(bank: u32, bank_bits: u32, line_bits: u32, shape: LineShape) -> Self {
+        let LineShape {
+            block_levels,
+            word_bits,
+            lane_shift,
+            lane_bits,
+        } = shape;
         let index_bits = line_bits + block_levels;
         assert!((1..=16).contains(&index_bits) && word_bits < 64);
+        assert!(lane_shift <= 1 && lane_shift < index_bits && word_bits <= lane_bits);
+        let ram_bits = (lane_bits << lane_shift) - lane_bits + word_bits;
+        assert!(ram_bits <= 64, "a beat fits one RAM word");
         CachePort {
             clock: Default::default(),
             enable: Default::default(),
@@ -102,13 +137,19 @@ impl CachePort {
             line_mask: Constant::new(Addr::from((1u64 << line_bits) - 1)),
             index_mask: Constant::new(Addr::from((1u64 << index_bits) - 1)),
             miss_bit: Constant::new(BramWord::from(1u64 << word_bits)),
-            words: BlockRam::new(index_bits, word_bits),
+            lane_shift: Constant::new(Addr::from(u64::from(lane_shift))),
+            lane_bits: Constant::new(BramWord::from(u64::from(lane_bits))),
+            lane_mask: Constant::new(Addr::from((1u64 << lane_shift) - 1)),
+            word_mask: Constant::new(BramWord::from((1u64 << word_bits) - 1)),
+            words: BlockRam::new(index_bits - lane_shift, ram_bits),
             tags: BlockRam::new(line_bits.max(1), 24),
             line: Default::default(),
             read_enable: Default::default(),
             read_ok: Default::default(),
             read_tag: Default::default(),
             read_line: Default::default(),
+            read_lane: Default::default(),
+            lane_word: Default::default(),
             found: Default::default(),
             blocked: Default::default(),
         }
@@ -118,7 +159,15 @@ impl CachePort {
 impl Logic for CachePort {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, read_enable, read_ok, read_tag, read_line);
+        dff_setup!(
+            self,
+            clock,
+            read_enable,
+            read_ok,
+            read_tag,
+            read_line,
+            read_lane
+        );
         self.words.clock.next = self.clock.val();
         self.tags.clock.next = self.clock.val();
         self.words.write_enable.next = self.word_write.val();
@@ -129,7 +178,9 @@ impl Logic for CachePort {
         self.tags.write_data.next = bit_cast::<64, 24>(self.tag_data.val());
         // The read: word and tag now; the line's bits now, registered.
         self.line.next = (self.row.val() >> self.block_levels.val()) & self.line_mask.val();
-        self.words.read_index.next = bit_cast::<16, 24>(self.row.val() & self.index_mask.val());
+        self.words.read_index.next =
+            bit_cast::<16, 24>((self.row.val() & self.index_mask.val()) >> self.lane_shift.val());
+        self.read_lane.d.next = self.row.val() & self.lane_mask.val();
         self.tags.read_index.next = bit_cast::<16, 24>(self.line.val());
         self.read_enable.d.next = self.enable.val();
         self.read_tag.d.next = self.row.val() >> self.line_bits.val() >> self.block_levels.val();
@@ -143,9 +194,14 @@ impl Logic for CachePort {
         // The next cycle: the word, flagged unless it is the row's block's.
         self.found.next = self.read_ok.q.val()
             && (bit_cast::<24, 64>(self.tags.read_data.val()) == self.read_tag.q.val());
-        self.word.next = self.words.read_data.val();
+        // The row's word of the pair (its lane), then the flag.
+        self.lane_word.next = self.words.read_data.val();
+        if self.read_lane.q.val().any() {
+            self.lane_word.next = self.words.read_data.val() >> self.lane_bits.val();
+        }
+        self.word.next = self.lane_word.val() & self.word_mask.val();
         if !self.found.val() {
-            self.word.next = self.words.read_data.val() | self.miss_bit.val();
+            self.word.next = (self.lane_word.val() & self.word_mask.val()) | self.miss_bit.val();
         }
         self.hit.next = self.read_enable.q.val() && self.found.val();
         self.missed.next = self.read_enable.q.val() && !self.found.val();

@@ -9,7 +9,8 @@
 //! (LUT-RAM) and the data needs no reorder buffer.
 //!
 //! The read data is never held back (`rready` is high): each beat is one write of
-//! the line RAM. A burst answered with an error (`rresp` not OKAY) or whose
+//! the line RAM, whose word is a beat (one or two photon words: the memory's data
+//! width, `ExternalMemory::data_bits`, of the `D`-bit port). A burst answered with an error (`rresp` not OKAY) or whose
 //! `rlast` does not fall on its last beat sets the sticky `error`.
 
 use crate::hw::memory::block_map::MemoryWord;
@@ -74,12 +75,12 @@ pub struct LineFill<const D: usize> {
 
 impl<const D: usize> LineFill<D> {
     /// Fills of `block_bytes`-byte blocks (a power of two, a whole number of
-    /// `D`-bit beats, at most 256 beats) from the image at byte `base`.
-    pub fn new(base: u64, block_bytes: u64) -> Self {
-        let beat_bytes = (D / 8) as u64;
+    /// `beat_bytes`-byte beats, at most 256 beats) from the image at byte `base`;
+    /// a beat is the memory's data width, at most the port's `D` bits.
+    pub fn new(base: u64, block_bytes: u64, beat_bytes: u64) -> Self {
         assert!(
-            D >= 8 && D.is_power_of_two() && D <= 64,
-            "a beat of 1 to 8 bytes (one line RAM word)"
+            D <= 64 && beat_bytes.is_power_of_two() && beat_bytes * 8 <= D as u64,
+            "a beat of 1 to 8 bytes (one line RAM word), within the port"
         );
         assert!(block_bytes.is_power_of_two() && block_bytes >= beat_bytes);
         let beats = block_bytes / beat_bytes;

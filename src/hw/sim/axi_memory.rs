@@ -28,17 +28,30 @@ pub struct AxiTiming {
     /// Cycles from one beat to the next at least: 1 is a beat a cycle (the
     /// port's width a cycle), n a memory with 1/n of that bandwidth.
     pub beat_interval: u64,
+    /// The DRAM's sustained bytes a cycle (0: no limit but the port's): a beat
+    /// goes only with that many bytes of credit, which grows by this much a
+    /// cycle up to one [`CREDIT_BYTES`] burst's worth, so an idle memory sends a
+    /// line at the port's rate and a busy one averages this rate (refresh, row
+    /// misses).
+    pub sustained_bytes: f64,
     pub seed: u64,
 }
+
+/// The most credit a memory saves up while idle: one 64-byte line.
+pub const CREDIT_BYTES: f64 = 64.0;
 
 impl AxiTiming {
     /// The memory every simulation of the external-memory core answers with
     /// unless told otherwise: the ECP5-85k board's 16-bit DDR3 behind LiteDRAM,
-    /// its latency in controller cycles the PHY's and the controller's as
-    /// docs/MEMORY.md ("Memories modelled") derives and sources them, a beat a
-    /// cycle, no pauses.
+    /// its latency in controller cycles the PHY's and the controller's, and its
+    /// sustained 6.4 bytes a cycle (80 % of the 8-byte peak), as docs/MEMORY.md
+    /// ("Memories modelled") derives and sources them; a beat a cycle at most,
+    /// no pauses.
     pub fn ecp5_ddr3() -> Self {
-        AxiTiming::fixed(22)
+        AxiTiming {
+            sustained_bytes: 6.4,
+            ..AxiTiming::fixed(22)
+        }
     }
 
     /// A prompt memory: the latency alone, no pauses.
@@ -49,6 +62,7 @@ impl AxiTiming {
             ar_pause: 0.0,
             r_pause: 0.0,
             beat_interval: 1,
+            sustained_bytes: 0.0,
             seed: 1,
         }
     }
@@ -92,8 +106,9 @@ struct InFlight {
 pub struct MemoryTraffic {
     /// Bursts asked for (AR handshakes): the cache's line fills.
     pub bursts: u64,
-    /// Read beats taken (R handshakes).
+    /// Read beats taken (R handshakes), and their bytes.
     pub beats: u64,
+    pub bytes: u64,
 }
 
 /// The memory: a byte image (little-endian words), its timing and the bursts in
@@ -103,16 +118,20 @@ pub struct AxiMemory {
     timing: AxiTiming,
     rng: Pcg64,
     cycle: u64,
-    /// The first cycle the next beat may come (`beat_interval`).
+    /// The first cycle the next beat may come (`beat_interval`), and the bytes
+    /// the DRAM may send now (`sustained_bytes`).
     next_beat: u64,
+    credit: f64,
     queue: VecDeque<InFlight>,
     out: AxiSlaveOut,
     /// Byte addresses whose bursts answer SLVERR (an injected fault).
     faulty: Vec<u64>,
     /// Every burst asked for, in order (for the tests' checks of the master).
     pub bursts: Vec<AxiBurst>,
-    /// Read beats taken (`rvalid` and `rready`): the data channel's busy cycles.
+    /// Read beats taken (`rvalid` and `rready`): the data channel's busy
+    /// cycles; and their bytes.
     pub beats: u64,
+    pub bytes_read: u64,
 }
 
 impl AxiMemory {
@@ -128,11 +147,13 @@ impl AxiMemory {
             rng: Pcg64::seed_from_u64(timing.seed),
             cycle: 0,
             next_beat: 0,
+            credit: CREDIT_BYTES,
             queue: VecDeque::new(),
             out: AxiSlaveOut::default(),
             faulty: vec![],
             bursts: vec![],
             beats: 0,
+            bytes_read: 0,
         }
     }
 
@@ -169,9 +190,10 @@ impl AxiMemory {
             ..AxiSlaveOut::default()
         };
         if let Some(f) = self.queue.front() {
-            if f.due <= self.cycle && self.next_beat <= self.cycle && !pause {
-                let b = f.burst;
-                let beat_bytes = 1u64 << b.size;
+            let b = f.burst;
+            let beat_bytes = 1u64 << b.size;
+            let paid = self.timing.sustained_bytes <= 0.0 || self.credit >= beat_bytes as f64;
+            if f.due <= self.cycle && self.next_beat <= self.cycle && paid && !pause {
                 let at = b.addr + f.beat * beat_bytes;
                 let mut data = [0u8; 8];
                 for (i, d) in data.iter_mut().enumerate().take(beat_bytes as usize) {
@@ -206,10 +228,18 @@ impl AxiMemory {
             });
             self.bursts.push(b);
         }
+        if self.timing.sustained_bytes > 0.0 {
+            self.credit = (self.credit + self.timing.sustained_bytes).min(CREDIT_BYTES);
+        }
         if self.out.rvalid && rready {
             self.beats += 1;
             self.next_beat = self.cycle + self.timing.beat_interval.max(1);
             let f = self.queue.front_mut().expect("a beat came from a burst");
+            let beat_bytes = 1u64 << f.burst.size;
+            self.bytes_read += beat_bytes;
+            if self.timing.sustained_bytes > 0.0 {
+                self.credit -= beat_bytes as f64;
+            }
             f.beat += 1;
             if f.beat > u64::from(f.burst.len) {
                 self.queue.pop_front();
@@ -223,6 +253,7 @@ impl AxiMemory {
         MemoryTraffic {
             bursts: self.bursts.len() as u64,
             beats: self.beats,
+            bytes: self.bytes_read,
         }
     }
 
@@ -273,5 +304,51 @@ mod tests {
                 assert_eq!(w[1] - w[0], n, "a beat every {n} cycles");
             }
         }
+    }
+
+    #[test]
+    fn a_sustained_rate_lets_a_line_go_then_holds_the_average() {
+        // Four 16-beat bursts of 4-byte beats (256 bytes) asked at once from a
+        // memory sustaining 2 bytes a cycle: the 64 bytes of credit saved while
+        // idle go at a beat a cycle, the other 192 bytes take 2 bytes a cycle.
+        let words: Vec<u64> = (0..64).collect();
+        let timing = AxiTiming {
+            sustained_bytes: 2.0,
+            ..AxiTiming::fixed(0)
+        };
+        let mut m = AxiMemory::from_words(&words, 4, timing);
+        let mut taken = vec![];
+        let mut asked = 0u64;
+        for cycle in 0..400u64 {
+            let out = m.drive();
+            if out.rvalid {
+                assert_eq!(out.rdata, taken.len() as u64, "beats in address order");
+                taken.push(cycle);
+            }
+            let ar = (asked < 4).then_some(AxiBurst {
+                addr: asked * 64,
+                len: 15,
+                size: 2,
+                burst: 1,
+            });
+            if ar.is_some() && out.arready {
+                asked += 1;
+            }
+            m.edge(ar, true);
+        }
+        assert_eq!(taken.len(), 64, "every beat");
+        let first = taken[0];
+        assert!(
+            taken[..16].windows(2).all(|w| w[1] == w[0] + 1),
+            "a saved-up line at full rate"
+        );
+        let span = taken[63] - first;
+        // 64 bytes on credit, then 192 at 2 a cycle (the credit regrows while the
+        // first line goes): about 96 cycles, not the 63 of a beat a cycle.
+        assert!(
+            (80..=100).contains(&span),
+            "256 bytes at 2 bytes a cycle: {span} cycles"
+        );
+        assert_eq!(m.traffic().bytes, 256);
     }
 }

@@ -4,6 +4,7 @@
 //! driver, one cross-simulation and one Verilog testbench serve both.
 
 use crate::hw::config::core_config::CoreConfig;
+use crate::hw::config::memory_config::MEMORY_PORT_BITS;
 use crate::hw::primitives::axi4_read::AxiReadMaster;
 use crate::hw::primitives::stream::{LoadIn, QueryBeat, ResultBeat, StreamIn, StreamOut};
 use crate::hw::top::array::PhotonSearchArray;
@@ -31,7 +32,7 @@ pub trait SearchTop<const W: usize>: Block + Sized {
     /// QueryModules are busy (for the reads-per-cycle measurement).
     fn tree_status(&self, t: usize) -> [bool; 3];
     /// The AXI4 master of a core whose map is in external memory.
-    fn memory_port(&mut self) -> Option<&mut AxiReadMaster<W>> {
+    fn memory_port(&mut self) -> Option<&mut AxiReadMaster<MEMORY_PORT_BITS>> {
         None
     }
 }
@@ -71,7 +72,7 @@ impl<const S: usize, const W: usize> SearchTop<W> for PhotonSearchCore<S, W> {
             _ => status(self),
         }
     }
-    fn memory_port(&mut self) -> Option<&mut AxiReadMaster<W>> {
+    fn memory_port(&mut self) -> Option<&mut AxiReadMaster<MEMORY_PORT_BITS>> {
         self.m_axi.first_mut()
     }
 }

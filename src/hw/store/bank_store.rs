@@ -10,8 +10,8 @@
 //! With the map in external memory (`CoreConfig::memory`) the banks are
 //! [`CacheBank`]s of the levels below the replicas, read through the same
 //! crossbar (its words one bit wider: the miss flag), and one [`LineFill`]
-//! brings their missing blocks through the `m_axi` port (`W`-bit beats, one
-//! photon word a beat: a block of `2^s` words is one burst), the banks' fill
+//! brings their missing blocks through the `m_axi` port (one burst a block of
+//! `2^s` words, one or two photon words a beat: the memory's data width), the banks' fill
 //! requests taking turns (round robin, [`PortArbiter`]); every bank sees every
 //! fill's writes and keeps those of its own lines (line mod B). Nothing is
 //! loaded into them: the map's image is in memory.
@@ -19,7 +19,9 @@
 use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::core_config::ModuleMask;
 use crate::hw::config::core_config::{Addr, CoreConfig, Word};
+use crate::hw::config::memory_config::MEMORY_PORT_BITS;
 use crate::hw::memory::cache_bank::CacheBank;
+use crate::hw::memory::cache_port::LineShape;
 use crate::hw::memory::line_fill::LineFill;
 use crate::hw::primitives::axi4_read::AxiReadMaster;
 use crate::hw::primitives::bank_bus::{BankAnswer, BankClient, BankIndex};
@@ -43,7 +45,7 @@ pub struct BankStore<const W: usize> {
     pub clients: Vec<BankClient>,
     pub answers: Vec<BankAnswer>,
     /// With external memory: the memory's read port (none otherwise).
-    pub m_axi: Vec<AxiReadMaster<W>>,
+    pub m_axi: Vec<AxiReadMaster<MEMORY_PORT_BITS>>,
     map: BankMap,
     /// (Without banks, [`BankCrossbar::placeholder`]: rust-hdl's `#[hdl_gen]`
     /// cannot index into an element of a `Vec`, so a crossbar is always there;
@@ -56,7 +58,7 @@ pub struct BankStore<const W: usize> {
     /// With external memory (empty otherwise): the cache's banks, the fill, the
     /// round robin of the banks' fill requests and each bank's bit in it.
     caches: Vec<CacheBank>,
-    fill: Vec<LineFill<W>>,
+    fill: Vec<LineFill<MEMORY_PORT_BITS>>,
     fill_turn: Vec<PortArbiter>,
     fill_asking: Vec<Signal<Local, ModuleMask>>,
     cache_bit: Vec<Constant<ModuleMask>>,
@@ -116,16 +118,26 @@ impl<const W: usize> BankStore<W> {
                             j as u32,
                             bank_bits,
                             m.bank_lines(bank_bits) as usize,
-                            m.block_levels,
                             ports.ports(),
-                            cfg.layout.word_bits(),
+                            LineShape {
+                                block_levels: m.block_levels,
+                                word_bits: cfg.layout.word_bits(),
+                                lane_shift: m.words_per_beat(W).trailing_zeros(),
+                                lane_bits: W as u32,
+                            },
                         )
                     })
                 })
                 .collect(),
             fill: memory
                 .iter()
-                .map(|m| LineFill::new(0, (W as u64 / 8) << m.block_levels))
+                .map(|m| {
+                    LineFill::new(
+                        0,
+                        (W as u64 / 8) << m.block_levels,
+                        u64::from(m.data_bits / 8),
+                    )
+                })
                 .collect(),
             fill_turn: (0..fills).map(|_| PortArbiter::new(caches)).collect(),
             fill_asking: (0..fills).map(|_| Default::default()).collect(),
@@ -200,7 +212,7 @@ impl<const W: usize> Logic for BankStore<W> {
             self.fill[m].clock.next = self.clock.val();
             self.fill[m].reset.next = self.reset.val();
             self.fill_turn[m].clock.next = self.clock.val();
-            AxiReadMaster::<W>::link(&mut self.m_axi[m], &mut self.fill[m].m_axi);
+            AxiReadMaster::<MEMORY_PORT_BITS>::link(&mut self.m_axi[m], &mut self.fill[m].m_axi);
             self.fill_asking[m].next = 0.into();
             for j in 0..self.caches.len() {
                 self.caches[j].write_enable.next = self.fill[m].write_enable.val();

@@ -31,6 +31,7 @@
 //! whichever the controller.
 
 use crate::hw::config::core_config::{Addr, CoreConfig, PORTS};
+use crate::hw::config::memory_config::MEMORY_PORT_BITS;
 use crate::hw::primitives::axi4_read::AxiReadMaster;
 use crate::hw::primitives::stream::{LoadIn, QueryBeat, ResultBeat, StreamIn, StreamOut};
 use crate::hw::store::bank_store::BankStore;
@@ -62,7 +63,7 @@ pub struct PhotonSearchCore<const S: usize, const W: usize> {
     /// (`MemoryLayout::image`, written by the host); the load stream brings the
     /// replicated levels and the last word (the photon count). A new map needs a
     /// reset first, which empties the cache.
-    pub m_axi: Vec<AxiReadMaster<W>>,
+    pub m_axi: Vec<AxiReadMaster<MEMORY_PORT_BITS>>,
     /// The TreeModules (the whole map, or with banks `trees` replicas of its top
     /// levels), ports A (also the load port) and B: one controller port each.
     trees: Vec<TreeModule<W>>,
@@ -233,7 +234,7 @@ impl<const S: usize, const W: usize> Logic for PhotonSearchCore<S, W> {
         self.store.write_address.next = self.load.address.val();
         self.store.write_word.next = self.load.word.val();
         for m in 0..self.m_axi.len() {
-            AxiReadMaster::<W>::link(&mut self.m_axi[m], &mut self.store.m_axi[m]);
+            AxiReadMaster::<MEMORY_PORT_BITS>::link(&mut self.m_axi[m], &mut self.store.m_axi[m]);
         }
         for i in 0..self.store.clients.len() {
             self.store.clients[i].valid.next = self.ports[i].io.bank.valid.val();
