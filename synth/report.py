@@ -767,7 +767,9 @@ def export(c):
         spec = os.path.join(tmp, ROW_FILE)
         with open(spec, "w", encoding="utf-8") as f:
             f.write(toml_text(c.core))
-        rc, out = run([BIN, "export-verilog", "--core", spec, "--shell-trees", "1", "--out", tmp],
+        # --status-ports: the rows' simulations measure reads per cycle through them.
+        rc, out = run([BIN, "export-verilog", "--core", spec, "--shell-trees", "1", "--status-ports",
+                       "--out", tmp],
                       f"{tmp}/export.log")
         if rc != 0:
             print(f"{c.name}: export failed: {out.strip()}", flush=True)

@@ -290,3 +290,70 @@ fn small_smaller_than_large(controller: Controller) {
         );
     }
 }
+
+/// The export a user builds into a system has no measurement outputs: the top's
+/// ports are the measured export's without them (and without nothing else), the
+/// logic is the same, and it lints. The cocotb bench (testbenches/cocotb) runs
+/// these exports behind the AXI4-Stream top against its own brute force.
+#[test]
+#[cfg_attr(
+    not(all(has_yosys, has_verilator)),
+    ignore = "needs yosys and verilator"
+)]
+fn the_users_export_has_no_measurement_outputs() {
+    use photon_fpga::hw::config::bank_config::{BankMapping, BankPorts};
+    use photon_fpga::hw::config::core_config::Banking;
+    use photon_fpga::hw::export::verilog::{is_status_port, without_status};
+    let plain = small_config(PhotonLayout::new([6, 6, 6]), 9, 4, 2, Metric::L1);
+    let banked = |lines: Option<u32>| {
+        CoreConfig::builder()
+            .k(6)
+            .metric(Metric::L2)
+            .controller(Controller::Barrel)
+            .traversal(Traversal::Cell)
+            .address_bits(12)
+            .trees(2)
+            .banking(Some(Banking {
+                bank_bits: 2,
+                replicated_levels: 4,
+                ports: BankPorts::Split,
+                mapping: BankMapping::Xor,
+            }))
+            .cache_lines(lines)
+            .build()
+            .expect("a banked core")
+    };
+    let array = plain.to_builder().trees(2).build().expect("an array");
+    for cfg in [plain, banked(None), banked(Some(16)), array] {
+        let measured = export_verilog(&cfg).expect("export");
+        let user = without_status(&measured).expect("strip");
+        let kept: Vec<&Port> = measured
+            .ports
+            .iter()
+            .filter(|p| p.input || !is_status_port(&p.name))
+            .collect();
+        assert!(kept.len() < measured.ports.len(), "{cfg}: no status port");
+        assert_eq!(user.ports.iter().collect::<Vec<_>>(), kept, "{cfg}");
+        // The top module's text (its submodules keep their own ports).
+        let top = user.verilog.split("endmodule").next().unwrap();
+        for p in measured.ports.iter().filter(|p| !kept.contains(p)) {
+            assert!(
+                !top.contains(&format!("output reg  {};", p.name))
+                    && !top.contains(&format!("output wire  {};", p.name)),
+                "{cfg}: {} still an output",
+                p.name
+            );
+        }
+        // Only the top's header and those declarations changed.
+        let changed = measured
+            .verilog
+            .lines()
+            .zip(user.verilog.lines())
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(changed, 1 + measured.ports.len() - kept.len(), "{cfg}");
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("top.v"), &user.verilog).unwrap();
+        lint_top(dir.path());
+    }
+}

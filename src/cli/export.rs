@@ -6,7 +6,7 @@ use crate::host::error::{Error, Result};
 use crate::host::output::Output;
 use crate::hw::export::axis_top::axis_top;
 use crate::hw::export::shell::registered_shell;
-use crate::hw::export::verilog::export_verilog;
+use crate::hw::export::verilog::{export_verilog, without_status};
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
@@ -32,6 +32,11 @@ pub struct ExportArgs {
     /// The top to write beside the core.
     #[arg(long, value_enum, default_value_t = InterfaceArg::Core)]
     pub interface: InterfaceArg,
+    /// Keep the top's measurement outputs (which ports read, every slot busy):
+    /// for the lab's reads-per-cycle measurement of the exported Verilog
+    /// (synth/report.py), not for a design built into a system.
+    #[arg(long, hide = true)]
+    pub status_ports: bool,
     /// Output directory; the core goes to DIR/photon_search_core.v and its
     /// description (for --core) to DIR/photon_search_core.toml.
     #[arg(long)]
@@ -47,7 +52,11 @@ pub fn export(args: &ExportArgs) -> Result<()> {
         return Err(Error::new("--shell-trees must be at least 1, got 0"));
     }
     // Everything is generated before the directory is made: a failure leaves nothing.
-    let exported = export_verilog(&cfg)?;
+    // The measurement outputs only when a measurement asks for them.
+    let exported = match export_verilog(&cfg)? {
+        e if args.status_ports => e,
+        e => without_status(&e)?,
+    };
     let verilog = &exported.verilog;
     // Event-driven simulators (Icarus, ISim, ModelSim) hang on the raw export's
     // glitch loops; this rewrite is what the CI cross-simulation runs under Icarus.

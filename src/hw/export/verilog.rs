@@ -47,6 +47,80 @@ pub fn export_block<U: Block>(mut uut: U) -> Result<Exported, HwError> {
     })
 }
 
+/// The top's outputs that exist only for measurement: which ports read in a
+/// cycle and whether every query slot is busy, from which a simulation of the
+/// Verilog (Verilator) counts reads per cycle as the native simulation does by
+/// looking inside (`sim::sim_stats`). A design built into a system has no use
+/// for them.
+pub fn is_status_port(name: &str) -> bool {
+    matches!(
+        name,
+        "port_a_reading"
+            | "port_b_reading"
+            | "all_busy"
+            | "trees_reading_a"
+            | "trees_reading_b"
+            | "trees_busy"
+    ) || name.starts_with("ports_reading$")
+}
+
+/// `e` without its measurement outputs ([`is_status_port`]): they leave the top's
+/// port list and their declarations become internal (synthesis then removes the
+/// logic that only they read). Nothing else of the text changes.
+pub fn without_status(e: &Exported) -> Result<Exported, HwError> {
+    let dropped: Vec<&str> = e
+        .ports
+        .iter()
+        .filter(|p| !p.input && is_status_port(&p.name))
+        .map(|p| p.name.as_str())
+        .collect();
+    let mut out = String::with_capacity(e.verilog.len());
+    let (mut in_top, mut header, mut declared) = (false, false, 0usize);
+    for line in e.verilog.split_inclusive('\n') {
+        if let Some(args) = line.strip_prefix("module top(") {
+            let args = args
+                .trim_end()
+                .strip_suffix(");")
+                .ok_or_else(|| export_error("the top's header is not on one line"))?;
+            let kept: Vec<&str> = args.split(',').filter(|a| !dropped.contains(a)).collect();
+            out.push_str(&format!("module top({});\n", kept.join(",")));
+            (in_top, header) = (true, true);
+            continue;
+        }
+        if in_top && line.starts_with("endmodule") {
+            in_top = false;
+        }
+        // A declaration `output reg  [w:0] name;` (or wire) of a dropped port.
+        let decl = line.trim_start();
+        let name = decl
+            .trim_end()
+            .strip_suffix(';')
+            .and_then(|d| d.rsplit(' ').next())
+            .unwrap_or("");
+        if in_top && decl.starts_with("output ") && dropped.contains(&name) {
+            out.push_str(&line.replacen("output ", "", 1));
+            declared += 1;
+            continue;
+        }
+        out.push_str(line);
+    }
+    if !header || declared != dropped.len() {
+        return Err(export_error(format!(
+            "the top's measurement outputs: {declared} of {} declarations found",
+            dropped.len()
+        )));
+    }
+    Ok(Exported {
+        verilog: out,
+        ports: e
+            .ports
+            .iter()
+            .filter(|p| !dropped.contains(&p.name.as_str()))
+            .cloned()
+            .collect(),
+    })
+}
+
 /// Suffix of the shadow variables [`glitch_free`] introduces.
 pub const SHADOW_SUFFIX: &str = "__xs";
 

@@ -51,7 +51,9 @@ pub struct PhotonSearchCore<const S: usize, const W: usize> {
     /// Result streams 1..R (`CoreConfig::result_streams`; empty with one stream):
     /// stream s carries the packets of datapaths s·D/R .. (s+1)·D/R − 1.
     pub more_results: Vec<StreamOut<ResultBeat>>,
-    // Status for measurement: a read on port A / B this cycle; every QueryModule busy.
+    /// For measurement only (the simulations' reads per cycle; `export-verilog`
+    /// leaves them out unless asked, `export::verilog::without_status`): a read on
+    /// port A / B this cycle; every QueryModule busy.
     pub port_a_reading: Signal<Out, bool>,
     pub port_b_reading: Signal<Out, bool>,
     pub all_busy: Signal<Out, bool>,
