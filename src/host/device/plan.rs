@@ -94,14 +94,16 @@ pub const ECP5_85K: Device = Device {
     cache_bank_luts: ECP5_CACHE_BANK,
 };
 
-/// The ECP5 cache's logic: two external-memory cores, D = 4 on 16 cache banks,
+/// The ECP5 cache's logic: external-memory cores, D = 4 on 16 cache banks,
 /// synthesised as the banked rows are (Debian yosys `synth_ecp5` without its
-/// share pass) and packed by nextpnr-ecp5, with 2,048 lines (90,558 LUT4s) and
-/// with 1,024 (77,654): the difference per line; the rest beyond the banked D = 4
-/// core without a cache (39,471 LUT4s, synth/REPORT.md) and beyond those lines,
-/// per bank. docs/MEMORY_CORE.md ("What fits").
+/// share pass) and packed by nextpnr-ecp5. Per line: the difference between 2,048
+/// lines (90,558 LUT4s) and 1,024 (77,654), two cores of the same build. Per bank:
+/// the 1,024-line core as built now (the 64-bit memory port, the state bits of the
+/// lines a bank does not have dropped: 74,630 LUT4s, synth/REPORT.md's row
+/// "external memory D=4, K=32") beyond the banked D = 4 core without a cache
+/// (39,471 LUT4s) and beyond its lines. docs/MEMORY_CORE.md ("What fits").
 const ECP5_CACHE_LINE: f64 = (90_558.0 - 77_654.0) / 1_024.0;
-const ECP5_CACHE_BANK: f64 = (77_654.0 - 39_471.0 - 1_024.0 * ECP5_CACHE_LINE) / 16.0;
+const ECP5_CACHE_BANK: f64 = (74_630.0 - 39_471.0 - 1_024.0 * ECP5_CACHE_LINE) / 16.0;
 
 /// The ECP5 crossbar per requester and bank: Debian yosys `synth_ecp5` (coarse
 /// step without share, as synth/report.py does for banked rows) of the crossbar
