@@ -243,8 +243,27 @@ fn what_the_banked_core_cannot_build_is_refused() {
         ]),
         "the largest that fits is 16777215 photons",
     );
-    // The memory's data width: one or two photon words a beat, and only with a
-    // memory.
+    // The memory's data width (a core file's key): one or two photon words a
+    // beat, and only with a memory.
+    for (text, message) in [
+        (
+            "banks = 4\ncache_lines = 16\nmemory_data_bits = 48\n",
+            "memory_data_bits = 48: one or two 32-bit photon words a beat",
+        ),
+        (
+            "banks = 4\nmemory_data_bits = 32\n",
+            "memory_data_bits = 32 without cache_lines",
+        ),
+    ] {
+        let file = dir.path().join("memory.toml");
+        std::fs::write(&file, format!("controller = \"barrel\"\n{text}")).unwrap();
+        let path = file.display().to_string();
+        refused(
+            dir.path(),
+            &strings(&["export-verilog", "--core", &path, "--out", &v]),
+            message,
+        );
+    }
     refused(
         dir.path(),
         &export(&[
@@ -253,14 +272,9 @@ fn what_the_banked_core_cannot_build_is_refused() {
             "--cache-lines",
             "16",
             "--memory-data-bits",
-            "48",
+            "32",
         ]),
-        "memory_data_bits = 48: one or two 32-bit photon words a beat",
-    );
-    refused(
-        dir.path(),
-        &export(&["--banks", "4", "--memory-data-bits", "32"]),
-        "--cache-lines",
+        "unexpected argument '--memory-data-bits' found",
     );
     // Result streams split the datapaths evenly (four here: 1, 2 or 4 streams).
     refused(

@@ -132,12 +132,10 @@ pub struct CoreBuild {
     #[cfg_attr(feature = "cli", arg(long, value_name = "LINES"))]
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cache_lines: Option<u32>,
-    /// With --cache-lines: the memory's AXI4 data width, one or two photon words
-    /// a beat (32 or 64 for 10-bit grids, 64 for wider ones) [default: 64].
-    #[cfg_attr(
-        feature = "cli",
-        arg(long, value_name = "BITS", requires = "cache_lines")
-    )]
+    /// With cache_lines: the memory's AXI4 data width, one or two photon words a
+    /// beat (32 or 64 for 10-bit grids, 64 for wider ones) [default: 64]. A core
+    /// file's key only: the command lines keep to a user's few options.
+    #[cfg_attr(feature = "cli", arg(skip))]
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub memory_data_bits: Option<u32>,
     /// Result streams R: the datapaths' result packets leave on R streams, D / R
