@@ -1,4 +1,4 @@
-//! CacheBank with LineFill and the AXI memory model (`hw::sim::axi_memory`): two
+//! CacheBank with FillArbiter, LineFill and the AXI memory model (`hw::sim::axi_memory`): two
 //! read ports ask for random words of the bank's blocks (with locality, as a
 //! search's reads have), each read repeated until it hits, while the memory
 //! answers with latency and random pauses. A hit must be the image's word of the
@@ -10,6 +10,7 @@
 use crate::common::{rng, settle};
 use photon_fpga::hw::memory::cache_bank::CacheBank;
 use photon_fpga::hw::memory::cache_port::LineShape;
+use photon_fpga::hw::memory::fill_arbiter::FillArbiter;
 use photon_fpga::hw::memory::line_fill::LineFill;
 use photon_fpga::hw::sim::axi_memory::{AxiBurst, AxiMemory, AxiTiming};
 use rand::Rng;
@@ -65,8 +66,11 @@ fn hits_are_the_blocks_words(lane_shift: u32) {
     let mut memory = AxiMemory::from_words(&image, 4, timing);
     let mut fill = LineFill::<64>::new(0, 4 << S, 4 << lane_shift);
     let mut bank = CacheBank::new(BANK as u32, BANK_BITS, 1 << LINE_BITS, 2, shape(lane_shift));
+    let mut arbiter = FillArbiter::new(1);
     fill.connect_all();
     bank.connect_all();
+    arbiter.connect_all();
+    check_all(&arbiter).expect("FillArbiter checks");
     check_all(&fill).expect("LineFill checks");
     check_all(&bank).expect("CacheBank checks");
     // This bank's blocks: block mod B = this bank.
@@ -91,6 +95,7 @@ fn hits_are_the_blocks_words(lane_shift: u32) {
         let resetting = cycle < 2;
         fill.reset.next = resetting;
         bank.reset.next = resetting;
+        arbiter.reset.next = resetting;
         let out = memory.drive();
         fill.m_axi.arready.next = out.arready;
         fill.m_axi.rvalid.next = out.rvalid;
@@ -135,16 +140,21 @@ fn hits_are_the_blocks_words(lane_shift: u32) {
                 in_flight[p] = Some(want[p]);
             }
         }
-        bank.fill_ready.next = fill.fill_ready.val();
+        bank.fill_taken.next = arbiter.taken.val().any();
         bank.write_enable.next = fill.write_enable.val();
         bank.write_index.next = fill.write_index.val();
         bank.write_data.next = fill.write_data.val().to_u64().into();
         bank.filled_valid.next = fill.filled_valid.val();
         bank.filled_line.next = fill.filled_line.val();
         settle(&mut bank);
-        fill.fill_valid.next = bank.fill_valid.val();
-        fill.fill_block.next = bank.fill_block.val();
-        fill.fill_line.next = bank.fill_line.val();
+        arbiter.requests.next = u64::from(bank.fill_valid.val()).into();
+        arbiter.chosen_block.next = bank.fill_block.val();
+        arbiter.chosen_line.next = bank.fill_line.val();
+        arbiter.fill_ready.next = fill.fill_ready.val();
+        settle(&mut arbiter);
+        fill.fill_valid.next = arbiter.fill_valid.val();
+        fill.fill_block.next = arbiter.fill_block.val();
+        fill.fill_line.next = arbiter.fill_line.val();
         settle(&mut fill);
         assert!(!fill.error.val());
         let ar = fill.m_axi.arvalid.val().then(|| AxiBurst {
@@ -156,10 +166,13 @@ fn hits_are_the_blocks_words(lane_shift: u32) {
         memory.edge(ar, fill.m_axi.rready.val());
         fill.clock.next = true.into();
         bank.clock.next = true.into();
+        arbiter.clock.next = true.into();
         settle(&mut fill);
         settle(&mut bank);
+        settle(&mut arbiter);
         fill.clock.next = false.into();
         bank.clock.next = false.into();
+        arbiter.clock.next = false.into();
     }
     // Every burst was one of this bank's blocks; lines were reused (more blocks
     // fetched than there are lines), and the locality paid: far fewer fills than
@@ -174,6 +187,81 @@ fn hits_are_the_blocks_words(lane_shift: u32) {
         done_reads > 2_000 && fills < done_reads / 2,
         "{done_reads} reads answered ({hits} hits), {fills} fills, {misses} missed tries"
     );
+}
+
+/// FillArbiter among five banks that each hold a request until it is taken, and a
+/// fill that is ready at random: every request reaches the fill exactly once,
+/// in the order taken, the bank taken is told the cycle after its pick, and a
+/// bank that keeps asking waits at most one turn of the others.
+#[test]
+fn fill_arbiter_takes_each_request_once_in_turn() {
+    const N: usize = 5;
+    let mut r = rng(29);
+    let mut arbiter = FillArbiter::new(N);
+    arbiter.connect_all();
+    check_all(&arbiter).expect("FillArbiter checks");
+    // Per bank: its request (a serial number), how long it has waited in picks.
+    let mut request: [Option<u64>; N] = [None; N];
+    let mut waited = [0usize; N];
+    let mut serial = 0u64;
+    let (mut taken_order, mut started) = (Vec::new(), Vec::new());
+    for cycle in 0..20_000u64 {
+        arbiter.reset.next = cycle < 2;
+        // The bank told it was taken drops its request, as CacheBank does.
+        let taken = arbiter.taken.val().to_u64();
+        assert!(taken.count_ones() <= 1, "cycle {cycle}: {taken:b}");
+        if let Some(j) = (0..N).find(|j| taken >> j & 1 == 1) {
+            let id = request[j].take().expect("a bank taken without a request");
+            taken_order.push(id);
+            for (k, w) in waited.iter_mut().enumerate() {
+                *w = if k == j {
+                    0
+                } else {
+                    *w + usize::from(request[k].is_some())
+                };
+            }
+        }
+        for (req, w) in request.iter_mut().zip(waited.iter_mut()) {
+            if req.is_none() && cycle >= 2 && r.gen_bool(0.3) {
+                *req = Some(serial);
+                serial += 1;
+                *w = 0;
+            }
+        }
+        assert!(waited.iter().all(|&w| w < N), "cycle {cycle}: {waited:?}");
+        let mask = (0..N).fold(0u64, |m, j| m | u64::from(request[j].is_some()) << j);
+        arbiter.requests.next = mask.into();
+        settle(&mut arbiter);
+        let choice = arbiter.choice.val().to_u64();
+        let chosen = (0..N).find(|j| choice >> j & 1 == 1);
+        let id = chosen.and_then(|j| request[j]).unwrap_or(0);
+        arbiter.chosen_block.next = id.into();
+        arbiter.chosen_line.next = (id & 0xffff).into();
+        let ready = r.gen_bool(0.5);
+        arbiter.fill_ready.next = ready;
+        settle(&mut arbiter);
+        if ready && arbiter.fill_valid.val() {
+            started.push(arbiter.fill_block.val().to_u64());
+            assert_eq!(
+                arbiter.fill_line.val().to_u64(),
+                started[started.len() - 1] & 0xffff
+            );
+        }
+        arbiter.clock.next = true.into();
+        settle(&mut arbiter);
+        arbiter.clock.next = false.into();
+    }
+    assert!(taken_order.len() > 3_000, "{} taken", taken_order.len());
+    let mut sorted = taken_order.clone();
+    sorted.sort_unstable();
+    sorted.dedup();
+    assert_eq!(sorted.len(), taken_order.len(), "a request taken twice");
+    assert_eq!(
+        started[..],
+        taken_order[..started.len()],
+        "the fills are the requests taken"
+    );
+    assert!(taken_order.len() - started.len() <= 1);
 }
 
 #[test]

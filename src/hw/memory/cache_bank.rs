@@ -10,9 +10,15 @@
 //! block`); the answer carries a miss flag in bit `W`, above the word: the line is
 //! not there, is being filled, or had its tag or valid bit written in the cycle of
 //! the read (so a read never sees a tag and a valid bit of two different blocks).
-//! A miss waits in one register for `LineFill` unless a fill of its line is in
-//! flight by then; the line's tag is written when the fill is taken and its
-//! valid bit set when the fill is done, so a line being filled always misses.
+//! A miss waits one cycle in a register, then becomes the bank's fill request (a
+//! second register, held until the [`FillArbiter`](crate::hw::memory::fill_arbiter::FillArbiter)
+//! takes it) if that register is free and its line is neither being filled nor
+//! holding a block not read yet; else it is dropped and its reader misses again
+//! (a miss kept longer could ask for a block that has arrived meanwhile, and
+//! that line would then hold a block nobody reads). The line's tag is written in the cycle after the request was taken (the
+//! arbiter's registered grant) and its valid bit set when the fill is done, so a
+//! line being filled always misses. Requests go out of registers and grants come
+//! in to registers: a bank's cycle never waits for the arbitration among banks.
 //! A line just filled is not replaced before it has been read once: two readers
 //! of two blocks that share a line would otherwise take it from each other
 //! forever (each fill replaced before its reader's next try), and the reader of a
@@ -40,9 +46,10 @@ pub struct CacheBank {
     /// row now, word (and miss flag) the next cycle.
     pub read: BankMemoryPort,
     pub second: BankMemoryPort,
-    /// A block to fetch: its block number and its (global) line.
+    /// A block to fetch (the request, from registers): its block number and its
+    /// (global) line; `fill_taken`: the request was taken in the previous cycle.
     pub fill_valid: Signal<Out, bool>,
-    pub fill_ready: Signal<In, bool>,
+    pub fill_taken: Signal<In, bool>,
     pub fill_block: Signal<Out, MemoryWord>,
     pub fill_line: Signal<Out, LineIndex>,
     /// `LineFill`'s writes (global line × beats a line + beat) and its filled
@@ -67,12 +74,22 @@ pub struct CacheBank {
     filling: DFF<LineMask>,
     /// Read since its fill was done (a line not read yet is kept).
     used: DFF<LineMask>,
-    /// The one miss waiting to be fetched.
+    /// The one miss waiting to become the request.
     miss_valid: DFF<bool>,
     miss_block: DFF<MemoryWord>,
     miss_line: DFF<Addr>,
     miss_tag: DFF<Addr>,
+    /// The fill request presented to the arbiter.
+    request_valid: DFF<bool>,
+    request_block: DFF<MemoryWord>,
+    request_line: DFF<Addr>,
+    request_tag: DFF<Addr>,
     take: Signal<Local, bool>,
+    /// The waiting miss may become the request: the request's register is free
+    /// (empty, or taken now) and its line is neither filling nor holding a block
+    /// not read yet, nor taken for a fill this cycle.
+    moving: Signal<Local, bool>,
+    eligible: Signal<Local, bool>,
     next_valid: Signal<Local, LineMask>,
     next_filling: Signal<Local, LineMask>,
     next_used: Signal<Local, LineMask>,
@@ -99,7 +116,7 @@ impl CacheBank {
             read: Default::default(),
             second: Default::default(),
             fill_valid: Default::default(),
-            fill_ready: Default::default(),
+            fill_taken: Default::default(),
             fill_block: Default::default(),
             fill_line: Default::default(),
             write_enable: Default::default(),
@@ -126,7 +143,13 @@ impl CacheBank {
             miss_block: Default::default(),
             miss_line: Default::default(),
             miss_tag: Default::default(),
+            request_valid: Default::default(),
+            request_block: Default::default(),
+            request_line: Default::default(),
+            request_tag: Default::default(),
             take: Default::default(),
+            moving: Default::default(),
+            eligible: Default::default(),
             next_valid: Default::default(),
             next_filling: Default::default(),
             next_used: Default::default(),
@@ -144,7 +167,21 @@ impl CacheBank {
 impl Logic for CacheBank {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, valid, filling, used, miss_valid, miss_block, miss_line, miss_tag);
+        dff_setup!(
+            self,
+            clock,
+            valid,
+            filling,
+            used,
+            miss_valid,
+            miss_block,
+            miss_line,
+            miss_tag,
+            request_valid,
+            request_block,
+            request_line,
+            request_tag
+        );
         // The fills' beats and finished lines that are this bank's.
         self.write_line.next = bit_cast::<24, 16>(self.write_index.val()) >> self.beat_levels.val();
         self.mine_write.next = self.write_enable.val()
@@ -158,17 +195,31 @@ impl Logic for CacheBank {
             && ((self.done_global.val() & self.bank_mask.val()) == self.bank.val());
         self.done_line.next =
             (self.done_global.val() >> self.bank_bits.val()) & self.line_mask.val();
-        // The waiting miss goes to the fill unless its line is being filled by
-        // then (another miss of it was taken first): it is dropped, and its
-        // reader misses again until that fill is done.
-        self.fill_valid.next = self.miss_valid.q.val()
-            && !self.filling.q.val().get_bit(self.miss_line.q.val().index())
+        // The request, from its registers; taken in the previous cycle, it is
+        // started now.
+        self.fill_valid.next = self.request_valid.q.val();
+        self.fill_block.next = self.request_block.q.val();
+        self.fill_line.next = bit_cast::<16, 24>(
+            (self.request_line.q.val() << self.bank_bits.val()) | self.bank.val(),
+        );
+        self.take.next = self.fill_taken.val() && self.request_valid.q.val();
+        // The waiting miss becomes the request unless its line is being filled
+        // (or starts to be now: another miss of it was taken first) or holds a
+        // block not read yet: then it is dropped, and its reader misses again
+        // until that fill is done.
+        self.moving.next =
+            self.miss_valid.q.val() && (!self.request_valid.q.val() || self.take.val());
+        self.eligible.next = !self.filling.q.val().get_bit(self.miss_line.q.val().index())
             && (self.used.q.val().get_bit(self.miss_line.q.val().index())
-                || !self.valid.q.val().get_bit(self.miss_line.q.val().index()));
-        self.fill_block.next = self.miss_block.q.val();
-        self.fill_line.next =
-            bit_cast::<16, 24>((self.miss_line.q.val() << self.bank_bits.val()) | self.bank.val());
-        self.take.next = self.fill_valid.val() && self.fill_ready.val();
+                || !self.valid.q.val().get_bit(self.miss_line.q.val().index()))
+            && (!self.take.val() || (self.request_line.q.val() != self.miss_line.q.val()));
+        self.request_valid.d.next = self.request_valid.q.val() && !self.take.val();
+        if self.moving.val() && self.eligible.val() {
+            self.request_valid.d.next = true;
+            self.request_block.d.next = self.miss_block.q.val();
+            self.request_line.d.next = self.miss_line.q.val();
+            self.request_tag.d.next = self.miss_tag.q.val();
+        }
         // Next cycle's bits and miss, built up in locals (a DFF's input is only
         // written here, never read back).
         self.next_filling.next = self.filling.q.val();
@@ -177,7 +228,7 @@ impl Logic for CacheBank {
                 .filling
                 .q
                 .val()
-                .replace_bit(self.miss_line.q.val().index(), true);
+                .replace_bit(self.request_line.q.val().index(), true);
         }
         self.next_valid.next = self.valid.q.val();
         self.next_used.next = self.used.q.val();
@@ -197,8 +248,8 @@ impl Logic for CacheBank {
                 .val()
                 .replace_bit(self.done_line.val().index(), true);
         }
-        // A waiting miss stays until the fill takes it (or drops it).
-        self.next_miss.next = self.fill_valid.val() && !self.take.val();
+        // A waiting miss has moved on or is dropped.
+        self.next_miss.next = false;
         // Port 0 is the read port, port 1 (if any) the second.
         self.ports[0].enable.next = self.read.enable.val();
         self.ports[0].row.next = self.read.row.val();
@@ -219,15 +270,15 @@ impl Logic for CacheBank {
             self.ports[p].word_index.next = bit_cast::<16, 24>(self.word_index.val());
             self.ports[p].word_data.next = self.write_data.val();
             self.ports[p].tag_write.next = self.take.val();
-            self.ports[p].tag_line.next = self.miss_line.q.val();
-            self.ports[p].tag_data.next = self.miss_tag.q.val();
+            self.ports[p].tag_line.next = self.request_line.q.val();
+            self.ports[p].tag_data.next = self.request_tag.q.val();
             if self.ports[p].hit.val() {
                 self.next_used.next = self
                     .next_used
                     .val()
                     .replace_bit(self.ports[p].miss_line.val().index(), true);
             }
-            // The first read that missed becomes the waiting miss, if none waits.
+            // The first port whose read missed gives the waiting miss.
             if self.ports[p].missed.val() && !self.next_miss.val() {
                 self.next_miss.next = true;
                 self.miss_line.d.next = self.ports[p].miss_line.val();
@@ -243,6 +294,7 @@ impl Logic for CacheBank {
             self.valid.d.next = 0.into();
             self.filling.d.next = 0.into();
             self.miss_valid.d.next = false;
+            self.request_valid.d.next = false;
         }
     }
 }

@@ -8,6 +8,8 @@
 //!   (block mod B, `(block / B) · 2^s + offset`), as `BankMap` is for banks.
 //! * `CacheBank`: one bank of the direct-mapped cache: a bank's read ports with a
 //!   miss flag above the word, the lines' tags and valid bits, a miss's fill request.
+//! * `FillArbiter`: the banks' fill requests in round robin, registered on both
+//!   sides (a request from a bank's register, the grant into one).
 //! * `LineFill`: the AXI4 master (`primitives::axi4_read`) that brings blocks into
 //!   cache lines, up to 16 bursts in flight to cover the memory's latency.
 //!
@@ -23,7 +25,7 @@
 //!   stays in the slot's LUT-RAM entries), and offers it again after
 //!   `RETRY_CYCLES`, while the other slots go on, as on a busy bank.
 //! * **The memory port.** One `LineFill` for all banks, the banks' requests in
-//!   round robin; its AXI4 master is the core's `m_axi` port. The host writes the
+//!   round robin (`FillArbiter`); its AXI4 master is the core's `m_axi` port. The host writes the
 //!   map's image (`MemoryLayout::image`) into the memory and streams the on-chip
 //!   levels and the last word (the photon count) through the load stream.
 
@@ -31,4 +33,5 @@ pub mod block_map;
 pub mod cache_bank;
 pub mod cache_map;
 pub mod cache_port;
+pub mod fill_arbiter;
 pub mod line_fill;

@@ -12,8 +12,11 @@
 //! crossbar (its words one bit wider: the miss flag), and one [`LineFill`]
 //! brings their missing blocks through the `m_axi` port (one burst a block of
 //! `2^s` words, one or two photon words a beat: the memory's data width), the banks' fill
-//! requests taking turns (round robin, [`PortArbiter`]); every bank sees every
-//! fill's writes and keeps those of its own lines (line mod B). Nothing is
+//! requests taking turns (round robin); every bank sees every
+//! fill's writes and keeps those of its own lines (line mod B). The requests
+//! and the grants are registered ([`FillArbiter`]): the banks are spread over
+//! the chip with their datapaths, and a request's arbitration and its trip
+//! across the chip each get a cycle. Nothing is
 //! loaded into them: the map's image is in memory.
 
 use crate::hw::config::bank_config::BankPorts;
@@ -22,11 +25,11 @@ use crate::hw::config::core_config::{Addr, CoreConfig, Word};
 use crate::hw::config::memory_config::MEMORY_PORT_BITS;
 use crate::hw::memory::cache_bank::CacheBank;
 use crate::hw::memory::cache_port::LineShape;
+use crate::hw::memory::fill_arbiter::FillArbiter;
 use crate::hw::memory::line_fill::LineFill;
 use crate::hw::primitives::axi4_read::AxiReadMaster;
 use crate::hw::primitives::bank_bus::{BankAnswer, BankClient, BankIndex};
 use crate::hw::primitives::block_ram::BramWord;
-use crate::hw::primitives::port_arbiter::PortArbiter;
 use crate::hw::store::bank_crossbar::BankCrossbar;
 use crate::hw::store::bank_map::BankMap;
 use crate::hw::store::read_issue::ReadIssue;
@@ -59,7 +62,7 @@ pub struct BankStore<const W: usize> {
     /// round robin of the banks' fill requests and each bank's bit in it.
     caches: Vec<CacheBank>,
     fill: Vec<LineFill<MEMORY_PORT_BITS>>,
-    fill_turn: Vec<PortArbiter>,
+    fill_turn: Vec<FillArbiter>,
     fill_asking: Vec<Signal<Local, ModuleMask>>,
     cache_bit: Vec<Constant<ModuleMask>>,
 }
@@ -139,7 +142,7 @@ impl<const W: usize> BankStore<W> {
                     )
                 })
                 .collect(),
-            fill_turn: (0..fills).map(|_| PortArbiter::new(caches)).collect(),
+            fill_turn: (0..fills).map(|_| FillArbiter::new(caches)).collect(),
             fill_asking: (0..fills).map(|_| Default::default()).collect(),
             cache_bit: (0..caches)
                 .map(|j| Constant::new(ModuleMask::from(1u64 << j)))
@@ -201,7 +204,7 @@ impl<const W: usize> Logic for BankStore<W> {
             self.crossbar.banks[j].word.next = self.caches[j].read.word.val();
             self.caches[j].second.enable.next = false;
             self.caches[j].second.row.next = 0.into();
-            self.caches[j].fill_ready.next = false;
+            self.caches[j].fill_taken.next = false;
         }
         for j in 0..self.crossbar.second.len().min(self.caches.len()) {
             self.caches[j].second.enable.next = self.crossbar.second[j].enable.val();
@@ -212,6 +215,7 @@ impl<const W: usize> Logic for BankStore<W> {
             self.fill[m].clock.next = self.clock.val();
             self.fill[m].reset.next = self.reset.val();
             self.fill_turn[m].clock.next = self.clock.val();
+            self.fill_turn[m].reset.next = self.reset.val();
             AxiReadMaster::<MEMORY_PORT_BITS>::link(&mut self.m_axi[m], &mut self.fill[m].m_axi);
             self.fill_asking[m].next = 0.into();
             for j in 0..self.caches.len() {
@@ -225,18 +229,19 @@ impl<const W: usize> Logic for BankStore<W> {
                 }
             }
             self.fill_turn[m].requests.next = self.fill_asking[m].val();
-            self.fill_turn[m].hold.next = false;
-            self.fill_turn[m].advance.next =
-                self.fill_turn[m].granted.val() && self.fill[m].fill_ready.val();
-            self.fill[m].fill_valid.next = self.fill_turn[m].granted.val();
-            self.fill[m].fill_block.next = 0.into();
-            self.fill[m].fill_line.next = 0.into();
+            self.fill_turn[m].fill_ready.next = self.fill[m].fill_ready.val();
+            self.fill[m].fill_valid.next = self.fill_turn[m].fill_valid.val();
+            self.fill[m].fill_block.next = self.fill_turn[m].fill_block.val();
+            self.fill[m].fill_line.next = self.fill_turn[m].fill_line.val();
+            self.fill_turn[m].chosen_block.next = 0.into();
+            self.fill_turn[m].chosen_line.next = 0.into();
             for j in 0..self.caches.len() {
-                if (self.fill_turn[m].grant.val() & self.cache_bit[j].val()) != 0 {
-                    self.fill[m].fill_block.next = self.caches[j].fill_block.val();
-                    self.fill[m].fill_line.next = self.caches[j].fill_line.val();
-                    self.caches[j].fill_ready.next = self.fill[m].fill_ready.val();
+                if (self.fill_turn[m].choice.val() & self.cache_bit[j].val()) != 0 {
+                    self.fill_turn[m].chosen_block.next = self.caches[j].fill_block.val();
+                    self.fill_turn[m].chosen_line.next = self.caches[j].fill_line.val();
                 }
+                self.caches[j].fill_taken.next =
+                    (self.fill_turn[m].taken.val() & self.cache_bit[j].val()) != 0;
             }
         }
     }
