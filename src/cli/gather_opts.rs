@@ -37,7 +37,7 @@ pub struct GatherOpts {
     /// Who answers the gathers.
     #[arg(long, value_enum, default_value_t = BackendKind::Sw)]
     pub backend: BackendKind,
-    /// Largest photon map accepted [default: what the backend can hold: 2^24 - 1
+    /// Largest photon map accepted [default: what the backend can hold: 2^23 - 1
     /// photons for native and verilator (beyond 2^20 - 1 the map is in external
     /// memory: the core --device plans, or the ECP5-85k's), the memory budget for
     /// float and sw].

@@ -19,10 +19,11 @@
 //! │   ├── BankMap (store/bank_map.rs)          heap address → bank and row (XOR-fold)
 //! │   ├── TreeModule × B                 one bank each
 //! │   ├── BankCrossbar (store/bank_crossbar.rs)  D datapaths × B banks, round robin per port
+//! │   │   ├── PortArbiter, PriorityEncoder  per bank port: its grant and its index
+//! │   │   └── MuxTrees × 2 (primitives/mux_trees.rs)   rows to the banks, words back
 //! │   ├── CacheBank × B (memory/cache_bank.rs)  with external memory, the banks are a cache
+//! │   ├── FillArbiter (memory/fill_arbiter.rs)  their fill requests, registered both sides
 //! │   └── LineFill (memory/line_fill.rs)         its AXI4 master: the core's m_axi port
-//! │       ├── PortArbiter, PriorityEncoder  per bank port: its grant and its index
-//! │       └── MuxTrees × 2 (primitives/mux_trees.rs)   rows to the banks, words back
 //! └── ControllerPort × 2T (top/controller_port.rs)  a tree's port A (also the load
 //!     │                                 port) or B, behind one bundle (primitives/stream.rs PortIo)
 //!     ├── SearchPort (modules/search_port.rs)   `Controller::Modules`, §4.5

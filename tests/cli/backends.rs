@@ -4,7 +4,7 @@
 use super::*;
 
 /// Class 8: a backend's photon limit is its own. The simulated core holds at most
-/// 2^24 − 1 photons (the external-memory core's 24 address bits) and a larger
+/// 2^23 − 1 photons (the external-memory core's 23 address bits) and a larger
 /// --capacity is refused up front; the float and sw searches are bounded by memory
 /// alone, so a render of more than 2^20 stored photons runs on them with no flag.
 #[test]
@@ -15,8 +15,8 @@ fn each_backend_has_its_own_photon_limit() {
     for backend in ["native", "verilator"] {
         refused(
             dir.path(),
-            &render(&["--backend", backend, "--capacity", "16777216"]),
-            &format!("--capacity 16777216 exceeds what --backend {backend} can hold"),
+            &render(&["--backend", backend, "--capacity", "8388608"]),
+            &format!("--capacity 8388608 exceeds what --backend {backend} can hold"),
         );
     }
     let run = bin()

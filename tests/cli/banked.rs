@@ -229,7 +229,14 @@ fn what_the_banked_core_cannot_build_is_refused() {
         "cannot wait for a bank",
     );
     // A map beyond the BlockRAM gets the external-memory core (planned below);
-    // beyond its 24 address bits it is refused with the largest map named.
+    // beyond its 23 address bits it is refused with the largest map named, and
+    // the largest builds.
+    let largest = format!("{v}-largest");
+    bin()
+        .args(["export-verilog", "--device", "ecp5-85k"])
+        .args(["--address-bits", "23", "--out", &largest])
+        .assert()
+        .success();
     refused(
         dir.path(),
         &strings(&[
@@ -237,11 +244,11 @@ fn what_the_banked_core_cannot_build_is_refused() {
             "--device",
             "ecp5-85k",
             "--address-bits",
-            "25",
+            "24",
             "--out",
             &v,
         ]),
-        "the largest that fits is 16777215 photons",
+        "the largest that fits is 8388607 photons",
     );
     // The memory's data width (a core file's key): one or two photon words a
     // beat, and only with a memory.

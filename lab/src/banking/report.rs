@@ -300,7 +300,7 @@ fn plans(t: &mut String, sizes: &[usize], word_bits: u32) {
     let devs: [&Device; 2] = [&ECP5_85K, &XC6VSX475T];
     for dev in devs {
         for &n in sizes {
-            match plan(n, word_bits, dev, &lim) {
+            match plan(n, word_bits, dev.datapath_brams, dev, &lim) {
                 Ok(p) => {
                     let _ = writeln!(
                         t,

@@ -2,12 +2,15 @@
 //! and D made into core options. D datapaths are D / 2 replicas of the top levels
 //! (two datapaths share one dual-port BlockRAM replica), so an odd D loses one.
 
-use crate::host::device::plan::{plan, plan_memory, Device, Limits, PlanError, ECP5_85K};
+use crate::host::device::plan::{
+    datapath_brams, plan, plan_memory, Device, Limits, PlanError, ECP5_85K,
+};
 use crate::host::error::{Error, Result};
 use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::config_builder::CoreBuilder;
 use crate::hw::config::controller::Controller;
 use crate::hw::config::core_config::{bits_for, MAX_ADDRESS_BITS, PORTS};
+use crate::hw::config::memory_config::MAX_MEMORY_ADDRESS_BITS;
 
 /// `b` with the banked barrel core that `dev` holds for `photons` photons of
 /// `word_bits`-bit words: a clear error (naming the largest map that fits) if
@@ -26,7 +29,8 @@ pub fn for_device(
         )));
     }
     let lim = Limits::default();
-    let p = match plan(photons, word_bits, dev, &lim) {
+    let own = own_brams(&b, photons, dev)?;
+    let p = match plan(photons, word_bits, own, dev, &lim) {
         Ok(p) => p,
         // Beyond the BlockRAM: the map in the board's memory behind a cache.
         Err(PlanError::MapTooLarge { .. }) => return memory_core(b, photons, word_bits, dev),
@@ -59,7 +63,8 @@ pub fn memory_core(
     word_bits: u32,
     dev: &Device,
 ) -> Result<CoreBuilder> {
-    let m = plan_memory(photons, word_bits, dev, &Limits::default())
+    let own = own_brams(&b, photons, dev)?;
+    let m = plan_memory(photons, word_bits, own, dev, &Limits::default())
         .map_err(|e| Error::new(e.to_string()))?;
     let trees = (m.datapaths as usize / PORTS).max(1);
     Ok(b.trees(trees)
@@ -67,6 +72,22 @@ pub fn memory_core(
         .bank_ports(BankPorts::Split)
         .cache_lines(Some(m.cache_lines))
         .result_streams(result_streams(PORTS * trees)))
+}
+
+/// One datapath's own BlockRAMs of the core `b` describes, for a map of `photons`
+/// photons (its found lists hold their addresses): K, the query slots and the
+/// distance width set them; the store's options do not.
+fn own_brams(b: &CoreBuilder, photons: usize, dev: &Device) -> Result<u32> {
+    // (A map beyond the external memory's addresses is refused by the plan.)
+    let h = bits_for(photons as u64).min(MAX_MEMORY_ADDRESS_BITS);
+    let mut core = b
+        .address_bits(h.min(MAX_ADDRESS_BITS))
+        .banking(None)
+        .cache_lines(None)
+        .build()
+        .map_err(|e| Error::new(e.to_string()))?;
+    core.address_bits = h;
+    Ok(datapath_brams(dev, &core))
 }
 
 /// Datapaths one result stream serves in a planned core: a stream carries a beat

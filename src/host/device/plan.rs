@@ -25,8 +25,9 @@
 //!   BlockRAMs wastes some), then the most banks (fewer conflicts), then shared
 //!   ports.
 
+use crate::hw::barrel::barrel_port::datapath_block_rams;
 use crate::hw::config::bank_config::BankPorts;
-use crate::hw::config::core_config::{MAX_BANKED_TREES, MAX_TREES};
+use crate::hw::config::core_config::{CoreConfig, MAX_BANKED_TREES, MAX_TREES};
 use crate::hw::config::memory_config::{
     MAX_BANK_LINES, MAX_CACHE_BANK_BITS, MAX_CACHE_LINES, MAX_MEMORY_ADDRESS_BITS,
     MEMORY_BLOCK_LEVELS,
@@ -42,8 +43,13 @@ pub struct Device {
     pub shape: (u32, u32),
     /// Logic cells (ECP5 LUT4s, Virtex-6 6-input LUTs).
     pub luts: u32,
-    /// One barrel datapath's own BlockRAMs (offsets, found lists) and logic, from
-    /// the synthesised barrel core (synth/REPORT.md: 2 datapaths per core).
+    /// (words, bits) of each BlockRAM shape a memory may take, widest first (a
+    /// memory takes the shape that needs the fewest: [`Device::brams_for`]).
+    pub bram_shapes: &'static [(u32, u32)],
+    /// One barrel datapath's own BlockRAMs (far-cell bounds, found lists) at the
+    /// default K = 32, for the lab's studies (the product counts its core's:
+    /// [`datapath_brams`]), and logic, from the synthesised barrel core
+    /// (synth/REPORT.md: 2 datapaths per core).
     pub datapath_brams: u32,
     pub datapath_luts: u32,
     /// The crossbar's logic cells per requester and bank, with shared and with
@@ -60,6 +66,20 @@ pub struct Device {
 }
 
 impl Device {
+    /// The BlockRAMs of a memory of `2^index_bits` words of `width` bits: the
+    /// fewest any one shape takes (yosys picks one shape for a memory); memories
+    /// of under 32 words are logic.
+    pub fn brams_for(&self, index_bits: u32, width: u32) -> u32 {
+        if index_bits < 5 {
+            return 0;
+        }
+        self.bram_shapes
+            .iter()
+            .map(|&(words, bits)| width.div_ceil(bits) * (1u32 << index_bits).div_ceil(words))
+            .min()
+            .unwrap_or(0)
+    }
+
     /// The crossbar's logic for `d` requesters on `banks` banks with `ports`
     /// (one port a bank costs what split ports do: one port's arbiter and row
     /// tree over all D, one word input a bank for each requester).
@@ -86,6 +106,14 @@ pub const ECP5_85K: Device = Device {
     brams: 208,
     shape: (512, 36),
     luts: 83_640,
+    bram_shapes: &[
+        (512, 36),
+        (1024, 18),
+        (2048, 9),
+        (4096, 4),
+        (8192, 2),
+        (16384, 1),
+    ],
     datapath_brams: 8,
     datapath_luts: 7_930,
     crossbar_luts_shared: ECP5_XBAR_SHARED,
@@ -122,6 +150,15 @@ pub const XC6VSX475T: Device = Device {
     brams: 1_064,
     shape: (1024, 36),
     luts: 297_600,
+    bram_shapes: &[
+        (512, 72),
+        (1024, 36),
+        (2048, 18),
+        (4096, 9),
+        (8192, 4),
+        (16384, 2),
+        (32768, 1),
+    ],
     datapath_brams: 4,
     datapath_luts: 3_654 + 4 * 254,
     crossbar_luts_shared: 16_125.0 / 256.0,
@@ -231,10 +268,23 @@ impl fmt::Display for PlanError {
     }
 }
 
-/// The plan for `photons` photons of `word_bits` bits on `dev`.
+/// One barrel datapath's own BlockRAMs on `dev` for `core` with its map's
+/// address bits (the found lists hold photon addresses): its memories as its
+/// blocks build them (`datapath_block_rams`: found lists, far-cell bounds, and
+/// for K > 64 the heaps' levels), each in the device's fewest BlockRAMs.
+pub fn datapath_brams(dev: &Device, core: &CoreConfig) -> u32 {
+    datapath_block_rams(core)
+        .into_iter()
+        .map(|(index_bits, width)| dev.brams_for(index_bits, width))
+        .sum()
+}
+
+/// The plan for `photons` photons of `word_bits` bits on `dev`, each datapath
+/// with `own_brams` BlockRAMs of its own ([`datapath_brams`]).
 pub fn plan(
     photons: usize,
     word_bits: u32,
+    own_brams: u32,
     dev: &Device,
     lim: &Limits,
 ) -> Result<BankPlan, PlanError> {
@@ -244,20 +294,20 @@ pub fn plan(
             device: dev.name,
         });
     }
-    plan_fit(photons, dev, lim).ok_or_else(|| PlanError::MapTooLarge {
+    plan_fit(photons, own_brams, dev, lim).ok_or_else(|| PlanError::MapTooLarge {
         photons,
         device: dev.name,
-        largest: largest_map(dev, lim),
+        largest: largest_map(own_brams, dev, lim),
     })
 }
 
 /// The best plan for `photons` (see the module docs), if any: the most
 /// datapaths, then the fewest BlockRAMs, then the most banks.
-fn plan_fit(photons: usize, dev: &Device, lim: &Limits) -> Option<BankPlan> {
+fn plan_fit(photons: usize, own_brams: u32, dev: &Device, lim: &Limits) -> Option<BankPlan> {
     let depth = dev.shape.0;
     // 2^L − 1 <= depth.
     let l = 31 - (depth + 1).leading_zeros();
-    let per_dp = 1 + dev.datapath_brams;
+    let per_dp = 1 + own_brams;
     let budget = dev.luts as f64 * lim.logic_share;
     let dp_luts = |d: u32| u64::from(d) * u64::from(dev.datapath_luts);
     if photons < (1usize << l) {
@@ -334,16 +384,17 @@ fn plan_fit(photons: usize, dev: &Device, lim: &Limits) -> Option<BankPlan> {
     best
 }
 
-/// The largest photon count [`plan`] fits on `dev` (0 if none).
-pub fn largest_map(dev: &Device, lim: &Limits) -> usize {
-    if plan_fit(1, dev, lim).is_none() {
+/// The largest photon count [`plan`] fits on `dev` with `own_brams` a datapath
+/// (0 if none).
+pub fn largest_map(own_brams: u32, dev: &Device, lim: &Limits) -> usize {
+    if plan_fit(1, own_brams, dev, lim).is_none() {
         return 0;
     }
     let (mut lo, mut hi) = (1usize, 1usize << 28);
     // plan_fit holds for lo, fails for hi.
     while hi - lo > 1 {
         let mid = lo + (hi - lo) / 2;
-        if plan_fit(mid, dev, lim).is_some() {
+        if plan_fit(mid, own_brams, dev, lim).is_some() {
             lo = mid;
         } else {
             hi = mid;
@@ -372,7 +423,7 @@ pub struct MemoryPlan {
     pub crossbar_luts: u64,
 }
 
-/// Largest map of an external-memory core: its 24-bit heap addresses (every
+/// Largest map of an external-memory core: [`MAX_MEMORY_ADDRESS_BITS`] (every
 /// modelled board's DRAM holds that many 32-bit words many times over).
 pub const MEMORY_MAP_LIMIT: usize = (1 << MAX_MEMORY_ADDRESS_BITS) - 1;
 
@@ -394,8 +445,8 @@ fn cache_logic(dev: &Device, d: u32, lines: u32, b: u32) -> f64 {
         + dev.cache_line_luts * f64::from(lines)
 }
 
-/// The external-memory core for `photons` photons of `word_bits` bits on `dev`:
-/// the most datapaths (two a replica, at most `2^b / banks_per_datapath` for `2^b`
+/// The external-memory core for `photons` photons of `word_bits` bits on `dev`,
+/// each datapath with `own_brams` BlockRAMs of its own: the most datapaths (two a replica, at most `2^b / banks_per_datapath` for `2^b`
 /// cache banks, within the logic budget beside a split-port crossbar), then the
 /// most cache lines the BlockRAM left and the logic budget hold (a line's state
 /// bits cost [`Device::cache_line_luts`]; a power of two, at most 256 a bank and
@@ -404,6 +455,7 @@ fn cache_logic(dev: &Device, d: u32, lines: u32, b: u32) -> f64 {
 pub fn plan_memory(
     photons: usize,
     word_bits: u32,
+    own_brams: u32,
     dev: &Device,
     lim: &Limits,
 ) -> Result<MemoryPlan, PlanError> {
@@ -423,7 +475,7 @@ pub fn plan_memory(
         return Err(too_large);
     }
     let l = 31 - (dev.shape.0 + 1).leading_zeros();
-    let per_dp = 1 + dev.datapath_brams;
+    let per_dp = 1 + own_brams;
     let budget = dev.luts as f64 * lim.logic_share;
     let mut best: Option<MemoryPlan> = None;
     for b in 1..=MAX_CACHE_BANK_BITS {
@@ -470,6 +522,55 @@ pub fn plan_memory(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::hw::config::core_spec::CoreSpec;
+
+    /// The default core (K = 32) with `k` photons a query, for a map of `h`
+    /// address bits.
+    fn core(k: usize, h: u32) -> CoreConfig {
+        let mut c = CoreConfig::builder()
+            .with_spec(&CoreSpec::default_core())
+            .unwrap()
+            .k(k)
+            .address_bits(20)
+            .build()
+            .unwrap();
+        c.address_bits = h;
+        c
+    }
+
+    /// A datapath's BlockRAMs as the synthesised netlists have them (DP16KD cells
+    /// counted by instance in the external-memory cores of synth/REPORT.md, H =
+    /// 21): at K = 32 two each for the even and odd found lists and the two
+    /// far-cell memories; at K = 500 six for each found list, 16 for the heap's
+    /// levels and the same four. The device constants the lab uses agree.
+    #[test]
+    fn a_datapaths_blockrams_are_the_synthesised_ones() {
+        assert_eq!(datapath_brams(&ECP5_85K, &core(32, 21)), 8);
+        assert_eq!(datapath_brams(&ECP5_85K, &core(500, 21)), 6 + 6 + 16 + 4);
+        assert_eq!(
+            datapath_brams(&ECP5_85K, &core(32, 21)),
+            ECP5_85K.datapath_brams
+        );
+        assert_eq!(
+            datapath_brams(&XC6VSX475T, &core(32, 21)),
+            XC6VSX475T.datapath_brams
+        );
+    }
+
+    /// At K = 500 the paper's map on the ECP5-85k gets a smaller cache than at
+    /// K = 32 (the heaps take BlockRAM), and the plan fits the device's BlockRAM.
+    #[test]
+    fn a_k500_memory_plan_leaves_the_heaps_their_blockram() {
+        let lim = Limits::default();
+        let own = datapath_brams(&ECP5_85K, &core(500, 21));
+        let p = plan_memory(1_945_886, 32, own, &ECP5_85K, &lim).unwrap();
+        assert!(
+            p.cache_brams + p.datapaths * (1 + own) <= ECP5_85K.brams,
+            "{p:?}"
+        );
+        let at32 = plan_memory(1_945_886, 32, ECP5_85K.datapath_brams, &ECP5_85K, &lim).unwrap();
+        assert!(p.cache_lines < at32.cache_lines, "{p:?} {at32:?}");
+    }
 
     /// The paper's 1 M-photon map on each device: a plan that fits the BlockRAM,
     /// a cache twice as large that would not, and a map one photon beyond the
@@ -478,8 +579,12 @@ mod tests {
     fn a_map_beyond_the_blockram_gets_the_largest_cache_that_fits() {
         let lim = Limits::default();
         for dev in [ECP5_85K, XC6VSX475T] {
-            let p = plan_memory(1_945_886, 32, &dev, &lim).unwrap();
-            assert!(plan(1_945_886, 32, &dev, &lim).is_err(), "{}", dev.name);
+            let p = plan_memory(1_945_886, 32, dev.datapath_brams, &dev, &lim).unwrap();
+            assert!(
+                plan(1_945_886, 32, dev.datapath_brams, &dev, &lim).is_err(),
+                "{}",
+                dev.name
+            );
             assert!(p.datapaths >= lim.min_datapaths && p.datapaths.is_multiple_of(2));
             assert_eq!(1u32 << p.replicated_levels, dev.shape.0);
             // Words: two copies (split ports) of every line's 16 words, in
@@ -505,15 +610,14 @@ mod tests {
             assert!(doubled || p.cache_lines == 4096 || p.cache_lines / banks == 256);
         }
         // The ECP5-85k's: the core docs/MEMORY_CORE.md measures.
-        let e = plan_memory(1_945_886, 32, &ECP5_85K, &lim).unwrap();
+        let e = plan_memory(1_945_886, 32, ECP5_85K.datapath_brams, &ECP5_85K, &lim).unwrap();
         assert_eq!(
             (e.datapaths, e.bank_bits, e.cache_lines, e.replicated_levels),
             (4, 4, 1024, 9)
         );
-        let err = plan_memory(1 << 24, 32, &ECP5_85K, &lim).unwrap_err();
+        let err = plan_memory(1 << 23, 32, ECP5_85K.datapath_brams, &ECP5_85K, &lim).unwrap_err();
         assert!(
-            err.to_string()
-                .contains("the largest that fits is 16777215"),
+            err.to_string().contains("the largest that fits is 8388607"),
             "{err}"
         );
     }

@@ -169,7 +169,30 @@ pub struct BarrelPort<const W: usize> {
     query_fire: Signal<Local, bool>,
 }
 
+/// The BlockRAMs of one barrel datapath of `cfg` (its found lists, far-cell
+/// bounds and heap levels; not the map's replica or banks): (index bits, width)
+/// each, as its blocks build them, for a device plan's BlockRAM count.
+pub fn datapath_block_rams(cfg: &CoreConfig) -> Vec<(u32, u32)> {
+    fn rams<const S: usize, const W: usize>(cfg: &CoreConfig) -> Vec<(u32, u32)> {
+        BarrelPort::<W>::new(cfg).block_rams()
+    }
+    crate::dispatch_widths!(cfg, rams(cfg))
+}
+
 impl<const W: usize> BarrelPort<W> {
+    /// This datapath's BlockRAMs ([`datapath_block_rams`]).
+    pub fn block_rams(&self) -> Vec<(u32, u32)> {
+        let mut rams: Vec<(u32, u32)> = [&self.far_xy, &self.far_zd]
+            .iter()
+            .filter_map(|r| r.block_ram_shape())
+            .collect();
+        rams.extend(self.readout.block_rams());
+        for h in &self.heap {
+            rams.extend(h.block_rams());
+        }
+        rams
+    }
+
     pub fn new(cfg: &CoreConfig) -> Self {
         let q = cfg.queries_per_port;
         let cell = cfg.traversal == Traversal::Cell;

@@ -137,6 +137,14 @@ impl FoundHeap {
         }
     }
 
+    /// The levels held in BlockRAM: (index bits, width) each.
+    pub fn block_rams(&self) -> Vec<(u32, u32)> {
+        self.levels
+            .iter()
+            .filter_map(|r| r.block_ram_shape())
+            .collect()
+    }
+
     /// The fewest cycles between two operations of one slot in this heap: one
     /// more than the most cycles, over the levels, from a level's read to the
     /// write of it one stage later (the last level is written by a stage that

@@ -12,8 +12,10 @@ use crate::hw::error::HwError;
 /// docs/MEMORY.md "Block levels s").
 pub const MEMORY_BLOCK_LEVELS: u32 = 4;
 
-/// H limit of an external-memory core: the core's 24-bit heap addresses.
-pub const MAX_MEMORY_ADDRESS_BITS: u32 = 24;
+/// H limit of an external-memory core: the core's 24-bit heap addresses, whose
+/// descent needs one bit above the map's (the child of a last-level node, §4.3's
+/// next-index step), so 23.
+pub const MAX_MEMORY_ADDRESS_BITS: u32 = 23;
 
 /// Lines one cache bank holds at most (its valid, filling and used bits are
 /// flip-flops, one 256-bit mask each).

@@ -11,14 +11,16 @@
 //! not there, is being filled, or had its tag or valid bit written in the cycle of
 //! the read (so a read never sees a tag and a valid bit of two different blocks).
 //! A miss waits one cycle in a register, then becomes the bank's fill request (a
-//! second register, held until the [`FillArbiter`](crate::hw::memory::fill_arbiter::FillArbiter)
-//! takes it) if that register is free and its line is neither being filled nor
-//! holding a block not read yet; else it is dropped and its reader misses again
-//! (a miss kept longer could ask for a block that has arrived meanwhile, and
-//! that line would then hold a block nobody reads). The line's tag is written in the cycle after the request was taken (the
-//! arbiter's registered grant) and its valid bit set when the fill is done, so a
-//! line being filled always misses. Requests go out of registers and grants come
-//! in to registers: a bank's cycle never waits for the arbitration among banks.
+//! second register, held until the
+//! [`FillArbiter`](crate::hw::memory::fill_arbiter::FillArbiter) takes it) if
+//! that register is free and its line is neither being filled nor holding a
+//! block not read yet; else it is dropped and its reader misses again (a miss
+//! kept longer could ask for a block that has arrived meanwhile, and that line
+//! would then hold a block nobody reads). The line's tag is written in the cycle
+//! after the request was taken (the arbiter's registered grant) and its valid bit
+//! set when the fill is done, so a line being filled always misses. Requests go
+//! out of registers and grants come in to registers: a bank's cycle never waits
+//! for the arbitration among banks.
 //! A line just filled is not replaced before it has been read once: two readers
 //! of two blocks that share a line would otherwise take it from each other
 //! forever (each fill replaced before its reader's next try), and the reader of a

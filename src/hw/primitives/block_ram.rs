@@ -63,6 +63,12 @@ impl BlockRam {
         }
     }
 
+    /// (index bits, width) of a memory that synthesis places in BlockRAM (None
+    /// for distributed RAM), for a device's BlockRAM count.
+    pub fn block_ram_shape(&self) -> Option<(u32, u32)> {
+        (!self._distributed).then(|| (self._mem.len().trailing_zeros(), self._width))
+    }
+
     fn mask(&self) -> u64 {
         if self._width >= 64 {
             u64::MAX
