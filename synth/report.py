@@ -239,11 +239,13 @@ CONFIGS = [
            {**BANKED, "address_bits": 21, "replicas": 2, "replicated_levels": 9, "cache_lines": 1024},
            {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton"},
            part="lfe5um5g-85f-8"),
-    # At k = 500 the heaps' BlockRAM leaves the cache 512 lines (the plan's: 1,024
-    # lines and four K = 500 datapaths need 228 DP16KD of the 208).
-    Config("external memory D=4, K=500 (L2, 2x2x16 slots, B=16 split, T=9, 512 lines, 64-bit memory, Cornell 1.9 M photons)",
+    # At k = 500 the heaps' BlockRAM leaves the cache 512 lines of a 32-bit memory,
+    # one word a RAM word (the plan's: with a 64-bit memory each bank's RAM word is
+    # two DP16KD wide at any depth, and four K = 500 datapaths and their cache need
+    # 228 DP16KD of the 208).
+    Config("external memory D=4, K=500 (L2, 2x2x16 slots, B=16 split, T=9, 512 lines, 32-bit memory, Cornell 1.9 M photons)",
            {**BANKED, "k": 500, "address_bits": 21, "replicas": 2, "replicated_levels": 9,
-            "cache_lines": 512},
+            "cache_lines": 512, "memory_data_bits": 32},
            {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton"},
            nowidelut=True, part="lfe5um5g-85f-8"),
     # The default render's map (200,000 emitted photons, H = 19) on the XC6VSX475T as
@@ -1134,6 +1136,12 @@ def banked_section(res):
                  f"{o['replicated_levels']} | {o['result_streams']} | {r.bench['cornell_photons']:,} | {xb} | "
                  f"{use('Total LUT4s')} | {use('DP16KD')} | {fmax} | "
                  f"{s.reads_per_cycle:.3f} | {s.reads_per_query:.1f} | {q} | {kq} | {vs} | {allt} |")
+    # A row placed on another part than the default says which (its memory's board).
+    other = [(r.name, r.ecp5.provenance) for r in rows
+             if r.ecp5 and not r.ecp5.provenance.startswith(PLACED)]
+    if other:
+        L.append("\nPlaced on another ECP5-85k part:\n")
+        L += [f"- **{name}**: {prov}" for name, prov in other]
     return L + fitted_section(res)
 
 

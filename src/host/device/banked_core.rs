@@ -10,7 +10,7 @@ use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::config_builder::CoreBuilder;
 use crate::hw::config::controller::Controller;
 use crate::hw::config::core_config::{bits_for, MAX_ADDRESS_BITS, PORTS};
-use crate::hw::config::memory_config::MAX_MEMORY_ADDRESS_BITS;
+use crate::hw::config::memory_config::{DEFAULT_MEMORY_DATA_BITS, MAX_MEMORY_ADDRESS_BITS};
 
 /// `b` with the banked barrel core that `dev` holds for `photons` photons of
 /// `word_bits`-bit words: a clear error (naming the largest map that fits) if
@@ -67,11 +67,18 @@ pub fn memory_core(
     let m = plan_memory(photons, word_bits, own, dev, &Limits::default())
         .map_err(|e| Error::new(e.to_string()))?;
     let trees = (m.datapaths as usize / PORTS).max(1);
-    Ok(b.trees(trees)
+    let b = b
+        .trees(trees)
         .banks(m.bank_bits, Some(m.replicated_levels))
         .bank_ports(BankPorts::Split)
         .cache_lines(Some(m.cache_lines))
-        .result_streams(result_streams(PORTS * trees)))
+        .result_streams(result_streams(PORTS * trees));
+    // (The default width stays unnamed: the core file and description as before.)
+    Ok(if m.memory_data_bits == DEFAULT_MEMORY_DATA_BITS {
+        b
+    } else {
+        b.memory_data_bits(Some(m.memory_data_bits))
+    })
 }
 
 /// One datapath's own BlockRAMs of the core `b` describes, for a map of `photons`

@@ -29,8 +29,8 @@ pub use crate::host::device::devices::{datapath_brams, Device, ECP5_85K, XC6VSX4
 use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::core_config::{MAX_BANKED_TREES, MAX_TREES};
 use crate::hw::config::memory_config::{
-    MAX_BANK_LINES, MAX_CACHE_BANK_BITS, MAX_CACHE_LINES, MAX_MEMORY_ADDRESS_BITS,
-    MEMORY_BLOCK_LEVELS,
+    DEFAULT_MEMORY_DATA_BITS, MAX_BANK_LINES, MAX_CACHE_BANK_BITS, MAX_CACHE_LINES,
+    MAX_MEMORY_ADDRESS_BITS, MEMORY_BLOCK_LEVELS,
 };
 use std::fmt;
 
@@ -275,18 +275,27 @@ pub struct MemoryPlan {
     pub datapath_brams: u32,
     pub datapath_luts: u64,
     pub crossbar_luts: u64,
+    /// The memory's data width: the default (two photon words a beat) unless
+    /// only a narrower port's cache fits.
+    pub memory_data_bits: u32,
 }
 
 /// Largest map of an external-memory core: [`MAX_MEMORY_ADDRESS_BITS`] (every
 /// modelled board's DRAM holds that many 32-bit words many times over).
 pub const MEMORY_MAP_LIMIT: usize = (1 << MAX_MEMORY_ADDRESS_BITS) - 1;
 
-/// BlockRAMs of a cache of `lines` lines of `2^s` words over `2^b` banks: with
-/// split ports each port has its own copy of the words and of the tags (a tag
-/// BlockRAM a bank and port, however few its lines).
-fn cache_brams(dev: &Device, lines: u32, b: u32) -> u32 {
-    let words_per_bank = (lines >> b) << MEMORY_BLOCK_LEVELS;
-    let per_copy = words_per_bank.div_ceil(dev.shape.0) + 1;
+/// BlockRAMs of a cache of `lines` lines of `2^s` words over `2^b` banks, its
+/// RAM words a memory beat of `beat_words` photon words in `lane_bits`-bit lanes
+/// (`CachePort`: a 64-bit beat of two words is one 64-bit RAM word, two DP16KD
+/// wide however few the lines): with split ports each port has its own copy of
+/// the words and of the tags (a tag BlockRAM a bank and port, however few its
+/// lines).
+fn cache_brams(dev: &Device, lines: u32, b: u32, beat_words: u32, lane_bits: u32) -> u32 {
+    let rows = ((lines >> b) << MEMORY_BLOCK_LEVELS) / beat_words;
+    let per_copy = dev
+        .brams_for(rows.trailing_zeros(), beat_words * lane_bits)
+        .max(1)
+        + 1;
     (2 * per_copy) << b
 }
 
@@ -328,6 +337,29 @@ pub fn plan_memory(
     if photons > MEMORY_MAP_LIMIT {
         return Err(too_large);
     }
+    // The default memory width unless a 32-bit port's cache (one word a RAM word,
+    // half the BlockRAM width) holds more lines beside as many datapaths.
+    let lane_bits = if word_bits <= 32 { 32 } else { 64 };
+    [DEFAULT_MEMORY_DATA_BITS, 32]
+        .into_iter()
+        .filter(|&bits| bits >= lane_bits)
+        .filter_map(|bits| {
+            plan_memory_width(photons, own_brams, dev, lim, bits / lane_bits, lane_bits)
+        })
+        .max_by_key(|p| (p.datapaths, p.cache_lines, p.memory_data_bits))
+        .ok_or(too_large)
+}
+
+/// [`plan_memory`] with `beat_words` photon words of `lane_bits` a memory beat.
+fn plan_memory_width(
+    photons: usize,
+    own_brams: u32,
+    dev: &Device,
+    lim: &Limits,
+    beat_words: u32,
+    lane_bits: u32,
+) -> Option<MemoryPlan> {
+    let cache_brams = |lines: u32, b: u32| cache_brams(dev, lines, b, beat_words, lane_bits);
     let l = 31 - (dev.shape.0 + 1).leading_zeros();
     let per_dp = 1 + own_brams;
     let budget = dev.luts as f64 * lim.logic_share;
@@ -344,7 +376,7 @@ pub fn plan_memory(
         // The largest cache beside the datapaths, from one line a bank up.
         // ... in the BlockRAM left, and with its logic in the device's.
         let fits = |lines: u32| {
-            cache_brams(dev, lines, b) + d * per_dp <= dev.brams
+            cache_brams(lines, b) + d * per_dp <= dev.brams
                 && cache_logic(dev, d, lines, b) <= dev.luts as f64 * lim.device_share
         };
         let mut lines = banks;
@@ -359,18 +391,19 @@ pub fn plan_memory(
             replicated_levels: l,
             bank_bits: b,
             cache_lines: lines,
-            cache_brams: cache_brams(dev, lines, b),
+            cache_brams: cache_brams(lines, b),
             datapaths: d,
             datapath_brams: d * per_dp,
             datapath_luts: u64::from(d * dev.datapath_luts),
             crossbar_luts: dev.crossbar_luts(d, banks, BankPorts::Split),
+            memory_data_bits: beat_words * lane_bits,
         };
         let key = |p: &MemoryPlan| (p.datapaths, p.cache_lines, std::cmp::Reverse(p.bank_bits));
         if best.as_ref().is_none_or(|q| key(&p) > key(q)) {
             best = Some(p);
         }
     }
-    best.ok_or(too_large)
+    best
 }
 
 #[cfg(test)]
@@ -413,7 +446,11 @@ mod tests {
     }
 
     /// At K = 500 the paper's map on the ECP5-85k gets a smaller cache than at
-    /// K = 32 (the heaps take BlockRAM), and the plan fits the device's BlockRAM.
+    /// K = 32 (the heaps take BlockRAM), and the plan fits the device's BlockRAM:
+    /// four datapaths of 32 DP16KD and their replicas (132), and 16 banks' two
+    /// copies of words and tags (a 64-bit RAM word is two DP16KD wide at any
+    /// depth, so 96 with a 64-bit memory: 228, the synthesised core that did not
+    /// fit; a 32-bit memory's 512 lines take 64).
     #[test]
     fn a_k500_memory_plan_leaves_the_heaps_their_blockram() {
         let lim = Limits::default();
@@ -422,6 +459,16 @@ mod tests {
         assert!(
             p.cache_brams + p.datapaths * (1 + own) <= ECP5_85K.brams,
             "{p:?}"
+        );
+        assert_eq!(
+            (
+                p.datapaths,
+                p.bank_bits,
+                p.cache_lines,
+                p.cache_brams,
+                p.memory_data_bits
+            ),
+            (4, 4, 512, 64, 32)
         );
         let at32 = plan_memory(1_945_886, 32, ECP5_85K.datapath_brams, &ECP5_85K, &lim).unwrap();
         assert!(p.cache_lines < at32.cache_lines, "{p:?} {at32:?}");
@@ -442,11 +489,16 @@ mod tests {
             );
             assert!(p.datapaths >= lim.min_datapaths && p.datapaths.is_multiple_of(2));
             assert_eq!(1u32 << p.replicated_levels, dev.shape.0);
-            // Words: two copies (split ports) of every line's 16 words, in
-            // BlockRAMs of shape.0 words a bank, plus a tag BlockRAM a copy.
+            // Words: two copies (split ports) of every line's 16 words, two a
+            // 64-bit RAM word, in BlockRAMs of shape.0 words of shape.1 bits a
+            // bank, plus a tag BlockRAM a copy.
+            assert_eq!(p.memory_data_bits, 64);
             let banks = 1u32 << p.bank_bits;
             let words_per_bank = p.cache_lines / banks * 16;
-            let brams = |words: u32| 2 * banks * (words.div_ceil(dev.shape.0) + 1);
+            let brams = |words: u32| {
+                let wide = 64u32.div_ceil(dev.shape.1);
+                2 * banks * (wide * (words / 2).div_ceil(dev.shape.0) + 1)
+            };
             assert_eq!(p.cache_brams, brams(words_per_bank));
             assert!(p.cache_brams + p.datapath_brams <= dev.brams, "{p:?}");
             // Logic: the datapaths, the crossbar, each bank's and each line's state.
