@@ -182,10 +182,7 @@ pub fn datapath_block_rams(cfg: &CoreConfig) -> Vec<(u32, u32)> {
 impl<const W: usize> BarrelPort<W> {
     /// This datapath's BlockRAMs ([`datapath_block_rams`]).
     pub fn block_rams(&self) -> Vec<(u32, u32)> {
-        let mut rams: Vec<(u32, u32)> = [&self.far_xy, &self.far_zd]
-            .iter()
-            .filter_map(|r| r.block_ram_shape())
-            .collect();
+        let mut rams = BlockRam::shapes([&self.far_xy, &self.far_zd]);
         rams.extend(self.readout.block_rams());
         for h in &self.heap {
             rams.extend(h.block_rams());

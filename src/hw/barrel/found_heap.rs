@@ -139,10 +139,7 @@ impl FoundHeap {
 
     /// The levels held in BlockRAM: (index bits, width) each.
     pub fn block_rams(&self) -> Vec<(u32, u32)> {
-        self.levels
-            .iter()
-            .filter_map(|r| r.block_ram_shape())
-            .collect()
+        BlockRam::shapes(&self.levels)
     }
 
     /// The fewest cycles between two operations of one slot in this heap: one

@@ -102,10 +102,7 @@ pub struct SlotReadout {
 impl SlotReadout {
     /// The found lists' BlockRAMs: (index bits, width) each.
     pub fn block_rams(&self) -> Vec<(u32, u32)> {
-        [&self.found_even, &self.found_odd]
-            .iter()
-            .filter_map(|r| r.block_ram_shape())
-            .collect()
+        BlockRam::shapes([&self.found_even, &self.found_odd])
     }
 
     pub fn new(cfg: &CoreConfig) -> Self {

@@ -69,6 +69,13 @@ impl BlockRam {
         (!self._distributed).then(|| (self._mem.len().trailing_zeros(), self._width))
     }
 
+    /// [`BlockRam::block_ram_shape`] of each of `rams` held in BlockRAM.
+    pub fn shapes<'a>(rams: impl IntoIterator<Item = &'a BlockRam>) -> Vec<(u32, u32)> {
+        rams.into_iter()
+            .filter_map(BlockRam::block_ram_shape)
+            .collect()
+    }
+
     fn mask(&self) -> u64 {
         if self._width >= 64 {
             u64::MAX
