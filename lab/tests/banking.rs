@@ -205,15 +205,15 @@ fn the_plans_fit_their_devices_and_name_the_largest_map() {
     // XC6VSX475T, the default render's 388,826 photons of 32 bits: 1K × 36 RAMB36,
     // L = 10 (1,023 nodes in one RAMB36). B = 128: rows of 388,826 >> 7 = 3,037 + 1
     // words = 3 RAMB36 a bank, 384 in all (D <= 32); B = 64: 6 a bank, 384 too,
-    // but D <= 16. Logic budget 60 % of 297,600 = 178,560 LUTs: at B = 128 a
-    // datapath costs 4,670 with split ports plus 6,639 / 256 × 128 = 3,319.5 of
-    // crossbar, so at most 22 (an even number); shared ports 4,670 + 8,062.5,
-    // only 14. B = 256 (1,519 rows = 2 RAMB36, 512): split 11,309 a datapath, 14.
-    // Datapaths' BlockRAM: 22 × (1 replica + 4) = 110.
+    // but D <= 16. Logic budget 60 % of 297,600 = 178,560 LUTs (the costs of
+    // synth/device_costs.toml): at B = 128 a datapath costs 5,162 with split ports
+    // plus 29.242 × 128 = 3,743 of crossbar, so at most 20 (an even number);
+    // shared ports 5,162 + 9,563, only 12. B = 256 (1,519 rows = 2 RAMB36, 512):
+    // split 12,648 a datapath, 14. Datapaths' BlockRAM: 20 × (1 replica + 4) = 100.
     let p = plan(388_826, 32, XC6VSX475T.datapath_brams, &XC6VSX475T, &lim).unwrap();
-    assert_eq!(shape(&p), (10, 128, 3, 22, BankPorts::Split));
-    assert_eq!((p.bank_brams, p.datapath_brams), (384, 110));
-    assert_eq!((p.datapath_luts, p.crossbar_luts), (102_740, 73_029));
+    assert_eq!(shape(&p), (10, 128, 3, 20, BankPorts::Split));
+    assert_eq!((p.bank_brams, p.datapath_brams), (384, 100));
+    assert_eq!((p.datapath_luts, p.crossbar_luts), (103_240, 74_860));
     for dev in [&ECP5_85K, &XC6VSX475T] {
         let big = largest_map(dev.datapath_brams, dev, &lim);
         assert!(big > 1_000, "{}", dev.name);
@@ -248,17 +248,16 @@ fn the_plans_fit_their_devices_and_name_the_largest_map() {
     }
     // ECP5-85k, the 64,894-photon Cornell map of synth/REPORT.md's banked rows:
     // 512 × 36 DP16KD, L = 9. Budget 60 % of 83,640 = 50,184 LUT4s; a datapath
-    // 7,930, so D = 6 (47,580) leaves too little for any crossbar of B ≥ 4 × D
-    // banks, and D = 4 (31,720) it is. The crossbar per requester and bank: split
-    // 10,041 / 128, shared 19,601 / 128. B = 16 (8 DP16KD a bank): split 5,021 or
-    // shared 9,801; B = 32 (2,028 rows, 4 a bank): split 10,041 fits, shared
-    // 19,601 does not; B = 64: split 20,082 does not. The same 128 DP16KD for
-    // B = 16 and 32: the more banks, 32, with split ports.
+    // 9,386, so D = 6 (56,316) is over it, and D = 4 (37,544) it is. The crossbar
+    // per requester and bank: split 64.234, shared 148.195. B = 16 (8 DP16KD a
+    // bank): split 4,111 or shared 9,485; B = 32 (2,028 rows, 4 a bank): split
+    // 8,222 fits, shared 18,969 does not; B = 64: split 16,444 does not. The same
+    // 128 DP16KD for B = 16 and 32: the more banks, 32, with split ports.
     // Datapaths' DP16KD: 4 × (1 replica + 8) = 36.
     let p = plan(64_894, 32, ECP5_85K.datapath_brams, &ECP5_85K, &lim).unwrap();
     assert_eq!(shape(&p), (9, 32, 4, 4, BankPorts::Split));
     assert_eq!((p.bank_brams, p.datapath_brams), (128, 36));
-    assert_eq!((p.datapath_luts, p.crossbar_luts), (31_720, 10_041));
+    assert_eq!((p.datapath_luts, p.crossbar_luts), (37_544, 8_222));
     // The ECP5-85k's 3.7 Mbit cannot hold the default render's map.
     assert!(matches!(
         plan(388_826, 32, ECP5_85K.datapath_brams, &ECP5_85K, &lim),

@@ -25,7 +25,7 @@
 //!   BlockRAMs wastes some), then the most banks (fewer conflicts), then shared
 //!   ports.
 
-pub use crate::host::device::devices::{datapath_brams, Device, ECP5_85K, XC6VSX475T};
+pub use crate::host::device::devices::{datapath_brams, Device, DeviceCosts, ECP5_85K, XC6VSX475T};
 use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::core_config::{MAX_BANKED_TREES, MAX_TREES};
 use crate::hw::config::memory_config::{
@@ -49,7 +49,7 @@ pub struct Limits {
     /// rest: the result path, the load path and the I/O).
     pub logic_share: f64,
     /// Share of the device's logic an external-memory core may take in all, its
-    /// cache included (the memory core placed on the ECP5-85k takes 92 %).
+    /// cache included (the memory core placed on the ECP5-85k takes 87 % of its LUT4s).
     pub device_share: f64,
 }
 
@@ -163,11 +163,11 @@ fn plan_fit(photons: usize, own_brams: u32, dev: &Device, lim: &Limits) -> Optio
     let l = 31 - (depth + 1).leading_zeros();
     let per_dp = 1 + own_brams;
     let budget = dev.luts as f64 * lim.logic_share;
-    let dp_luts = |d: u32| u64::from(d) * u64::from(dev.datapath_luts);
+    let dp_luts = |d: u32| u64::from(d) * u64::from(dev.costs().datapath_luts);
     if photons < (1usize << l) {
         // Every node is in every datapath's replica: no banks, no crossbar (an
         // array of whole cores, at most MAX_TREES).
-        let by_logic = (budget / f64::from(dev.datapath_luts)) as u32;
+        let by_logic = (budget / f64::from(dev.costs().datapath_luts)) as u32;
         let d = (dev.brams / per_dp)
             .min(by_logic)
             .min(lim.max_datapaths)
@@ -300,19 +300,33 @@ fn cache_brams(dev: &Device, lines: u32, b: u32, beat_words: u32, lane_bits: u32
 }
 
 /// Logic of an external-memory core of `d` datapaths with `lines` cache lines
-/// over `2^b` banks: the datapaths, the split-port crossbar and the cache.
+/// over `2^b` banks: the datapaths, the split-port crossbar, the cache and the
+/// rest of the core.
 fn cache_logic(dev: &Device, d: u32, lines: u32, b: u32) -> f64 {
-    f64::from(d * dev.datapath_luts)
-        + dev.crossbar_luts(d, 1 << b, BankPorts::Split) as f64
-        + dev.cache_bank_luts * f64::from(1u32 << b)
-        + dev.cache_line_luts * f64::from(lines)
+    let c = dev.costs();
+    let (datapaths, crossbar) = memory_datapath_logic(dev, d, 1 << b);
+    (datapaths + crossbar) as f64
+        + c.cache_bank_luts * f64::from(1u32 << b)
+        + c.cache_line_luts * f64::from(lines)
+        + f64::from(c.memory_rest_luts)
+}
+
+/// The logic of an external-memory core's `d` datapaths and of their crossbar
+/// over `banks` cache banks (split ports).
+fn memory_datapath_logic(dev: &Device, d: u32, banks: u32) -> (u64, u64) {
+    let c = dev.costs();
+    let crossbar = c.memory_crossbar_luts * f64::from(d) * f64::from(banks);
+    (
+        u64::from(d * c.memory_datapath_luts),
+        crossbar.ceil() as u64,
+    )
 }
 
 /// The external-memory core for `photons` photons of `word_bits` bits on `dev`,
 /// each datapath with `own_brams` BlockRAMs of its own: the most datapaths (two a replica, at most `2^b / banks_per_datapath` for `2^b`
 /// cache banks, within the logic budget beside a split-port crossbar), then the
 /// most cache lines the BlockRAM left and the logic budget hold (a line's state
-/// bits cost [`Device::cache_line_luts`]; a power of two, at most 256 a bank and
+/// bits cost [`DeviceCosts::cache_line_luts`]; a power of two, at most 256 a bank and
 /// 4,096 in all: `ExternalMemory::check`); refused only for a map beyond
 /// [`MEMORY_MAP_LIMIT`] or a word the cache cannot flag.
 pub fn plan_memory(
@@ -367,7 +381,8 @@ fn plan_memory_width(
     for b in 1..=MAX_CACHE_BANK_BITS {
         let banks = 1u32 << b;
         let logic = |d: u32| {
-            u64::from(d * dev.datapath_luts) + dev.crossbar_luts(d, banks, BankPorts::Split)
+            let (datapaths, crossbar) = memory_datapath_logic(dev, d, banks);
+            datapaths + crossbar
         };
         let mut d = (banks / lim.banks_per_datapath.max(1)).min(lim.max_datapaths) & !1;
         while d > 0 && logic(d) as f64 > budget {
@@ -394,8 +409,8 @@ fn plan_memory_width(
             cache_brams: cache_brams(lines, b),
             datapaths: d,
             datapath_brams: d * per_dp,
-            datapath_luts: u64::from(d * dev.datapath_luts),
-            crossbar_luts: dev.crossbar_luts(d, banks, BankPorts::Split),
+            datapath_luts: memory_datapath_logic(dev, d, banks).0,
+            crossbar_luts: memory_datapath_logic(dev, d, banks).1,
             memory_data_bits: beat_words * lane_bits,
         };
         let key = |p: &MemoryPlan| (p.datapaths, p.cache_lines, std::cmp::Reverse(p.bank_bits));
@@ -501,12 +516,15 @@ mod tests {
             };
             assert_eq!(p.cache_brams, brams(words_per_bank));
             assert!(p.cache_brams + p.datapath_brams <= dev.brams, "{p:?}");
-            // Logic: the datapaths, the crossbar, each bank's and each line's state.
+            // Logic: the datapaths, the crossbar, each bank's and each line's
+            // state, the rest of the core.
             let budget = dev.luts as f64 * lim.device_share;
+            let c = dev.costs();
             let logic = |lines: u32| {
                 (p.datapath_luts + p.crossbar_luts) as f64
-                    + f64::from(banks) * dev.cache_bank_luts
-                    + f64::from(lines) * dev.cache_line_luts
+                    + f64::from(banks) * c.cache_bank_luts
+                    + f64::from(lines) * c.cache_line_luts
+                    + f64::from(c.memory_rest_luts)
             };
             assert!(logic(p.cache_lines) <= budget, "{p:?}");
             assert!(
