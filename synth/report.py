@@ -259,13 +259,12 @@ CONFIGS = [
     Config("external memory D=4, K=32, 2048 lines (L2, B=16 split, T=9, 64-bit memory: cache bank only)",
            {**BANKED, "address_bits": 21, "replicas": 2, "replicated_levels": 9, "cache_lines": 2048},
            cost_parts=("cache_bank",), parts_only=True),
-    # At k = 500 the heaps' BlockRAM leaves the cache 512 lines of a 32-bit memory,
-    # one word a RAM word (the plan's: with a 64-bit memory each bank's RAM word is
-    # two DP16KD wide at any depth, and four K = 500 datapaths and their cache need
-    # 228 DP16KD of the 208).
-    Config("external memory D=4, K=500 (L2, 2x2x16 slots, B=16 split, T=9, 512 lines, 32-bit memory, Cornell 1.9 M photons)",
+    # At k = 500 the heaps' BlockRAM leaves the cache 512 lines (the plan's: each
+    # bank's RAM word is a 64-bit beat, two DP16KD wide at any depth, and at 32
+    # lines a bank its tags are LUT-RAM; 1,024 lines would take 228 DP16KD of 208).
+    Config("external memory D=4, K=500 (L2, 2x2x16 slots, B=16 split, T=9, 512 lines, 64-bit memory, Cornell 1.9 M photons)",
            {**BANKED, "k": 500, "address_bits": 21, "replicas": 2, "replicated_levels": 9,
-            "cache_lines": 512, "memory_data_bits": 32},
+            "cache_lines": 512},
            {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton"},
            nowidelut=True, part="lfe5um5g-85f-8"),
     # The default render's map (200,000 emitted photons, H = 19) on the XC6VSX475T as

@@ -76,9 +76,10 @@ impl Device {
 
     /// The BlockRAMs of a memory of `2^index_bits` words of `width` bits: the
     /// fewest any one shape takes (yosys picks one shape for a memory); memories
-    /// of under 32 words are logic.
+    /// of up to 32 words are LUT-RAM (yosys maps a cache bank's 32 tags so, and
+    /// its 64 tags to a BlockRAM).
     pub fn brams_for(&self, index_bits: u32, width: u32) -> u32 {
-        if index_bits < 5 {
+        if index_bits <= 5 {
             return 0;
         }
         self.bram_shapes

@@ -32,6 +32,7 @@ use crate::hw::config::memory_config::{
     DEFAULT_MEMORY_DATA_BITS, MAX_BANK_LINES, MAX_CACHE_BANK_BITS, MAX_CACHE_LINES,
     MAX_MEMORY_ADDRESS_BITS, MEMORY_BLOCK_LEVELS,
 };
+use crate::hw::memory::cache_port::TAG_BITS;
 use std::fmt;
 
 /// What the plan is asked to respect.
@@ -288,15 +289,15 @@ pub const MEMORY_MAP_LIMIT: usize = (1 << MAX_MEMORY_ADDRESS_BITS) - 1;
 /// RAM words a memory beat of `beat_words` photon words in `lane_bits`-bit lanes
 /// (`CachePort`: a 64-bit beat of two words is one 64-bit RAM word, two DP16KD
 /// wide however few the lines): with split ports each port has its own copy of
-/// the words and of the tags (a tag BlockRAM a bank and port, however few its
-/// lines).
+/// the words and of the tags (a bank's lines' tags, BlockRAM from 64 lines up).
 fn cache_brams(dev: &Device, lines: u32, b: u32, beat_words: u32, lane_bits: u32) -> u32 {
-    let rows = ((lines >> b) << MEMORY_BLOCK_LEVELS) / beat_words;
-    let per_copy = dev
+    let per_bank = lines >> b;
+    let rows = (per_bank << MEMORY_BLOCK_LEVELS) / beat_words;
+    let words = dev
         .brams_for(rows.trailing_zeros(), beat_words * lane_bits)
-        .max(1)
-        + 1;
-    (2 * per_copy) << b
+        .max(1);
+    let tags = dev.brams_for(per_bank.trailing_zeros(), TAG_BITS);
+    (2 * (words + tags)) << b
 }
 
 /// Logic of an external-memory core of `d` datapaths with `lines` cache lines
@@ -463,9 +464,10 @@ mod tests {
     /// At K = 500 the paper's map on the ECP5-85k gets a smaller cache than at
     /// K = 32 (the heaps take BlockRAM), and the plan fits the device's BlockRAM:
     /// four datapaths of 32 DP16KD and their replicas (132), and 16 banks' two
-    /// copies of words and tags (a 64-bit RAM word is two DP16KD wide at any
-    /// depth, so 96 with a 64-bit memory: 228, the synthesised core that did not
-    /// fit; a 32-bit memory's 512 lines take 64).
+    /// copies of words and tags. A 64-bit RAM word is two DP16KD wide at any
+    /// depth, and a bank's tags take a DP16KD from 64 lines up: 1,024 lines take
+    /// 96 (228 in all, the synthesised core that did not fit), 512 lines 64 (196;
+    /// the same core behind a 32-bit memory synthesised to 164 = 132 + 32).
     #[test]
     fn a_k500_memory_plan_leaves_the_heaps_their_blockram() {
         let lim = Limits::default();
@@ -483,7 +485,7 @@ mod tests {
                 p.cache_brams,
                 p.memory_data_bits
             ),
-            (4, 4, 512, 64, 32)
+            (4, 4, 512, 64, 64)
         );
         let at32 = plan_memory(1_945_886, 32, ECP5_85K.datapath_brams, &ECP5_85K, &lim).unwrap();
         assert!(p.cache_lines < at32.cache_lines, "{p:?} {at32:?}");
@@ -506,13 +508,15 @@ mod tests {
             assert_eq!(1u32 << p.replicated_levels, dev.shape.0);
             // Words: two copies (split ports) of every line's 16 words, two a
             // 64-bit RAM word, in BlockRAMs of shape.0 words of shape.1 bits a
-            // bank, plus a tag BlockRAM a copy.
+            // bank, plus a tag BlockRAM a copy where a bank has more than 32
+            // lines (fewer are LUT-RAM).
             assert_eq!(p.memory_data_bits, 64);
             let banks = 1u32 << p.bank_bits;
             let words_per_bank = p.cache_lines / banks * 16;
             let brams = |words: u32| {
                 let wide = 64u32.div_ceil(dev.shape.1);
-                2 * banks * (wide * (words / 2).div_ceil(dev.shape.0) + 1)
+                let tags = u32::from(words / 16 > 32);
+                2 * banks * (wide * (words / 2).div_ceil(dev.shape.0) + tags)
             };
             assert_eq!(p.cache_brams, brams(words_per_bank));
             assert!(p.cache_brams + p.datapath_brams <= dev.brams, "{p:?}");

@@ -17,6 +17,10 @@ use crate::hw::memory::block_map::MemoryWord;
 use crate::hw::primitives::block_ram::{BlockRam, BramIndex, BramWord};
 use rust_hdl::prelude::*;
 
+/// Width of a line's tag memory: the block number above the line's index (the
+/// map's address bits above a block's and the line's, with room to spare).
+pub const TAG_BITS: u32 = 24;
+
 /// One bit per line of a bank.
 pub type LineMask = Bits<MAX_BANK_LINES>;
 
@@ -142,7 +146,7 @@ impl CachePort {
             lane_mask: Constant::new(Addr::from((1u64 << lane_shift) - 1)),
             word_mask: Constant::new(BramWord::from((1u64 << word_bits) - 1)),
             words: BlockRam::new(index_bits - lane_shift, ram_bits),
-            tags: BlockRam::new(line_bits.max(1), 24),
+            tags: BlockRam::new(line_bits.max(1), TAG_BITS),
             line: Default::default(),
             read_enable: Default::default(),
             read_ok: Default::default(),
