@@ -294,7 +294,7 @@ fn plans(t: &mut String, sizes: &[usize], word_bits: u32) {
     let _ = writeln!(
         t,
         "| device | photons | B | BlockRAMs per bank | L | D | bank ports | BlockRAMs (banks + \
-         datapaths) | logic (datapaths + crossbar, estimated) |"
+         datapaths) | logic (datapaths + crossbar, by synth/device_costs.toml) |"
     );
     let _ = writeln!(t, "|---|---:|---:|---:|---:|---:|---|---|---|");
     let devs: [&Device; 2] = [&ECP5_85K, &XC6VSX475T];
