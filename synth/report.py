@@ -614,6 +614,14 @@ NOSHARE_ECP5 = " (Debian yosys synth_ecp5 without its share pass, yowasp nextpnr
 NOWIDELUT = " (LUT4s without wide-LUT multiplexers: synth_ecp5 -nowidelut)"
 
 
+def stat_cells(path):
+    """{cell type: count} from a yosys `stat` report (either column order)."""
+    stat = open(path).read()
+    cells = dict((m.group(2), int(m.group(1))) for m in re.finditer(r"^\s+(\d+)\s+(\S+)\s*$", stat, re.M))
+    cells.update((m.group(1), int(m.group(2))) for m in re.finditer(r"^\s+(\S+)\s+(\d+)\s*$", stat, re.M))
+    return cells
+
+
 def xilinx(d, top, files, cache_only, noshare=False, part=None, blackbox=()):
     """The row's Xc6v counts (of `part`, a sub-block as its own top with the
     `blackbox` modules left out, if given), or None if not run."""
@@ -632,9 +640,7 @@ def xilinx(d, top, files, cache_only, noshare=False, part=None, blackbox=()):
         if rc != 0:
             return None
         stamp()
-    stat = open(f"{d}/{key}_stat.txt").read()
-    cells = dict((m.group(2), int(m.group(1))) for m in re.finditer(r"^\s+(\d+)\s+(\S+)\s*$", stat, re.M))
-    cells.update((m.group(1), int(m.group(2))) for m in re.finditer(r"^\s+(\S+)\s+(\d+)\s*$", stat, re.M))
+    cells = stat_cells(f"{d}/{key}_stat.txt")
     # yosys leaves inverters as INV cells (mostly on CARRY4 select inputs, where a
     # Virtex-6 needs the slice's LUT in front of the carry anyway): each is a LUT1.
     luts = sum(v for k, v in cells.items() if re.fullmatch(r"LUT[1-6]|INV", k))
@@ -694,9 +700,7 @@ def ecp5_part(d, top, files, cache_only, part, blackbox=()):
         if rc != 0:
             return None
         stamp()
-    stat = open(f"{d}/{key}_stat.txt").read()
-    cells = dict((m.group(2), int(m.group(1))) for m in re.finditer(r"^\s+(\d+)\s+(\S+)\s*$", stat, re.M))
-    cells.update((m.group(1), int(m.group(2))) for m in re.finditer(r"^\s+(\S+)\s+(\d+)\s*$", stat, re.M))
+    cells = stat_cells(f"{d}/{key}_stat.txt")
     g = lambda k: cells.get(k, 0)
     return Ecp5Part(luts=g("LUT4") + 2 * g("CCU2C") + 6 * g("TRELLIS_DPR16X4"),
                     ffs=sum(v for k, v in cells.items() if k.startswith("TRELLIS_FF")), dp16kd=g("DP16KD"))
