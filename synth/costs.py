@@ -53,7 +53,7 @@ def datapaths(r):
 
 def derive(rows, family, cell):
     """The costs for one family from `rows` ({name: Record}); a cost whose parts are
-    missing is left out (the planner then refuses to build: see devices.rs)."""
+    missing is left out (devices.rs then cannot read the file: its test fails)."""
     out = []
 
     def get(name, part):
