@@ -63,18 +63,14 @@ def derive(rows, family, cell):
     r, v = get(BANKED, "datapath")
     if v:
         out.append(Cost("datapath_luts", v, f"part datapath: {v:,} {cell}", [BANKED], r.stale))
-    for key, name in (("crossbar_luts_split", BANKED), ("crossbar_luts_shared", SHARED)):
+    for key, name in (("crossbar_luts_split", BANKED), ("crossbar_luts_shared", SHARED),
+                      ("memory_crossbar_luts", MEMORY)):
         r, v = get(name, "crossbar")
         if v:
             d, b = datapaths(r), r.core["banks"]
             out.append(Cost(key, v / (d * b), f"part crossbar {v:,} {cell} / (D = {d} x B = {b})",
                             [name], r.stale))
-    r, v = get(MEMORY, "crossbar")
-    if v:
-        d, b = datapaths(r), r.core["banks"]
-        out.append(Cost("memory_crossbar_luts", v / (d * b), f"part crossbar {v:,} {cell} / (D = {d} x B = {b})",
-                        [MEMORY], r.stale))
-    memory_datapath(out, r, family, cell)
+    memory_datapath(out, rows.get(MEMORY), family, cell)
     r1, a = get(MEMORY, "cache_bank")
     r2, a2 = get(MEMORY_2X, "cache_bank")
     if a and a2:

@@ -277,19 +277,6 @@ CONFIGS = [
 ]
 
 
-# The parts the device planner's costs come from (synth/costs.py), each synthesised
-# as its own top (rust-hdl names a module by its instance path): one barrel datapath,
-# the banks' crossbar, one cache bank of an external-memory core.
-COST_PARTS = {
-    "datapath": ("top$ports$0", ()),
-    "crossbar": ("top$store$crossbar", ()),
-    "cache_bank": ("top$store$caches$0", ()),
-    # An external-memory core without its datapaths, crossbar and cache banks: the
-    # line fill and its arbiter, the replicas, the dispatcher and the result path.
-    "memory_rest": ("top", ("top$store$crossbar", "top$store$caches$*", "top$ports$*")),
-}
-
-
 def parts_only(name):
     """A row built only for its parts' counts (Config.parts_only)."""
     return any(c.parts_only for c in CONFIGS if c.name == name)
@@ -666,6 +653,18 @@ PARTS = {
     "rest": ("top", ("top$store", "top$ports$*", "top$trees$*")),
 }
 
+
+# The parts the device planner's costs come from (synth/costs.py), each synthesised
+# as its own top (rust-hdl names a module by its instance path): one barrel datapath,
+# the banks' crossbar, one cache bank of an external-memory core.
+COST_PARTS = {
+    "datapath": PARTS["datapath"],
+    "crossbar": PARTS["crossbar"],
+    "cache_bank": ("top$store$caches$0", ()),
+    # An external-memory core without its datapaths, crossbar and cache banks: the
+    # line fill and its arbiter, the replicas, the dispatcher and the result path.
+    "memory_rest": ("top", ("top$store$crossbar", "top$store$caches$*", "top$ports$*")),
+}
 
 def part_counts(core):
     """How many of each part a banked core has."""

@@ -402,6 +402,7 @@ fn plan_memory_width(
         while lines * 2 <= ((MAX_BANK_LINES as u32) << b).min(MAX_CACHE_LINES) && fits(lines * 2) {
             lines *= 2;
         }
+        let (datapath_luts, crossbar_luts) = memory_datapath_logic(dev, d, banks);
         let p = MemoryPlan {
             photons,
             replicated_levels: l,
@@ -410,8 +411,8 @@ fn plan_memory_width(
             cache_brams: cache_brams(lines, b),
             datapaths: d,
             datapath_brams: d * per_dp,
-            datapath_luts: memory_datapath_logic(dev, d, banks).0,
-            crossbar_luts: memory_datapath_logic(dev, d, banks).1,
+            datapath_luts,
+            crossbar_luts,
             memory_data_bits: beat_words * lane_bits,
         };
         let key = |p: &MemoryPlan| (p.datapaths, p.cache_lines, std::cmp::Reverse(p.bank_bits));
