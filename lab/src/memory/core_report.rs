@@ -303,11 +303,11 @@ pub fn size_plot(path: &Path, points: &[CorePoint], mhz: f64) -> Result<()> {
 }
 
 /// Against the memory's bandwidth: reads a cycle and the data channel's load at
-/// the paper's map.
+/// the paper's map, one line per k.
 pub fn bandwidth_plot(path: &Path, points: &[CorePoint], paper: usize) -> Result<()> {
     let pts: Vec<&CorePoint> = points
         .iter()
-        .filter(|p| p.emitted == paper && p.k == 32 && p.order == StreamOrder::Morton)
+        .filter(|p| p.emitted == paper && p.order == StreamOrder::Morton)
         .collect();
     let bw = |p: &CorePoint| p.bytes_per_cycle();
     png(path, 1200, 450, |root| {

@@ -104,7 +104,7 @@ pub struct PointSpec {
 }
 
 /// The sweep: every map size at both k and both orders, and the memory's
-/// bandwidth at the paper's map (1 M emitted), k = 32, the coherent order.
+/// bandwidth at the paper's map (1 M emitted), both k, the coherent order.
 /// `side32` and `side500`: the images of the k = 32 and k = 500 series.
 pub fn specs(
     sizes: &[usize],
@@ -128,15 +128,17 @@ pub fn specs(
             }
         }
     }
-    for beat_interval in [2, 4] {
-        v.push(PointSpec {
-            emitted: paper,
-            k: 32,
-            order: StreamOrder::Morton,
-            beat_interval,
-            side: side32,
-            cache_lines,
-        });
+    for (k, side) in [(32, side32), (500, side500)] {
+        for beat_interval in [2, 4] {
+            v.push(PointSpec {
+                emitted: paper,
+                k,
+                order: StreamOrder::Morton,
+                beat_interval,
+                side,
+                cache_lines,
+            });
+        }
     }
     v
 }
