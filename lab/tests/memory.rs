@@ -441,3 +441,26 @@ fn the_memory_core_sweep_derives_its_figures_from_the_counts() {
     assert_eq!(parse_csv("header\n1,2,3\n"), None);
     assert!(t.contains("| cache lines |"), "{t}");
 }
+
+/// The sweep measures both k against the memory's bandwidth (at the paper's map,
+/// in the coherent order) as well as against the map's size.
+#[test]
+fn the_memory_core_sweep_covers_bandwidth_at_both_k() {
+    use photon_fpga_lab::banking::order::StreamOrder;
+    use photon_fpga_lab::memory::core_sweep::specs;
+    let v = specs(&[1_000, 2_000], &[2_000], 2_000, (64, 32), None);
+    for (k, side) in [(32, 64), (500, 32)] {
+        let mut intervals: Vec<u64> = v
+            .iter()
+            .filter(|p| p.k == k && p.emitted == 2_000 && p.order == StreamOrder::Morton)
+            .map(|p| {
+                assert_eq!(p.side, side);
+                p.beat_interval
+            })
+            .collect();
+        intervals.sort();
+        assert_eq!(intervals, [1, 2, 4], "k = {k}");
+    }
+    // Each size at its k, both orders, the full bandwidth.
+    assert_eq!(v.iter().filter(|p| p.beat_interval == 1).count(), 2 * 3);
+}
