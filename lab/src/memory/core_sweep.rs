@@ -114,7 +114,8 @@ pub fn specs(
     cache_lines: Option<u32>,
 ) -> Vec<PointSpec> {
     let mut v = vec![];
-    for (k, sizes, side) in [(32, sizes, side32), (500, k500_sizes, side500)] {
+    let series = [(32, sizes, side32), (500, k500_sizes, side500)];
+    for (k, sizes, side) in series {
         for &emitted in sizes {
             for order in [StreamOrder::Given, StreamOrder::Morton] {
                 v.push(PointSpec {
@@ -128,7 +129,7 @@ pub fn specs(
             }
         }
     }
-    for (k, side) in [(32, side32), (500, side500)] {
+    for (k, _, side) in series {
         for beat_interval in [2, 4] {
             v.push(PointSpec {
                 emitted: paper,
