@@ -19,6 +19,8 @@ SHARED = "banked D=8, shared ports (K=32, L2, 4x2x16 slots, B=16 shared, R=2: cr
 MEMORY = ("external memory D=4, K=32 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, 64-bit memory, "
           "Cornell 1.9 M photons)")
 MEMORY_2X = "external memory D=4, K=32, 2048 lines (L2, B=16 split, T=9, 64-bit memory: cache bank only)"
+MEMORY_LUT_TAGS = ("external memory D=4, K=500 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, LUT-RAM tags, "
+                   "64-bit memory, Cornell 1.9 M photons)")
 
 # The devices (the planner's `Device::key`): the family whose counts each takes,
 # and what its logic cell is called.
@@ -83,6 +85,15 @@ def derive(rows, family, cell):
         out.append(Cost("cache_bank_luts", a - n1 * line,
                         f"part cache_bank at {n1} lines a bank {a:,} - {n1} x cache_line_luts",
                         [MEMORY, MEMORY_2X], r1.stale or r2.stale))
+    r3, a3 = get(MEMORY_LUT_TAGS, "cache_bank")
+    if a and a3:
+        # The same bank but for its tags: LUT-RAM copies only as wide as the map's
+        # tags against BlockRAM ones 24 bits wide (and their compare), per line.
+        n = r3.core["cache_lines"] // r3.core["banks"]
+        assert n == r1.core["cache_lines"] // r1.core["banks"], "the same lines a bank"
+        out.append(Cost("cache_lut_tag_luts", (a3 - a) / n,
+                        f"(part cache_bank with LUT-RAM tags {a3:,} - with BlockRAM tags {a:,}) / {n} lines",
+                        [MEMORY_LUT_TAGS, MEMORY], r1.stale or r3.stale))
     r, v = get(MEMORY, "memory_rest")
     if v:
         out.append(Cost("memory_rest_luts", v, f"part memory_rest: {v:,} {cell}", [MEMORY], r.stale))

@@ -259,14 +259,16 @@ CONFIGS = [
     Config("external memory D=4, K=32, 2048 lines (L2, B=16 split, T=9, 64-bit memory: cache bank only)",
            {**BANKED, "address_bits": 21, "replicas": 2, "replicated_levels": 9, "cache_lines": 2048},
            cost_parts=("cache_bank",), parts_only=True),
-    # At k = 500 the heaps' BlockRAM leaves the cache 512 lines (the plan's: each
-    # bank's RAM word is a 64-bit beat, two DP16KD wide at any depth, and at 32
-    # lines a bank its tags are LUT-RAM; 1,024 lines would take 228 DP16KD of 208).
-    Config("external memory D=4, K=500 (L2, 2x2x16 slots, B=16 split, T=9, 512 lines, 64-bit memory, Cornell 1.9 M photons)",
+    # At k = 500 the heaps' BlockRAM leaves the cache's words room for 1,024 lines
+    # (each bank's RAM word is a 64-bit beat, two DP16KD wide at any depth up to 512
+    # beats) but not their tags (64 a bank, a DP16KD a copy): the plan's core keeps
+    # its tags in LUT-RAM, as wide as the map's tags (`cache_tags = "lut-ram"`), and
+    # its cache bank is the device planner's cost of those tags.
+    Config("external memory D=4, K=500 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, LUT-RAM tags, 64-bit memory, Cornell 1.9 M photons)",
            {**BANKED, "k": 500, "address_bits": 21, "replicas": 2, "replicated_levels": 9,
-            "cache_lines": 512},
+            "cache_lines": 1024, "cache_tags": "lut-ram"},
            {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton"},
-           nowidelut=True, part="lfe5um5g-85f-8"),
+           nowidelut=True, part="lfe5um5g-85f-8", cost_parts=("cache_bank",)),
     # The default render's map (200,000 emitted photons, H = 19) on the XC6VSX475T as
     # `--device xc6vsx475t` plans it: D = 32 datapaths on 16 replicas of the top 10
     # levels, 128 banks with split ports, one result stream per four datapaths; enough

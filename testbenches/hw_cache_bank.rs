@@ -5,11 +5,14 @@
 //! row's block (never another block's that shares the line, never a line being
 //! filled); every read must hit within a bound (the miss was fetched); lines
 //! are replaced as blocks that share them are read. Run with one photon word a
-//! memory beat and with two (a 64-bit memory: each RAM word a pair).
+//! memory beat and with two (a 64-bit memory: each RAM word a pair), and with
+//! the tags in LUT-RAM only as wide as the largest block's tag (a tag one bit too
+//! narrow would alias two blocks of a line, and hits would be other blocks' words).
 
 use crate::common::{rng, settle};
+use photon_fpga::hw::config::memory_config::CacheTags;
 use photon_fpga::hw::memory::cache_bank::CacheBank;
-use photon_fpga::hw::memory::cache_port::LineShape;
+use photon_fpga::hw::memory::cache_port::{LineShape, TagShape};
 use photon_fpga::hw::memory::fill_arbiter::FillArbiter;
 use photon_fpga::hw::memory::line_fill::LineFill;
 use photon_fpga::hw::sim::axi_memory::{AxiBurst, AxiMemory, AxiTiming};
@@ -41,17 +44,29 @@ fn shape(lane_shift: u32) -> LineShape {
     }
 }
 
+/// The bank's tags in `tags`.
+fn tags(tags: CacheTags) -> TagShape {
+    TagShape::new(tags, BLOCKS as u32, BANK_BITS, LINE_BITS)
+}
+
 #[test]
 fn hits_are_the_blocks_words_and_every_read_hits_in_time() {
-    hits_are_the_blocks_words(0);
+    hits_are_the_blocks_words(0, CacheTags::BlockRam);
 }
 
 #[test]
 fn hits_are_the_blocks_words_with_two_words_a_beat() {
-    hits_are_the_blocks_words(1);
+    hits_are_the_blocks_words(1, CacheTags::BlockRam);
 }
 
-fn hits_are_the_blocks_words(lane_shift: u32) {
+#[test]
+fn hits_are_the_blocks_words_with_the_tags_in_lut_ram() {
+    // 96 blocks over 4 banks of 8 lines: tags 0 to 2, two bits.
+    assert_eq!(tags(CacheTags::LutRam).bits, 2);
+    hits_are_the_blocks_words(1, CacheTags::LutRam);
+}
+
+fn hits_are_the_blocks_words(lane_shift: u32, tag_ram: CacheTags) {
     let timing = AxiTiming {
         latency: 14,
         extra_latency: 8,
@@ -65,7 +80,14 @@ fn hits_are_the_blocks_words(lane_shift: u32) {
     let image: Vec<u64> = (0..BLOCKS << S).map(|_| r.gen::<u32>() as u64).collect();
     let mut memory = AxiMemory::from_words(&image, 4, timing);
     let mut fill = LineFill::<64>::new(0, 4 << S, 4 << lane_shift);
-    let mut bank = CacheBank::new(BANK as u32, BANK_BITS, 1 << LINE_BITS, 2, shape(lane_shift));
+    let mut bank = CacheBank::new(
+        BANK as u32,
+        BANK_BITS,
+        1 << LINE_BITS,
+        2,
+        shape(lane_shift),
+        tags(tag_ram),
+    );
     let mut arbiter = FillArbiter::new(1);
     fill.connect_all();
     bank.connect_all();
@@ -271,7 +293,8 @@ fn fill_arbiter_takes_each_request_once_in_turn() {
 )]
 fn exported_verilog_lints() {
     use photon_fpga::hw::export::verilog::export_block;
-    let e = export_block(CacheBank::new(BANK as u32, BANK_BITS, 256, 2, shape(1))).unwrap();
+    let t = TagShape::new(CacheTags::LutRam, BLOCKS as u32, BANK_BITS, 8);
+    let e = export_block(CacheBank::new(BANK as u32, BANK_BITS, 256, 2, shape(1), t)).unwrap();
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("top.v"), &e.verilog).unwrap();
     crate::common::lint_top(dir.path());

@@ -10,7 +10,9 @@ use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::config_builder::CoreBuilder;
 use crate::hw::config::controller::Controller;
 use crate::hw::config::core_config::{bits_for, MAX_ADDRESS_BITS, PORTS};
-use crate::hw::config::memory_config::{DEFAULT_MEMORY_DATA_BITS, MAX_MEMORY_ADDRESS_BITS};
+use crate::hw::config::memory_config::{
+    CacheTags, DEFAULT_MEMORY_DATA_BITS, MAX_MEMORY_ADDRESS_BITS,
+};
 
 /// `b` with the banked barrel core that `dev` holds for `photons` photons of
 /// `word_bits`-bit words: a clear error (naming the largest map that fits) if
@@ -73,7 +75,13 @@ pub fn memory_core(
         .bank_ports(BankPorts::Split)
         .cache_lines(Some(m.cache_lines))
         .result_streams(result_streams(PORTS * trees));
-    // (The default width stays unnamed: the core file and description as before.)
+    // (The default width and tags stay unnamed: the core file and description as
+    // before.)
+    let b = if m.cache_tags == CacheTags::default() {
+        b
+    } else {
+        b.cache_tags(Some(m.cache_tags))
+    };
     Ok(if m.memory_data_bits == DEFAULT_MEMORY_DATA_BITS {
         b
     } else {

@@ -55,6 +55,12 @@ pub struct DeviceCosts {
     /// `hw::memory::cache_bank`), so the cache costs logic as well as BlockRAM.
     pub cache_line_luts: f64,
     pub cache_bank_luts: f64,
+    /// What a cache line's logic changes by with its tag in LUT-RAM
+    /// (`CacheTags::LutRam`: both ports' copies and their read multiplexers, only
+    /// as wide as the map's tags) instead of BlockRAM (24 bits, and as wide a
+    /// compare): negative where the narrower compare saves more than the LUT-RAM
+    /// costs.
+    pub cache_lut_tag_luts: f64,
     /// The rest of an external-memory core: the line fill and its arbiter, the
     /// replicas of the top levels, the dispatcher and the result path.
     pub memory_rest_luts: u32,

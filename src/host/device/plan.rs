@@ -29,7 +29,7 @@ pub use crate::host::device::devices::{datapath_brams, Device, DeviceCosts, ECP5
 use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::core_config::{MAX_BANKED_TREES, MAX_TREES};
 use crate::hw::config::memory_config::{
-    DEFAULT_MEMORY_DATA_BITS, MAX_BANK_LINES, MAX_CACHE_BANK_BITS, MAX_CACHE_LINES,
+    CacheTags, DEFAULT_MEMORY_DATA_BITS, MAX_BANK_LINES, MAX_CACHE_BANK_BITS, MAX_CACHE_LINES,
     MAX_MEMORY_ADDRESS_BITS, MEMORY_BLOCK_LEVELS,
 };
 use crate::hw::memory::cache_port::TAG_BITS;
@@ -279,6 +279,9 @@ pub struct MemoryPlan {
     /// The memory's data width: the default (two photon words a beat) unless
     /// only a narrower port's cache fits.
     pub memory_data_bits: u32,
+    /// Where the banks keep their tags: BlockRAM, unless only LUT-RAM tags leave
+    /// the words BlockRAM for these lines.
+    pub cache_tags: CacheTags,
 }
 
 /// Largest map of an external-memory core: [`MAX_MEMORY_ADDRESS_BITS`] (every
@@ -290,25 +293,39 @@ pub const MEMORY_MAP_LIMIT: usize = (1 << MAX_MEMORY_ADDRESS_BITS) - 1;
 /// (`CachePort`: a 64-bit beat of two words is one 64-bit RAM word, two DP16KD
 /// wide however few the lines): with split ports each port has its own copy of
 /// the words and of the tags (a bank's lines' tags, BlockRAM from 64 lines up).
-fn cache_brams(dev: &Device, lines: u32, b: u32, beat_words: u32, lane_bits: u32) -> u32 {
+fn cache_brams(
+    dev: &Device,
+    lines: u32,
+    b: u32,
+    beat_words: u32,
+    lane_bits: u32,
+    tags: CacheTags,
+) -> u32 {
     let per_bank = lines >> b;
     let rows = (per_bank << MEMORY_BLOCK_LEVELS) / beat_words;
     let words = dev
         .brams_for(rows.trailing_zeros(), beat_words * lane_bits)
         .max(1);
-    let tags = dev.brams_for(per_bank.trailing_zeros(), TAG_BITS);
+    let tags = match tags {
+        CacheTags::BlockRam => dev.brams_for(per_bank.trailing_zeros(), TAG_BITS),
+        CacheTags::LutRam => 0,
+    };
     (2 * (words + tags)) << b
 }
 
 /// Logic of an external-memory core of `d` datapaths with `lines` cache lines
-/// over `2^b` banks: the datapaths, the split-port crossbar, the cache and the
-/// rest of the core.
-fn cache_logic(dev: &Device, d: u32, lines: u32, b: u32) -> f64 {
+/// over `2^b` banks, their tags in `tags`: the datapaths, the split-port
+/// crossbar, the cache and the rest of the core.
+fn cache_logic(dev: &Device, d: u32, lines: u32, b: u32, tags: CacheTags) -> f64 {
     let c = dev.costs();
     let (datapaths, crossbar) = memory_datapath_logic(dev, d, 1 << b);
+    let line = match tags {
+        CacheTags::BlockRam => c.cache_line_luts,
+        CacheTags::LutRam => c.cache_line_luts + c.cache_lut_tag_luts,
+    };
     (datapaths + crossbar) as f64
         + c.cache_bank_luts * f64::from(1u32 << b)
-        + c.cache_line_luts * f64::from(lines)
+        + line * f64::from(lines)
         + f64::from(c.memory_rest_luts)
 }
 
@@ -374,7 +391,8 @@ fn plan_memory_width(
     beat_words: u32,
     lane_bits: u32,
 ) -> Option<MemoryPlan> {
-    let cache_brams = |lines: u32, b: u32| cache_brams(dev, lines, b, beat_words, lane_bits);
+    let cache_brams =
+        |lines: u32, b: u32, tags| cache_brams(dev, lines, b, beat_words, lane_bits, tags);
     let l = 31 - (dev.shape.0 + 1).leading_zeros();
     let per_dp = 1 + own_brams;
     let budget = dev.luts as f64 * lim.logic_share;
@@ -390,17 +408,24 @@ fn plan_memory_width(
             d -= 2;
         }
         // The largest cache beside the datapaths, from one line a bank up.
-        // ... in the BlockRAM left, and with its logic in the device's.
+        // ... in the BlockRAM left, and with its logic in the device's: the tags
+        // in BlockRAM, else (where the words alone would fit) in LUT-RAM.
         let fits = |lines: u32| {
-            cache_brams(lines, b) + d * per_dp <= dev.brams
-                && cache_logic(dev, d, lines, b) <= dev.luts as f64 * lim.device_share
+            [CacheTags::BlockRam, CacheTags::LutRam]
+                .into_iter()
+                .find(|&t| {
+                    cache_brams(lines, b, t) + d * per_dp <= dev.brams
+                        && cache_logic(dev, d, lines, b, t) <= dev.luts as f64 * lim.device_share
+                })
         };
         let mut lines = banks;
-        if d < lim.min_datapaths.max(1) || !fits(lines) {
+        let Some(mut tags) = fits(lines).filter(|_| d >= lim.min_datapaths.max(1)) else {
             continue;
-        }
-        while lines * 2 <= ((MAX_BANK_LINES as u32) << b).min(MAX_CACHE_LINES) && fits(lines * 2) {
+        };
+        while lines * 2 <= ((MAX_BANK_LINES as u32) << b).min(MAX_CACHE_LINES) {
+            let Some(t) = fits(lines * 2) else { break };
             lines *= 2;
+            tags = t;
         }
         let (datapath_luts, crossbar_luts) = memory_datapath_logic(dev, d, banks);
         let p = MemoryPlan {
@@ -408,12 +433,13 @@ fn plan_memory_width(
             replicated_levels: l,
             bank_bits: b,
             cache_lines: lines,
-            cache_brams: cache_brams(lines, b),
+            cache_brams: cache_brams(lines, b, tags),
             datapaths: d,
             datapath_brams: d * per_dp,
             datapath_luts,
             crossbar_luts,
             memory_data_bits: beat_words * lane_bits,
+            cache_tags: tags,
         };
         let key = |p: &MemoryPlan| (p.datapaths, p.cache_lines, std::cmp::Reverse(p.bank_bits));
         if best.as_ref().is_none_or(|q| key(&p) > key(q)) {
@@ -462,13 +488,13 @@ mod tests {
         );
     }
 
-    /// At K = 500 the paper's map on the ECP5-85k gets a smaller cache than at
-    /// K = 32 (the heaps take BlockRAM), and the plan fits the device's BlockRAM:
-    /// four datapaths of 32 DP16KD and their replicas (132), and 16 banks' two
-    /// copies of words and tags. A 64-bit RAM word is two DP16KD wide at any
-    /// depth, and a bank's tags take a DP16KD from 64 lines up: 1,024 lines take
-    /// 96 (228 in all, the synthesised core that did not fit), 512 lines 64 (196;
-    /// the same core behind a 32-bit memory synthesised to 164 = 132 + 32).
+    /// At K = 500 the paper's map on the ECP5-85k keeps K = 32's 1,024 lines only
+    /// with the tags in LUT-RAM (the heaps take BlockRAM), and the plan fits the
+    /// device's BlockRAM: four datapaths of 32 DP16KD and their replicas (132),
+    /// and 16 banks' two copies of the words, a 64-bit RAM word two DP16KD wide at
+    /// any depth up to 512 beats: 64. With the tags in BlockRAM (a DP16KD a copy
+    /// from 64 lines a bank up) 1,024 lines take 96, 228 in all (the synthesised
+    /// core that did not fit); at K = 32 the tags stay in BlockRAM.
     #[test]
     fn a_k500_memory_plan_leaves_the_heaps_their_blockram() {
         let lim = Limits::default();
@@ -484,12 +510,20 @@ mod tests {
                 p.bank_bits,
                 p.cache_lines,
                 p.cache_brams,
-                p.memory_data_bits
+                p.memory_data_bits,
+                p.cache_tags
             ),
-            (4, 4, 512, 64, 64)
+            (4, 4, 1024, 64, 64, CacheTags::LutRam)
+        );
+        assert_eq!(
+            cache_brams(&ECP5_85K, 1024, 4, 2, 32, CacheTags::BlockRam),
+            96
         );
         let at32 = plan_memory(1_945_886, 32, ECP5_85K.datapath_brams, &ECP5_85K, &lim).unwrap();
-        assert!(p.cache_lines < at32.cache_lines, "{p:?} {at32:?}");
+        assert_eq!(
+            (at32.cache_lines, at32.cache_tags),
+            (1024, CacheTags::BlockRam)
+        );
     }
 
     /// The paper's 1 M-photon map on each device: a plan that fits the BlockRAM,
@@ -516,7 +550,7 @@ mod tests {
             let words_per_bank = p.cache_lines / banks * 16;
             let brams = |words: u32| {
                 let wide = 64u32.div_ceil(dev.shape.1);
-                let tags = u32::from(words / 16 > 32);
+                let tags = u32::from(words / 16 > 32 && p.cache_tags == CacheTags::BlockRam);
                 2 * banks * (wide * (words / 2).div_ceil(dev.shape.0) + tags)
             };
             assert_eq!(p.cache_brams, brams(words_per_bank));

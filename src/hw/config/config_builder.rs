@@ -10,7 +10,7 @@ use crate::hw::config::core_config::{
     Banking, CoreConfig, BARREL_SLOTS, MAX_HW_COORD_BITS, MAX_QUERIES_PER_PORT,
 };
 use crate::hw::config::core_spec::CoreSpec;
-use crate::hw::config::memory_config::ExternalMemory;
+use crate::hw::config::memory_config::{CacheTags, ExternalMemory};
 use crate::hw::config::metric::Metric;
 use crate::hw::config::photon_word::{PhotonLayout, TreeImage};
 use crate::hw::config::traversal::Traversal;
@@ -42,6 +42,7 @@ pub struct CoreBuilder {
     /// and its data width (None: the default).
     cache_lines: Option<u32>,
     memory_data_bits: Option<u32>,
+    cache_tags: Option<CacheTags>,
 }
 
 impl Default for CoreBuilder {
@@ -65,6 +66,7 @@ impl Default for CoreBuilder {
             radius_bits: None,
             cache_lines: None,
             memory_data_bits: None,
+            cache_tags: None,
         }
     }
 }
@@ -160,6 +162,12 @@ impl CoreBuilder {
             memory_data_bits,
             ..self
         }
+    }
+
+    /// With `cache_lines`, where the banks keep their tags (`None`: the default,
+    /// [`CacheTags::BlockRam`]).
+    pub fn cache_tags(self, cache_tags: Option<CacheTags>) -> Self {
+        CoreBuilder { cache_tags, ..self }
     }
 
     /// Result streams R (a divisor of the datapaths; more than one needs banks or a
@@ -292,6 +300,16 @@ impl CoreBuilder {
             }
             (d, _) => out = out.memory_data_bits(d),
         }
+        match (b.cache_tags, b.cache_lines) {
+            (Some(t), None) => {
+                return fail(format!(
+                    "cache_tags = \"{}\" without cache_lines: only an external memory's \
+                     cache has tags",
+                    t.name()
+                ))
+            }
+            (t, _) => out = out.cache_tags(t),
+        }
         Ok(out)
     }
 
@@ -365,7 +383,7 @@ impl CoreBuilder {
             result_streams: self.result_streams,
             radius_bits: self.radius_bits,
             memory: self.cache_lines.map(|l| {
-                let m = ExternalMemory::new(l);
+                let m = ExternalMemory::new(l).with_tags(self.cache_tags.unwrap_or_default());
                 self.memory_data_bits.map_or(m, |d| m.with_data_bits(d))
             }),
         };
@@ -407,6 +425,7 @@ impl From<CoreConfig> for CoreBuilder {
             radius_bits: cfg.radius_bits,
             cache_lines: cfg.memory.map(|m| m.cache_lines),
             memory_data_bits: cfg.memory.map(|m| m.data_bits),
+            cache_tags: cfg.memory.map(|m| m.tags),
         }
         .queries_per_port(cfg.queries_per_port)
         .banking(cfg.banking)

@@ -192,7 +192,7 @@ pub struct CoreConfig {
 }
 
 pub use crate::hw::config::bank_config::{BankMapping, Banking, MAX_BANK_BITS};
-pub use crate::hw::config::memory_config::ExternalMemory;
+pub use crate::hw::config::memory_config::{CacheTags, ExternalMemory};
 
 impl CoreConfig {
     /// Largest distance two photons of this layout can have.
@@ -574,6 +574,9 @@ impl std::fmt::Display for CoreConfig {
                  {}-level blocks",
                 m.data_bits, m.cache_lines, m.block_levels
             )?;
+            if m.tags == CacheTags::LutRam {
+                write!(f, " (tags in LUT-RAM)")?;
+            }
         }
         if self.result_streams != 1 {
             write!(f, ", {} result streams", self.result_streams)?;

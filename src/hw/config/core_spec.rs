@@ -20,6 +20,7 @@
 use crate::hw::config::bank_config::{BankMapping, BankPorts};
 use crate::hw::config::controller::Controller;
 use crate::hw::config::core_config::CoreConfig;
+use crate::hw::config::memory_config::CacheTags;
 use crate::hw::config::metric::Metric;
 use crate::hw::config::traversal::Traversal;
 use serde::{Deserialize, Serialize};
@@ -138,6 +139,13 @@ pub struct CoreBuild {
     #[cfg_attr(feature = "cli", arg(skip))]
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub memory_data_bits: Option<u32>,
+    /// With cache_lines: where each cache bank keeps its lines' tags, "block-ram"
+    /// (LUT-RAM up to 32 lines a bank) or "lut-ram" (at any depth, only as wide as
+    /// the map's tags: the BlockRAM left to the words, the tags in logic)
+    /// [default: "block-ram"]. A core file's key only.
+    #[cfg_attr(feature = "cli", arg(skip))]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cache_tags: Option<CacheTags>,
     /// Result streams R: the datapaths' result packets leave on R streams, D / R
     /// datapaths each (a divisor of D = 2 x --replicas with --banks, else of 2); one
     /// stream carries a beat a cycle, which about 8 busy datapaths fill at k = 32
@@ -243,6 +251,7 @@ impl From<&CoreConfig> for CoreSpec {
                 bank_map: c.banking.map(|b| b.mapping),
                 cache_lines: c.memory.map(|m| m.cache_lines),
                 memory_data_bits: c.memory.map(|m| m.data_bits),
+                cache_tags: c.memory.map(|m| m.tags),
                 result_streams: Some(c.result_streams),
             },
         }

@@ -6,6 +6,7 @@
 //! 1.9 M stored, H = 21) and beyond.
 
 use crate::hw::error::HwError;
+use serde::{Deserialize, Serialize};
 
 /// Levels per block, one block per cache line and per burst: the lab's cache
 /// model's choice for both modelled memories (the fewest DRAM bytes per query,
@@ -45,14 +46,43 @@ pub const MEMORY_PORT_BITS: usize = 64;
 /// comes in half as many beats as one word a beat would take.
 pub const DEFAULT_MEMORY_DATA_BITS: u32 = 64;
 
+/// Where each cache bank keeps its lines' tags (the core file's `cache_tags`).
+///
+/// Why two: a bank's tags are a memory of one entry a line, which yosys puts in
+/// BlockRAM from 64 lines a bank up, two DP16KD a bank with split ports. At K =
+/// 500 on the ECP5-85k the heaps leave the cache too few BlockRAMs for that
+/// (docs/MEMORY_CORE.md, "What fits"): in LUT-RAM, only as wide as the map's
+/// tags, the tags cost logic instead and the words keep the BlockRAM, which at
+/// two DP16KD a bank hold 64 lines as cheaply as 32.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CacheTags {
+    /// BlockRAM from 64 lines a bank up (LUT-RAM below), 24 bits wide.
+    #[default]
+    BlockRam,
+    /// LUT-RAM at any depth, as wide as the map's largest tag.
+    LutRam,
+}
+
+impl CacheTags {
+    pub fn name(self) -> &'static str {
+        match self {
+            CacheTags::BlockRam => "block-ram",
+            CacheTags::LutRam => "lut-ram",
+        }
+    }
+}
+
 /// The external-memory store: the cache's lines (all banks together, each bank
-/// the lines whose index is its own modulo B), the levels per block and the
-/// memory's data width (AXI4 `rdata` bits: one or two photon words a beat).
+/// the lines whose index is its own modulo B), the levels per block, the
+/// memory's data width (AXI4 `rdata` bits: one or two photon words a beat) and
+/// where the tags live.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ExternalMemory {
     pub cache_lines: u32,
     pub block_levels: u32,
     pub data_bits: u32,
+    pub tags: CacheTags,
 }
 
 impl ExternalMemory {
@@ -63,7 +93,13 @@ impl ExternalMemory {
             cache_lines,
             block_levels: MEMORY_BLOCK_LEVELS,
             data_bits: DEFAULT_MEMORY_DATA_BITS,
+            tags: CacheTags::default(),
         }
+    }
+
+    /// This cache with its tags in `tags`.
+    pub fn with_tags(self, tags: CacheTags) -> Self {
+        ExternalMemory { tags, ..self }
     }
 
     /// This cache behind a memory of `data_bits`-bit beats.

@@ -34,7 +34,7 @@
 
 use crate::hw::config::core_config::Addr;
 use crate::hw::memory::block_map::MemoryWord;
-use crate::hw::memory::cache_port::{CachePort, LineMask, LineShape, MAX_BANK_LINES};
+use crate::hw::memory::cache_port::{CachePort, LineMask, LineShape, TagShape, MAX_BANK_LINES};
 use crate::hw::memory::line_fill::LineIndex;
 use crate::hw::primitives::bank_bus::BankMemoryPort;
 use crate::hw::primitives::block_ram::{BramIndex, BramWord};
@@ -107,8 +107,15 @@ pub struct CacheBank {
 impl CacheBank {
     /// Bank `bank` of `2^bank_bits`, holding `lines` lines (a power of two, at
     /// most [`MAX_BANK_LINES`]) of `shape` (bit `word_bits` of an answer is the
-    /// miss flag), with `ports` read ports (1 or 2).
-    pub fn new(bank: u32, bank_bits: u32, lines: usize, ports: usize, shape: LineShape) -> Self {
+    /// miss flag), their tags in `tags`, with `ports` read ports (1 or 2).
+    pub fn new(
+        bank: u32,
+        bank_bits: u32,
+        lines: usize,
+        ports: usize,
+        shape: LineShape,
+        tags: TagShape,
+    ) -> Self {
         assert!(lines.is_power_of_two() && lines <= MAX_BANK_LINES);
         assert!((1..=2).contains(&ports) && bank_bits <= 10 && bank < (1 << bank_bits));
         let line_bits = lines.trailing_zeros();
@@ -136,7 +143,7 @@ impl CacheBank {
                 (0..lines).fold(LineMask::default(), |m, i| m.replace_bit(i, true)),
             ),
             ports: (0..ports)
-                .map(|_| CachePort::new(bank, bank_bits, line_bits, shape))
+                .map(|_| CachePort::new(bank, bank_bits, line_bits, shape, tags))
                 .collect(),
             valid: Default::default(),
             filling: Default::default(),

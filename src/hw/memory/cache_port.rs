@@ -10,8 +10,14 @@
 //! lane), the read takes the pair and picks its lane the next cycle, so a fill
 //! takes one write a beat and the RAM's depth halves as its width doubles (the
 //! same BlockRAMs).
+//!
+//! The tags are BlockRAM (LUT-RAM up to 32 lines, where yosys puts so small a
+//! memory), or LUT-RAM at any depth and only as wide as the map's largest tag
+//! ([`TagShape`], `CacheTags`): the same registered read either way, so the
+//! port behaves the same cycle for cycle.
 
-use crate::hw::config::core_config::Addr;
+use crate::hw::config::core_config::{bits_for, Addr};
+use crate::hw::config::memory_config::CacheTags;
 pub use crate::hw::config::memory_config::MAX_BANK_LINES;
 use crate::hw::memory::block_map::MemoryWord;
 use crate::hw::primitives::block_ram::{BlockRam, BramIndex, BramWord};
@@ -40,6 +46,31 @@ impl LineShape {
     /// Levels of a block's beats: log2 of the beats a line.
     pub fn beat_levels(self) -> u32 {
         self.block_levels - self.lane_shift
+    }
+}
+
+/// A bank's tag memory: its width, and whether it is LUT-RAM at any depth.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TagShape {
+    pub bits: u32,
+    pub lut_ram: bool,
+}
+
+impl TagShape {
+    /// The tags of a cache of `blocks` blocks over `2^bank_bits` banks of
+    /// `2^line_bits` lines, kept in `tags`: [`TAG_BITS`] wide in BlockRAM; in
+    /// LUT-RAM, where each bit costs logic, the bits of the largest tag only.
+    pub fn new(tags: CacheTags, blocks: u32, bank_bits: u32, line_bits: u32) -> Self {
+        match tags {
+            CacheTags::BlockRam => TagShape {
+                bits: TAG_BITS,
+                lut_ram: false,
+            },
+            CacheTags::LutRam => TagShape {
+                bits: bits_for(u64::from(blocks.saturating_sub(1)) >> (bank_bits + line_bits)),
+                lut_ram: true,
+            },
+        }
     }
 }
 
@@ -101,8 +132,15 @@ pub struct CachePort {
 }
 
 impl CachePort {
-    /// A port of bank `bank` of `2^bank_bits`, `2^line_bits` lines of `shape`.
-    pub fn new(bank: u32, bank_bits: u32, line_bits: u32, shape: LineShape) -> Self {
+    /// A port of bank `bank` of `2^bank_bits`, `2^line_bits` lines of `shape`,
+    /// their tags in `tags`.
+    pub fn new(
+        bank: u32,
+        bank_bits: u32,
+        line_bits: u32,
+        shape: LineShape,
+        tags: TagShape,
+    ) -> Self {
         let LineShape {
             block_levels,
             word_bits,
@@ -114,6 +152,7 @@ impl CachePort {
         assert!(lane_shift <= 1 && lane_shift < index_bits && word_bits <= lane_bits);
         let ram_bits = (lane_bits << lane_shift) - lane_bits + word_bits;
         assert!(ram_bits <= 64, "a beat fits one RAM word");
+        assert!((1..=TAG_BITS).contains(&tags.bits));
         CachePort {
             clock: Default::default(),
             enable: Default::default(),
@@ -146,7 +185,11 @@ impl CachePort {
             lane_mask: Constant::new(Addr::from((1u64 << lane_shift) - 1)),
             word_mask: Constant::new(BramWord::from((1u64 << word_bits) - 1)),
             words: BlockRam::new(index_bits - lane_shift, ram_bits),
-            tags: BlockRam::new(line_bits.max(1), TAG_BITS),
+            tags: if tags.lut_ram {
+                BlockRam::distributed(line_bits.max(1), tags.bits)
+            } else {
+                BlockRam::new(line_bits.max(1), tags.bits)
+            },
             line: Default::default(),
             read_enable: Default::default(),
             read_ok: Default::default(),

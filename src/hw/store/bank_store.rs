@@ -23,8 +23,9 @@ use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::core_config::ModuleMask;
 use crate::hw::config::core_config::{Addr, CoreConfig, Word};
 use crate::hw::config::memory_config::MEMORY_PORT_BITS;
+use crate::hw::config::memory_layout::MemoryLayout;
 use crate::hw::memory::cache_bank::CacheBank;
-use crate::hw::memory::cache_port::LineShape;
+use crate::hw::memory::cache_port::{LineShape, TagShape};
 use crate::hw::memory::fill_arbiter::FillArbiter;
 use crate::hw::memory::line_fill::LineFill;
 use crate::hw::primitives::axi4_read::AxiReadMaster;
@@ -116,11 +117,16 @@ impl<const W: usize> BankStore<W> {
             caches: memory
                 .iter()
                 .flat_map(|m| {
-                    (0..caches).map(|j| {
+                    let lines = m.bank_lines(bank_bits);
+                    let blocks = MemoryLayout::new(cfg.address_bits, levels, m.block_levels)
+                        .expect("a validated core's layout")
+                        .blocks();
+                    let tags = TagShape::new(m.tags, blocks, bank_bits, lines.trailing_zeros());
+                    (0..caches).map(move |j| {
                         CacheBank::new(
                             j as u32,
                             bank_bits,
-                            m.bank_lines(bank_bits) as usize,
+                            lines as usize,
                             ports.ports(),
                             LineShape {
                                 block_levels: m.block_levels,
@@ -128,6 +134,7 @@ impl<const W: usize> BankStore<W> {
                                 lane_shift: m.words_per_beat(W).trailing_zeros(),
                                 lane_bits: W as u32,
                             },
+                            tags,
                         )
                     })
                 })
