@@ -250,8 +250,8 @@ fn what_the_banked_core_cannot_build_is_refused() {
         ]),
         "the largest that fits is 8388607 photons",
     );
-    // The memory's data width (a core file's key): one or two photon words a
-    // beat, and only with a memory.
+    // The memory's data width and the cache's tags (core file keys): one or two
+    // photon words a beat, and only with a memory.
     for (text, message) in [
         (
             "banks = 4\ncache_lines = 16\nmemory_data_bits = 48\n",
@@ -260,6 +260,15 @@ fn what_the_banked_core_cannot_build_is_refused() {
         (
             "banks = 4\nmemory_data_bits = 32\n",
             "memory_data_bits = 32 without cache_lines",
+        ),
+        // Where the cache keeps its tags: a named place, and only with a cache.
+        (
+            "banks = 4\ncache_tags = \"lut-ram\"\n",
+            "cache_tags = \"lut-ram\" without cache_lines",
+        ),
+        (
+            "banks = 4\ncache_lines = 16\ncache_tags = \"flip-flops\"\n",
+            "unknown variant `flip-flops`, expected `block-ram` or `lut-ram`",
         ),
     ] {
         let file = dir.path().join("memory.toml");

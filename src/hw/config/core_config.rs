@@ -192,7 +192,7 @@ pub struct CoreConfig {
 }
 
 pub use crate::hw::config::bank_config::{BankMapping, Banking, MAX_BANK_BITS};
-pub use crate::hw::config::memory_config::{CacheTags, ExternalMemory};
+pub use crate::hw::config::memory_config::ExternalMemory;
 
 impl CoreConfig {
     /// Largest distance two photons of this layout can have.
@@ -568,15 +568,13 @@ impl std::fmt::Display for CoreConfig {
             self.address_bits, self.k, self.queries_per_port
         )?;
         if let Some(m) = self.memory {
+            let tags = m.tags.note();
             write!(
                 f,
                 ", the levels below in external memory ({}-bit beats) behind {} cache lines of \
-                 {}-level blocks",
-                m.data_bits, m.cache_lines, m.block_levels
+                 {}-level blocks{}",
+                m.data_bits, m.cache_lines, m.block_levels, tags
             )?;
-            if m.tags == CacheTags::LutRam {
-                write!(f, " (tags in LUT-RAM)")?;
-            }
         }
         if self.result_streams != 1 {
             write!(f, ", {} result streams", self.result_streams)?;

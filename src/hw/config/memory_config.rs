@@ -49,11 +49,11 @@ pub const DEFAULT_MEMORY_DATA_BITS: u32 = 64;
 /// Where each cache bank keeps its lines' tags (the core file's `cache_tags`).
 ///
 /// Why two: a bank's tags are a memory of one entry a line, which yosys puts in
-/// BlockRAM from 64 lines a bank up, two DP16KD a bank with split ports. At K =
-/// 500 on the ECP5-85k the heaps leave the cache too few BlockRAMs for that
-/// (docs/MEMORY_CORE.md, "What fits"): in LUT-RAM, only as wide as the map's
-/// tags, the tags cost logic instead and the words keep the BlockRAM, which at
-/// two DP16KD a bank hold 64 lines as cheaply as 32.
+/// BlockRAM from 64 lines a bank up, a DP16KD for each of a bank's two port
+/// copies. At K = 500 on the ECP5-85k the heaps leave the cache too few
+/// BlockRAMs for that (docs/MEMORY_CORE.md, "What fits"): in LUT-RAM, only as
+/// wide as the map's tags, they take none, and the words keep theirs (two
+/// DP16KD a copy hold 64 lines a bank as they hold 32).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum CacheTags {
@@ -65,10 +65,20 @@ pub enum CacheTags {
 }
 
 impl CacheTags {
+    /// Its name in a core file.
     pub fn name(self) -> &'static str {
         match self {
             CacheTags::BlockRam => "block-ram",
             CacheTags::LutRam => "lut-ram",
+        }
+    }
+
+    /// What a core's description adds for it (nothing for the default, so that
+    /// the description of a core with BlockRAM tags reads as before).
+    pub fn note(self) -> &'static str {
+        match self {
+            CacheTags::BlockRam => "",
+            CacheTags::LutRam => " (tags in LUT-RAM)",
         }
     }
 }
