@@ -23,7 +23,6 @@ use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::core_config::ModuleMask;
 use crate::hw::config::core_config::{Addr, CoreConfig, Word};
 use crate::hw::config::memory_config::MEMORY_PORT_BITS;
-use crate::hw::config::memory_layout::MemoryLayout;
 use crate::hw::memory::cache_bank::CacheBank;
 use crate::hw::memory::cache_port::{LineShape, TagShape};
 use crate::hw::memory::fill_arbiter::FillArbiter;
@@ -118,7 +117,8 @@ impl<const W: usize> BankStore<W> {
                 .iter()
                 .flat_map(|m| {
                     let lines = m.bank_lines(bank_bits);
-                    let blocks = MemoryLayout::new(cfg.address_bits, levels, m.block_levels)
+                    let blocks = cfg
+                        .memory_layout()
                         .expect("a validated core's layout")
                         .blocks();
                     let tags = TagShape::new(m.tags, blocks, bank_bits, lines.trailing_zeros());
