@@ -1186,7 +1186,7 @@ def render_report(res):
         L += ["\n### Arrays placed and routed on the ECP5-85k\n",
               "The whole `PhotonSearchArray` of T cores inside its I/O shell, placed and routed by nextpnr "
               f"(seeds {m.seeds} in turn until one routes, or all of them with `PHOTON_FPGA_EVERY_SEED=1`; the "
-              "best, every seed's fmax listed in the table above; router2 from T = {m.router2_trees}, router1 for "
+              f"best, every seed's fmax listed in the table above; router2 from T = {m.router2_trees}, router1 for "
               "barrel arrays); reads/cycle simulated under Verilator for the array; queries/s = reads/cycle x "
               "placed-and-routed fmax / reads per query; kiddo timed by the same bench-core run.\n",
               "| configuration | T | seed | LUT4s | DFFs | DP16KD | fmax MHz | reads/cycle | queries/s | "
