@@ -1251,6 +1251,11 @@ def banked_section(res):
                  f"{o['replicated_levels']} | {o['result_streams']} | {r.bench['cornell_photons']:,} | {xb} | "
                  f"{use('Total LUT4s')} | {use('DP16KD')} | {fmax} | "
                  f"{s.reads_per_cycle:.3f} | {s.reads_per_query:.1f} | {q} | {kq} | {vs} | {allt} |")
+    # Seeds that did not route in the time allowed, so that a row's one fmax is read with
+    # the tries behind it.
+    tried = [f"- {r.name}, {t}" for r in rows if r.ecp5 for t in r.ecp5.failed]
+    if tried:
+        L += ["\nSeeds that did not route:\n"] + tried
     # A row placed on another part than the default says which (its memory's board).
     other = [(r.name, r.ecp5.provenance) for r in rows
              if r.ecp5 and not r.ecp5.provenance.startswith(PLACED)]
