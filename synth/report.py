@@ -1192,7 +1192,6 @@ def render_report(res):
               "| configuration | T | seed | LUT4s | DFFs | DP16KD | fmax MHz | reads/cycle | queries/s | "
               "vs kiddo 1 thread | vs kiddo all threads |",
               "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
-        tried = []
         for r in arrays:
             e, s, f, u = r.ecp5, r.sim, r.figures, r.ecp5.used or {}
             use = lambda k: f"{u[k][0]:,} ({100 * u[k][0] / u[k][1]:.0f} %)" if k in u else "?"
@@ -1200,7 +1199,7 @@ def render_report(res):
             L.append(f"| {r.name} | {r.core['trees']} | {e.best_seed()} | {use('Total LUT4s')} | "
                      f"{use('Total DFFs')} | {use('DP16KD')} | {e.best():.1f} | {s.reads_per_cycle:.3f} | "
                      f"{f['queries_per_s'].value / 1e6:,.2f} M | {f['vs_kiddo'].value:,.1f}x | {allt} |")
-            tried += [f"- {r.name}, {t}" for t in e.failed]
+        tried = failed_seeds(arrays)
         if tried:
             L.append("\n" + "\n".join(tried))
     L += banked_section(res)
@@ -1209,6 +1208,11 @@ def render_report(res):
     L.extend(crit)
     L += costs.render_section(every)
     return "\n".join(L) + "\n"
+
+
+def failed_seeds(rows):
+    """One list line per seed of `rows` that did not route, naming its row."""
+    return [f"- {r.name}, {t}" for r in rows if r.ecp5 for t in r.ecp5.failed]
 
 
 def tabled(res):
@@ -1253,7 +1257,7 @@ def banked_section(res):
                  f"{s.reads_per_cycle:.3f} | {s.reads_per_query:.1f} | {q} | {kq} | {vs} | {allt} |")
     # Seeds that did not route in the time allowed, so that a row's one fmax is read with
     # the tries behind it.
-    tried = [f"- {r.name}, {t}" for r in rows if r.ecp5 for t in r.ecp5.failed]
+    tried = failed_seeds(rows)
     if tried:
         L += ["\nSeeds that did not route:\n"] + tried
     # A row placed on another part than the default says which (its memory's board).
