@@ -12,4 +12,5 @@ pub mod bank_map;
 pub mod bank_store;
 pub mod miss_park;
 pub mod read_issue;
+pub mod read_place;
 pub mod tree_module;

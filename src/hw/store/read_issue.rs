@@ -37,21 +37,32 @@
 //!
 //! A slot's read thus costs its round trip three cycles more than with one tree
 //! (14 cycles, which 16 slots cover), plus any wait for its bank.
+//!
+//! With external memory (`CoreConfig::memory`) where a read lives is the cache's
+//! placement ([`ReadPlace`]), a deeper function of the address than a bank's, and
+//! the offer is one cycle further on: the slice above registers the next read's
+//! slot and address only (a stage), the placement is computed from that
+//! register, and the read is offered from a [`PingPongSlice`], whose data
+//! registers load only while empty. So neither the pick's context read nor F's
+//! address computation meets the placement in one cycle, and the bank's grant
+//! ends at the offer's valid flip-flops instead of every data bit's load enable
+//! (docs/MEMORY_CORE.md, "What sets the clock now").
 
 use crate::hw::config::core_config::{
     bits_for, Addr, CoreConfig, Dist, ModuleIndex, ModuleMask, Word,
 };
 use crate::hw::config::memory_layout::MemoryLayout;
 use crate::hw::many;
-use crate::hw::memory::cache_map::CacheMap;
 use crate::hw::primitives::bank_bus::{BankAnswerIn, BankIndex, BankRequester, BankRow};
 use crate::hw::primitives::block_ram::BramWord;
 use crate::hw::primitives::free_pick::FreePick;
 use crate::hw::primitives::lut_ram::LutRam;
+use crate::hw::primitives::ping_pong_slice::PingPongSlice;
 use crate::hw::primitives::register_slice::RegisterSlice;
 use crate::hw::primitives::stream::ReadRequest;
 use crate::hw::store::bank_map::BankMap;
 use crate::hw::store::miss_park::MissPark;
+use crate::hw::store::read_place::ReadPlace;
 use rust_hdl::prelude::*;
 
 /// A read on offer: its slot, heap address, and where it lives (the replica, or
@@ -125,10 +136,11 @@ pub struct ReadIssue<const W: usize> {
     word_replica: DFF<bool>,
     replica_word: DFF<Word<W>>,
     /// With external memory (`CoreConfig::memory`; empty otherwise): where the
-    /// two candidates live in the cache, the bit of a bank's miss flag, and the
-    /// stage that parks a read that missed.
-    pick_cache: Vec<CacheMap>,
-    push_cache: Vec<CacheMap>,
+    /// registered next read lives in the cache, the offer (after the slice,
+    /// which is then a stage), the bit of a bank's miss flag, and the stage
+    /// that parks a read that missed.
+    place: Vec<ReadPlace>,
+    queue: Vec<PingPongSlice<OfferedRead>>,
     miss_flag: Vec<Constant<BramWord>>,
     park: Vec<MissPark<W>>,
 }
@@ -195,8 +207,8 @@ impl<const W: usize> ReadIssue<W> {
             issue_replica: many(stages),
             word_replica: Default::default(),
             replica_word: Default::default(),
-            pick_cache: memory.iter().map(|(l, b)| CacheMap::new(l, *b)).collect(),
-            push_cache: memory.iter().map(|(l, b)| CacheMap::new(l, *b)).collect(),
+            place: memory.iter().map(|(l, b)| ReadPlace::new(l, *b)).collect(),
+            queue: memory.iter().map(|_| PingPongSlice::new()).collect(),
             miss_flag: memory
                 .iter()
                 .map(|_| Constant::new(BramWord::from(1u64 << cfg.layout.word_bits())))
@@ -256,6 +268,29 @@ impl<const W: usize> Logic for ReadIssue<W> {
         self.bank.tag.next = self.offered.val().slot;
         self.offer.outbound.ready.next = self.offered.val().replica || self.bank.ready.val();
         self.taken.next = self.offer.outbound.valid.val() && self.offer.outbound.ready.val();
+        // With external memory the slice is a stage and the offer comes after
+        // it: the next read is registered with its slot and address only, where
+        // it lives in the cache is computed from that register, and the read is
+        // offered from a PingPongSlice, whose data registers load only while
+        // empty, so that the bank's grant reaches a few flip-flops, not the
+        // load enables of the whole read.
+        for m in 0..self.queue.len() {
+            self.queue[m].clock.next = self.clock.val();
+            self.queue[m].reset.next = self.reset.val();
+            self.place[m].read.next = self.offer.outbound.data.val();
+            self.queue[m].inbound.valid.next = self.offer.outbound.valid.val();
+            self.queue[m].inbound.data.next = self.place[m].placed.val();
+            self.offer.outbound.ready.next = self.queue[m].inbound.ready.val();
+            self.offered.next = self.queue[m].outbound.data.val();
+            self.bank.valid.next =
+                self.queue[m].outbound.valid.val() && !self.offered.val().replica;
+            self.bank.bank.next = self.offered.val().bank;
+            self.bank.row.next = self.offered.val().row;
+            self.bank.tag.next = self.offered.val().slot;
+            self.queue[m].outbound.ready.next = self.offered.val().replica || self.bank.ready.val();
+            self.taken.next =
+                self.queue[m].outbound.valid.val() && self.queue[m].outbound.ready.val();
+        }
         // The next read, whenever the slice has room: the picked pending slot,
         // else F's read at once.
         self.pick_map.address.next =
@@ -282,20 +317,6 @@ impl<const W: usize> Logic for ReadIssue<W> {
                 self.next.next.replica = self.push_map.replicated.val();
                 self.next.next.bank = self.push_map.bank.val();
                 self.next.next.row = self.push_map.row.val();
-            }
-        }
-        // With external memory: the candidates' banks and rows are the cache's.
-        for m in 0..self.pick_cache.len() {
-            self.pick_cache[m].address.next =
-                bit_cast::<24, 32>(self.ctx_address.read_data.val()) & self.addr_mask.val();
-            self.push_cache[m].address.next = self.push_address.val();
-            self.next.next.replica = self.pick_cache[m].replicated.val();
-            self.next.next.bank = self.pick_cache[m].bank.val();
-            self.next.next.row = self.pick_cache[m].row.val();
-            if self.bypass.val() {
-                self.next.next.replica = self.push_cache[m].replicated.val();
-                self.next.next.bank = self.push_cache[m].bank.val();
-                self.next.next.row = self.push_cache[m].row.val();
             }
         }
         self.offer.inbound.valid.next = self.banked.val() && self.next_valid.val();
