@@ -543,10 +543,13 @@ def run(cmd, log, minutes=None):
 
 
 def version(cmd):
-    """The first line a tool prints for `cmd`, or None if it cannot run."""
+    """The first line a tool prints for `cmd`, or None if it cannot run. A YoWASP
+    tool's first run on a machine says first that it is preparing (compiling its
+    WebAssembly): that line is not the version."""
     try:
         out = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
-        return (out.stdout or out.stderr).strip().splitlines()[0]
+        lines = (out.stdout + "\n" + out.stderr).strip().splitlines()
+        return [x for x in lines if x.strip() and not x.startswith("Preparing to run")][0]
     except (OSError, IndexError, subprocess.TimeoutExpired):
         return None
 

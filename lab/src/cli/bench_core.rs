@@ -9,6 +9,7 @@ use photon_fpga::host::error::{Error, Result};
 use photon_fpga::host::limits;
 use photon_fpga::host::render::irradiance::IRRADIANCE_K;
 use photon_fpga::hw::config::core_spec::DEFAULT_K;
+use photon_fpga::hw::sim::axi_memory::AxiTiming;
 use photon_fpga::hw::sim::native::{Engine, SimOptions};
 
 /// Final-gather rays per eye hit of the `two-pass` workload: the render's default
@@ -68,7 +69,10 @@ pub struct BenchCoreArgs {
     radius: Option<f64>,
     /// Clock of the core in MHz, a finite number > 0 (e.g. a placed-and-routed fmax
     /// from synth/REPORT.md): prints the core's queries/s = reads/cycle × fmax /
-    /// reads per query.
+    /// reads per query. The external-memory core's memory model then runs at this
+    /// clock: the modelled DDR3's latency and sustained bytes, counted in its
+    /// controller's 75 MHz cycles, become the core's cycles [default: the memory
+    /// at the controller's clock].
     #[arg(long)]
     fmax_mhz: Option<f64>,
     /// Also time kiddo (ImmutableKdTree, f32) and the software search on the same
@@ -231,6 +235,7 @@ pub fn bench_core(args: &BenchCoreArgs) -> Result<()> {
     );
     let opts = SimOptions {
         engine,
+        memory: args.fmax_mhz.map(AxiTiming::ecp5_ddr3_at),
         ..SimOptions::default()
     };
     let run = crate::core_run::run_checked(&cfg, tree, &queries, max, &opts)?;

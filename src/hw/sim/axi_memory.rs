@@ -37,6 +37,10 @@ pub struct AxiTiming {
     pub seed: u64,
 }
 
+/// The clock (MHz) of the ECP5-85k board's LiteDRAM controller, whose cycles
+/// [`AxiTiming::ecp5_ddr3`]'s figures count (docs/MEMORY.md, "Memories modelled").
+pub const ECP5_DDR3_MHZ: f64 = 75.0;
+
 /// The most credit a memory saves up while idle: one 64-byte line.
 pub const CREDIT_BYTES: f64 = 64.0;
 
@@ -48,9 +52,18 @@ impl AxiTiming {
     /// ("Memories modelled") derives and sources them; a beat a cycle at most,
     /// no pauses.
     pub fn ecp5_ddr3() -> Self {
+        AxiTiming::ecp5_ddr3_at(ECP5_DDR3_MHZ)
+    }
+
+    /// [`AxiTiming::ecp5_ddr3`] as a core clocked at `core_mhz` sees it: the
+    /// controller's latency and sustained bytes are per cycle of its own clock,
+    /// so a faster core waits more of its cycles for a burst (rounded up) and
+    /// gets fewer bytes a cycle (the same bytes a second).
+    pub fn ecp5_ddr3_at(core_mhz: f64) -> Self {
+        let ratio = core_mhz / ECP5_DDR3_MHZ;
         AxiTiming {
-            sustained_bytes: 6.4,
-            ..AxiTiming::fixed(22)
+            sustained_bytes: 6.4 / ratio,
+            ..AxiTiming::fixed((22.0 * ratio).ceil() as u64)
         }
     }
 
@@ -292,6 +305,27 @@ mod tests {
             m.edge(ar, true);
         }
         taken
+    }
+
+    #[test]
+    fn the_ddr3_seen_from_a_faster_core_keeps_its_nanoseconds_and_bytes_a_second() {
+        // The ECPIX-5's DDR3: 22 controller cycles of 13.3 ns to the first beat
+        // (293.3 ns), 480 MB/s sustained (docs/MEMORY.md).
+        let at_75 = AxiTiming::ecp5_ddr3_at(75.0);
+        assert_eq!((at_75.latency, at_75.sustained_bytes), (22, 6.4));
+        for mhz in [50.0, 87.0, 150.0] {
+            let t = AxiTiming::ecp5_ddr3_at(mhz);
+            let ns = t.latency as f64 * 1e3 / mhz;
+            assert!(
+                (293.3..293.4 + 1e3 / mhz).contains(&ns),
+                "{mhz} MHz: {ns} ns"
+            );
+            let mb_per_s = t.sustained_bytes * mhz;
+            assert!(
+                (mb_per_s - 480.0).abs() < 1e-9,
+                "{mhz} MHz: {mb_per_s} MB/s"
+            );
+        }
     }
 
     #[test]
