@@ -53,7 +53,7 @@ use crate::hw::config::core_config::{
 };
 use crate::hw::config::memory_layout::MemoryLayout;
 use crate::hw::many;
-use crate::hw::primitives::bank_bus::{BankAnswerIn, BankIndex, BankRequester, BankRow};
+use crate::hw::primitives::bank_bus::{BankAnswerIn, BankRequester};
 use crate::hw::primitives::block_ram::BramWord;
 use crate::hw::primitives::free_pick::FreePick;
 use crate::hw::primitives::lut_ram::LutRam;
@@ -62,19 +62,8 @@ use crate::hw::primitives::register_slice::RegisterSlice;
 use crate::hw::primitives::stream::ReadRequest;
 use crate::hw::store::bank_map::BankMap;
 use crate::hw::store::miss_park::MissPark;
-use crate::hw::store::read_place::ReadPlace;
+use crate::hw::store::read_place::{OfferedRead, ReadPlace};
 use rust_hdl::prelude::*;
-
-/// A read on offer: its slot, heap address, and where it lives (the replica, or
-/// a bank and row).
-#[derive(Clone, Copy, Debug, PartialEq, Default, LogicStruct)]
-pub struct OfferedRead {
-    pub slot: ModuleIndex,
-    pub address: Addr,
-    pub replica: bool,
-    pub bank: BankIndex,
-    pub row: BankRow,
-}
 
 #[derive(LogicBlock)]
 pub struct ReadIssue<const W: usize> {

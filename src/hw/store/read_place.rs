@@ -5,10 +5,22 @@
 //! between the stage's register and the offer's, so the placement's compare,
 //! shift and adders have a cycle of their own.
 
+use crate::hw::config::core_config::{Addr, ModuleIndex};
 use crate::hw::config::memory_layout::MemoryLayout;
 use crate::hw::memory::cache_map::CacheMap;
-use crate::hw::store::read_issue::OfferedRead;
+use crate::hw::primitives::bank_bus::{BankIndex, BankRow};
 use rust_hdl::prelude::*;
+
+/// A read on offer: its slot, heap address, and where it lives (the replica, or
+/// a bank and row).
+#[derive(Clone, Copy, Debug, PartialEq, Default, LogicStruct)]
+pub struct OfferedRead {
+    pub slot: ModuleIndex,
+    pub address: Addr,
+    pub replica: bool,
+    pub bank: BankIndex,
+    pub row: BankRow,
+}
 
 #[derive(LogicBlock)]
 pub struct ReadPlace {
