@@ -71,8 +71,8 @@ pub struct BenchCoreArgs {
     /// from synth/REPORT.md): prints the core's queries/s = reads/cycle × fmax /
     /// reads per query. The external-memory core's memory model then runs at this
     /// clock: the modelled DDR3's latency and sustained bytes, counted in its
-    /// controller's 75 MHz cycles, become the core's cycles [default: the memory
-    /// at the controller's clock].
+    /// controller's cycles (`axi_memory::ECP5_DDR3_MHZ`), become the core's
+    /// cycles [default: the memory at the controller's clock].
     #[arg(long)]
     fmax_mhz: Option<f64>,
     /// Also time kiddo (ImmutableKdTree, f32) and the software search on the same
