@@ -127,7 +127,10 @@ class Config:
     # queried at the eye-ray hits of a CORNELL_SIZE image (`spp` samples a pixel,
     # default 1; `workload` another of bench-core's Cornell streams); `radius` (world
     # units) for every query; `sim_queries` (default SIM_QUERIES) for a wide core's
-    # slots; `order` the queries' order (bench-core --order).
+    # slots; `order` the queries' order (bench-core --order); `fmax_mhz` the core's
+    # clock that an external-memory row's memory is seen from (bench-core
+    # --fmax-mhz: the memory keeps its controller's clock, so its latency and
+    # bandwidth in core cycles depend on the core's), set to the row's placed clock.
     bench: dict = field(default_factory=dict)
     # In README.md's headline table.
     headline: bool = False
@@ -137,7 +140,8 @@ class Config:
     # ECP5 LUTs mapped as LUT4s only (synth_ecp5 -nowidelut): ABC's wide-LUT mapping
     # (LUT5-7 from LUT4 pairs and PFUMX/L6MUX21) spends about twice the LUT4s on the
     # heaps' and the crossbar's multiplexers, for a device-filling row the difference
-    # between fitting and not.
+    # between fitting and not (and fewer nets to route). The row's cost parts are
+    # mapped the same way, so that they add up to the placed core.
     nowidelut: bool = False
     # The ECP5 part placed on (ECP5_PARTS): the default LFE5U-85F-6, or the part of
     # the board whose memory a row models.
@@ -249,16 +253,18 @@ CONFIGS = [
     # (2,048 lines fit its DP16KDs but not its LUT4s: each line's state bits are
     # logic), the replicas keep the top 9 levels; the memory is the modelled DDR3
     # of an ECP5-85k board behind its controller's 64-bit port (two photon words
-    # a beat), and the core is placed on that board's part. The whole 256 x 256 image's queries, in the Morton order the
-    # renderer sends them.
+    # a beat), and the core is placed on that board's part, LUT4s only (as the k = 500
+    # row: at 87 % of the LUT4s router1 congests). The whole 256 x 256 image's
+    # queries, in the Morton order the renderer sends them.
     Config("external memory D=4, K=32 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, 64-bit memory, Cornell 1.9 M photons)",
            {**BANKED, "address_bits": 21, "replicas": 2, "replicated_levels": 9, "cache_lines": 1024},
            {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton"},
-           part="lfe5um5g-85f-8", cost_parts=("datapath", "crossbar", "cache_bank", "memory_rest")),
+           nowidelut=True, part="lfe5um5g-85f-8",
+           cost_parts=("datapath", "crossbar", "cache_bank", "memory_rest")),
     # Twice its lines (128 a bank), for the device planner's cost of a cache line.
     Config("external memory D=4, K=32, 2048 lines (L2, B=16 split, T=9, 64-bit memory: cache bank only)",
            {**BANKED, "address_bits": 21, "replicas": 2, "replicated_levels": 9, "cache_lines": 2048},
-           cost_parts=("cache_bank",), parts_only=True),
+           nowidelut=True, cost_parts=("cache_bank",), parts_only=True),
     # At k = 500 the heaps' BlockRAM leaves the cache's words room for 1,024 lines
     # (each bank's RAM word is a 64-bit beat, two DP16KD wide at any depth up to 512
     # beats) but not their tags (64 a bank, a DP16KD a copy): the plan's core keeps
@@ -687,18 +693,20 @@ def compose(parts, counts):
                 carry4=f("carry4"), dsp=f("dsp"), slices_est=max((luts + 3) // 4, (ffs + 7) // 8))
 
 
-def ecp5_part(d, top, files, cache_only, part, blackbox=()):
+def ecp5_part(d, top, files, cache_only, part, blackbox=(), nowidelut=False):
     """The ECP5 counts of `part` (a sub-block as its own top, the `blackbox` modules
     left out), or None if not run: Debian yosys synth_ecp5 with its coarse step
-    without share, as the banked rows are synthesised."""
-    key = f"ecp5_{part}"
+    without share, as the banked rows are synthesised (and as the whole core is,
+    with or without wide LUTs, so that the parts add up to it)."""
+    key = f"ecp5_{part}" + ("_nowidelut" if nowidelut else "")
     hit, stamp = cached(d, key, files, part_digest(files[0], top, blackbox))
     if not hit:
         if cache_only:
             return None
         boxes = f"blackbox {' '.join(blackbox)}; hierarchy -top {top}; " if blackbox else ""
+        lut = " -nowidelut" if nowidelut else ""
         synth = (f"synth_ecp5 -top {top} -run begin:coarse; {ECP5_COARSE_NOSHARE}; "
-                 f"synth_ecp5 -top {top} -run map_ram:")
+                 f"synth_ecp5 -top {top} -run map_ram:{lut}")
         rc, _ = run(["yosys", "-p", f"read_verilog {' '.join(files)}; hierarchy -check -top {top}; {boxes}"
                      f"{synth}; tee -o {d}/{key}_stat.txt stat"], f"{d}/yosys_{key}.log")
         if rc != 0:
@@ -857,6 +865,8 @@ def bench_cli(c, d):
         a += ["--radius", str(b["radius"])]
     if b.get("order") is not None:
         a += ["--order", b["order"]]
+    if b.get("fmax_mhz") is not None:
+        a += ["--fmax-mhz", str(b["fmax_mhz"])]
     return a
 
 
@@ -898,6 +908,10 @@ def derive(r):
     s, e, k, x = r.sim, r.ecp5, r.kiddo, r.xc6v
     r.figures, r.device_fit = {}, []
     fmax = e.best() if e else None
+    # A memory seen from a core at `fmax_mhz` (Config.bench) is credited at most that
+    # clock: placed faster, the core would meet the memory sooner in its cycles.
+    if fmax and r.bench.get("fmax_mhz"):
+        fmax = min(fmax, r.bench["fmax_mhz"])
     if s and fmax:
         sp = f"{SIMULATED.split(' (')[0]} x {PLACED.split(' (')[0]}"
         qps = s.reads_per_cycle * fmax * 1e6 / s.reads_per_query
@@ -954,7 +968,7 @@ def row(c, steps, old, export_error=None, versions=None):
             px = xilinx(d, top, [core], "parts" not in steps, True, p, boxes)
             if px:
                 parts[p] = px
-            ep = ecp5_part(d, top, [core], "parts" not in steps, p, boxes)
+            ep = ecp5_part(d, top, [core], "parts" not in steps, p, boxes, c.nowidelut)
             if ep:
                 eparts[p] = ep
     if os.path.exists(core) and noshare and not c.parts_only:
@@ -1263,6 +1277,13 @@ def banked_section(res):
     tried = failed_seeds(rows)
     if tried:
         L += ["\nSeeds that did not route:\n"] + tried
+    # An external-memory row's memory in the core's cycles depends on the core's clock.
+    seen = [(r.name, r.bench["fmax_mhz"]) for r in rows if r.bench.get("fmax_mhz")]
+    if seen:
+        L.append("\nThe memory modelled at its controller's own clock (docs/MEMORY_CORE.md), seen from a core "
+                 "at this clock (`bench-core --fmax-mhz`, *assumed*); reads/cycle at that clock, queries/s at "
+                 "the lower of it and the placed clock:\n")
+        L += [f"- **{name}**: {f} MHz" for name, f in seen]
     # A row placed on another part than the default says which (its memory's board).
     other = [(r.name, r.ecp5.provenance) for r in rows
              if r.ecp5 and not r.ecp5.provenance.startswith(PLACED)]

@@ -20,7 +20,8 @@
 //!   photon in range enters the found list ([`FoundRule`], the QueryModule's);
 //!   this level's pending bit.
 //! * **B** — this level's pruning bound and (`Cell`) far-cell offsets are
-//!   remembered (from registers: computed in A they would lengthen A's path).
+//!   remembered (from registers: computed in A they would lengthen A's path;
+//!   with external memory written in C, [`PathWrite`]).
 //! * **B**, **C**, **M** — when the list became or was full, its new maximum and
 //!   the lowest slot holding it: a tree of comparators over the K entries, one
 //!   level in B, two in C, the rest in M (paper §4.4 finds it bit-serially, one
@@ -52,6 +53,7 @@ use crate::hw::barrel::ascent::{Ascent, Climb};
 use crate::hw::barrel::found_heap::FoundHeap;
 use crate::hw::barrel::found_max::FoundMax;
 use crate::hw::barrel::heap_stage::{HeapKey, HeapOp};
+use crate::hw::barrel::path_write::PathWrite;
 use crate::hw::barrel::slot_readout::SlotReadout;
 use crate::hw::barrel::slot_store::{SlotEvent, SlotStore};
 use crate::hw::config::core_config::{
@@ -120,6 +122,9 @@ pub struct BarrelPort<const W: usize> {
     /// and z | the far cell's distance. Written in B, read in E.
     far_xy: BlockRam,
     far_zd: BlockRam,
+    /// With external memory (`CoreConfig::memory`; empty otherwise): the path
+    /// memory's writes held a cycle, written in stage C ([`PathWrite`]).
+    path_write: Vec<PathWrite>,
     /// The result stream: found photons, ids and headers until read out.
     readout: SlotReadout,
     free: DFF<ModuleMask>,
@@ -236,6 +241,9 @@ impl<const W: usize> BarrelPort<W> {
             ascent: Ascent::new(cfg),
             far_xy: BlockRam::new(far_index_bits, 2 * cell_bits),
             far_zd: BlockRam::new(far_index_bits, 2 * cell_bits),
+            path_write: (0..usize::from(cfg.memory.is_some()))
+                .map(|_| PathWrite::default())
+                .collect(),
             readout: SlotReadout::new(cfg),
             free: Default::default(),
             a_result: Default::default(),
@@ -451,6 +459,29 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.far_zd.write_index.next = self.b_far_index.val();
         self.far_xy.write_data.next = self.b_far_xy.val();
         self.far_zd.write_data.next = self.b_far_zd.val();
+        // (External memory: written a stage later, see [`PathWrite`].)
+        for p in 0..self.path_write.len() {
+            self.path_write[p].clock.next = self.clock.val();
+            self.path_write[p].bound_write.next = self.b_ev.q.val().result;
+            self.path_write[p].level.next = self.b_ev.q.val().level;
+            self.path_write[p].slot.next = self.b_ev.q.val().slot;
+            self.path_write[p].bound.next = self.b_bound.val();
+            self.path_write[p].far_write.next =
+                self.b_ev.q.val().result && self.cell_mode.val() && self.b_ev.q.val().far_pending;
+            self.path_write[p].far_index.next = self.b_far_index.val();
+            self.path_write[p].far_xy.next = self.b_far_xy.val();
+            self.path_write[p].far_zd.next = self.b_far_zd.val();
+            self.ascent.write_enable.next = self.path_write[p].c_bound_write.val();
+            self.ascent.write_level.next = self.path_write[p].c_level.val();
+            self.ascent.write_slot.next = self.path_write[p].c_slot.val();
+            self.ascent.write_bound.next = self.path_write[p].c_bound.val();
+            self.far_xy.write_enable.next = self.path_write[p].c_far_write.val();
+            self.far_zd.write_enable.next = self.path_write[p].c_far_write.val();
+            self.far_xy.write_index.next = self.path_write[p].c_far_index.val();
+            self.far_zd.write_index.next = self.path_write[p].c_far_index.val();
+            self.far_xy.write_data.next = self.path_write[p].c_far_xy.val();
+            self.far_zd.write_data.next = self.path_write[p].c_far_zd.val();
+        }
 
         // ---- Stages B, C, M: the new maximum (the comparator tree). ----
         self.b_ev.d.next = self.a_ev.val();
