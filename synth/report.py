@@ -127,10 +127,11 @@ class Config:
     # queried at the eye-ray hits of a CORNELL_SIZE image (`spp` samples a pixel,
     # default 1; `workload` another of bench-core's Cornell streams); `radius` (world
     # units) for every query; `sim_queries` (default SIM_QUERIES) for a wide core's
-    # slots; `order` the queries' order (bench-core --order); `fmax_mhz` the core's
-    # clock that an external-memory row's memory is seen from (bench-core
-    # --fmax-mhz: the memory keeps its controller's clock, so its latency and
-    # bandwidth in core cycles depend on the core's), set to the row's placed clock.
+    # slots; `order` the queries' order (bench-core --order); `placed_clock` (an
+    # external-memory row) simulates the memory seen from the core at the row's
+    # placed-and-routed clock (bench-core --fmax-mhz: the memory keeps its
+    # controller's clock, so its latency and bandwidth in core cycles depend on
+    # the core's), so the simulation waits for the placement.
     bench: dict = field(default_factory=dict)
     # In README.md's headline table.
     headline: bool = False
@@ -258,7 +259,7 @@ CONFIGS = [
     # queries, in the Morton order the renderer sends them.
     Config("external memory D=4, K=32 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, 64-bit memory, Cornell 1.9 M photons)",
            {**BANKED, "address_bits": 21, "replicas": 2, "replicated_levels": 9, "cache_lines": 1024},
-           {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton"},
+           {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton", "placed_clock": True},
            nowidelut=True, part="lfe5um5g-85f-8",
            cost_parts=("datapath", "crossbar", "cache_bank", "memory_rest")),
     # Twice its lines (128 a bank), for the device planner's cost of a cache line.
@@ -273,7 +274,7 @@ CONFIGS = [
     Config("external memory D=4, K=500 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, LUT-RAM tags, 64-bit memory, Cornell 1.9 M photons)",
            {**BANKED, "k": 500, "address_bits": 21, "replicas": 2, "replicated_levels": 9,
             "cache_lines": 1024, "cache_tags": "lut-ram"},
-           {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton"},
+           {"cornell_photons": 1000000, "sim_queries": MEMORY_QUERIES, "order": "morton", "placed_clock": True},
            nowidelut=True, part="lfe5um5g-85f-8", cost_parts=("cache_bank",)),
     # The default render's map (200,000 emitted photons, H = 19) on the XC6VSX475T as
     # `--device xc6vsx475t` plans it: D = 32 datapaths on 16 replicas of the top 10
@@ -816,6 +817,10 @@ def sim(d, opts, files, cache_only, queries=None):
     # The stamp covers the Verilog only: a log of another query count is not this run.
     ran = re.search(r"^\d+ photons, (\d+) queries", open(log).read(), re.M) if os.path.exists(log) else None
     hit = hit and ran is not None and int(ran.group(1)) == (queries or SIM_QUERIES)
+    # Nor is a log of the memory seen from another clock.
+    want = float(opts[opts.index("--fmax-mhz") + 1]) if "--fmax-mhz" in opts else None
+    given = re.search(r"core queries/s at ([\d.]+) MHz \(given\)", open(log).read()) if hit else None
+    hit = hit and (given and float(given.group(1))) == want
     if not hit:
         if cache_only:
             return None, None, None
@@ -854,8 +859,9 @@ def sim(d, opts, files, cache_only, queries=None):
     return s, k, None
 
 
-def bench_cli(c, d):
-    """bench-core's options for the row exported into `d`: its core file and workload."""
+def bench_cli(c, d, mhz=None):
+    """bench-core's options for the row exported into `d`: its core file and workload,
+    and the core's clock the memory is seen from (`mhz`, Config.bench's placed_clock)."""
     a = ["--core", os.path.join(d, CORE_FILE)]
     b = c.bench
     if b.get("cornell_photons") is not None:
@@ -865,8 +871,8 @@ def bench_cli(c, d):
         a += ["--radius", str(b["radius"])]
     if b.get("order") is not None:
         a += ["--order", b["order"]]
-    if b.get("fmax_mhz") is not None:
-        a += ["--fmax-mhz", str(b["fmax_mhz"])]
+    if mhz is not None:
+        a += ["--fmax-mhz", str(mhz)]
     return a
 
 
@@ -908,10 +914,6 @@ def derive(r):
     s, e, k, x = r.sim, r.ecp5, r.kiddo, r.xc6v
     r.figures, r.device_fit = {}, []
     fmax = e.best() if e else None
-    # A memory seen from a core at `fmax_mhz` (Config.bench) is credited at most that
-    # clock: placed faster, the core would meet the memory sooner in its cycles.
-    if fmax and r.bench.get("fmax_mhz"):
-        fmax = min(fmax, r.bench["fmax_mhz"])
     if s and fmax:
         sp = f"{SIMULATED.split(' (')[0]} x {PLACED.split(' (')[0]}"
         qps = s.reads_per_cycle * fmax * 1e6 / s.reads_per_query
@@ -1002,7 +1004,11 @@ def row(c, steps, old, export_error=None, versions=None):
                  "router2" if big else "router1", "ecp5" not in steps, first_routed=not first,
                  noshare=noshare, nowidelut=c.nowidelut, part=c.part)
     if os.path.exists(core) and not c.parts_only:
-        s, k, err = sim(d, bench_cli(c, d), [core], "sim" not in steps, c.bench.get("sim_queries"))
+        mhz = e.best() if e and c.bench.get("placed_clock") else None
+        if c.bench.get("placed_clock") and not mhz:
+            err = "not simulated: its memory is seen from its placed clock, and it has none yet"
+        else:
+            s, k, err = sim(d, bench_cli(c, d, mhz), [core], "sim" not in steps, c.bench.get("sim_queries"))
     if steps:
         print(f"{c.name} {sorted(steps)}: {time.time() - t0:.0f} s: {x and x.luts} LUTs, "
               f"{e and (e.error or e.fmax_mhz)}, {s}", flush=True)
@@ -1278,12 +1284,12 @@ def banked_section(res):
     if tried:
         L += ["\nSeeds that did not route:\n"] + tried
     # An external-memory row's memory in the core's cycles depends on the core's clock.
-    seen = [(r.name, r.bench["fmax_mhz"]) for r in rows if r.bench.get("fmax_mhz")]
+    seen = [(r.name, r.ecp5.best()) for r in rows if r.bench.get("placed_clock") and r.ecp5 and r.ecp5.best()]
     if seen:
-        L.append("\nThe memory modelled at its controller's own clock (docs/MEMORY_CORE.md), seen from a core "
-                 "at this clock (`bench-core --fmax-mhz`, *assumed*); reads/cycle at that clock, queries/s at "
-                 "the lower of it and the placed clock:\n")
-        L += [f"- **{name}**: {f} MHz" for name, f in seen]
+        L.append("\nThe memory modelled at its controller's own clock (docs/MEMORY_CORE.md), seen from the core "
+                 "at its placed-and-routed clock (`bench-core --fmax-mhz F`): its latency and bytes a cycle "
+                 "in the core's cycles, and the reads/cycle above, are at that clock:\n")
+        L += [f"- **{name}**: F = {f} MHz" for name, f in seen]
     # A row placed on another part than the default says which (its memory's board).
     other = [(r.name, r.ecp5.provenance) for r in rows
              if r.ecp5 and not r.ecp5.provenance.startswith(PLACED)]

@@ -24,6 +24,7 @@ mod hw_max_finder;
 mod hw_memory_core;
 mod hw_mux_trees;
 mod hw_packet_merge;
+mod hw_path_write;
 mod hw_ping_pong_slice;
 mod hw_port;
 mod hw_priority_encoder;

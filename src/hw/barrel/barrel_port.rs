@@ -20,8 +20,8 @@
 //!   photon in range enters the found list ([`FoundRule`], the QueryModule's);
 //!   this level's pending bit.
 //! * **B** — this level's pruning bound and (`Cell`) far-cell offsets are
-//!   remembered (from registers: computed in A they would lengthen A's path;
-//!   with external memory written in C, [`PathWrite`]).
+//!   remembered (from registers: A's path would grow; external memory: written
+//!   in C, [`PathWrite`]).
 //! * **B**, **C**, **M** — when the list became or was full, its new maximum and
 //!   the lowest slot holding it: a tree of comparators over the K entries, one
 //!   level in B, two in C, the rest in M (paper §4.4 finds it bit-serially, one
@@ -102,10 +102,9 @@ pub struct BarrelPort<const W: usize> {
     dist_mask_wide: Constant<BramWord>,
     /// The slot state, one LUT-RAM entry per slot and field: read in A, written in F.
     store: SlotStore,
-    /// The found distances and the comparator tree (stages B, C, M) for K <= 64
-    /// (above: a stub); above, heaps (in at A, root out at C, registered into M)
-    /// keyed by the distance over the inverted entry index: the root is the
-    /// farthest photon in the lowest entry among ties, as in FoundMax.
+    /// Found distances and the comparator tree (stages B, C, M) for K <= 64 (above: a stub);
+    /// above, heaps (in at A, root out at C, registered into M) keyed by distance over the
+    /// inverted entry index: the root is the farthest photon, lowest entry among ties.
     found_max: FoundMax,
     heap: Vec<FoundHeap>,
     heap_max: Vec<DFF<HeapKey>>,
@@ -122,8 +121,7 @@ pub struct BarrelPort<const W: usize> {
     /// and z | the far cell's distance. Written in B, read in E.
     far_xy: BlockRam,
     far_zd: BlockRam,
-    /// With external memory (`CoreConfig::memory`; empty otherwise): the path
-    /// memory's writes held a cycle, written in stage C ([`PathWrite`]).
+    /// External memory only: the path memory's writes a cycle later ([`PathWrite`]).
     path_write: Vec<PathWrite>,
     /// The result stream: found photons, ids and headers until read out.
     readout: SlotReadout,
@@ -174,9 +172,8 @@ pub struct BarrelPort<const W: usize> {
     query_fire: Signal<Local, bool>,
 }
 
-/// The BlockRAMs of one barrel datapath of `cfg` (its found lists, far-cell
-/// bounds and heap levels; not the map's replica or banks): (index bits, width)
-/// each, as its blocks build them, for a device plan's BlockRAM count.
+/// The BlockRAMs of one barrel datapath of `cfg` (found lists, far-cell bounds, heap levels;
+/// not the map's replica or banks): (index bits, width) each, for a device plan's count.
 pub fn datapath_block_rams(cfg: &CoreConfig) -> Vec<(u32, u32)> {
     fn rams<const S: usize, const W: usize>(cfg: &CoreConfig) -> Vec<(u32, u32)> {
         BarrelPort::<W>::new(cfg).block_rams()
@@ -308,9 +305,8 @@ impl<const W: usize> Logic for BarrelPort<W> {
         } else {
             self.a_slot.next = self.free_pick.pick_index.val();
         }
-        // The slot's state as read, then this result's changes. Only a result needs
-        // it (a load sets every stored field) or inserts: both are addressed by the
-        // result's slot from the SearchModule's register, not through the load mux.
+        // The slot's state as read, then this result's changes; only a result needs it or
+        // inserts (a load sets every field), so both use the result's slot, not the load mux.
         self.store.read_index.next = self.search.result.val().query_module;
         self.a_ev.next = self.store.read.val();
         self.a_ev.next.slot = self.a_slot.val();
@@ -409,11 +405,10 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.search.query.next = self.io.query.data.val();
 
         // ---- Stage B (first part): the path memory of the level just read. ----
-        // Its far child's pruning bound (with `Cell` the far cell's distance, from
-        // the slot's offsets as read in A) and the offsets inside that cell. (In
-        // stage A, the state read, this sum and the BlockRAM's write would be one
-        // path.) The ascent reads them two stages later, for
-        // levels above this one, written by earlier events.
+        // Its far child's pruning bound (`Cell`: the far cell's distance, from the offsets as
+        // read in A) and the offsets inside that cell (in A, the state read, this sum and the
+        // BlockRAM's write would be one path). The ascent reads them two stages later, for
+        // levels above this one, written by earlier events (external memory: written in C).
         self.far_cell.off_x.next = self.b_ev.q.val().off_x;
         self.far_cell.off_y.next = self.b_ev.q.val().off_y;
         self.far_cell.off_z.next = self.b_ev.q.val().off_z;
@@ -459,7 +454,6 @@ impl<const W: usize> Logic for BarrelPort<W> {
         self.far_zd.write_index.next = self.b_far_index.val();
         self.far_xy.write_data.next = self.b_far_xy.val();
         self.far_zd.write_data.next = self.b_far_zd.val();
-        // (External memory: written a stage later, see [`PathWrite`].)
         for p in 0..self.path_write.len() {
             self.path_write[p].clock.next = self.clock.val();
             self.path_write[p].bound_write.next = self.b_ev.q.val().result;
