@@ -50,7 +50,7 @@ pub struct Limits {
     /// rest: the result path, the load path and the I/O).
     pub logic_share: f64,
     /// Share of the device's logic an external-memory core may take in all, its
-    /// cache included: below the share at which nextpnr's router1 stops routing
+    /// cache included: below the share at which nextpnr's router1 stopped routing
     /// such a core on the ECP5-85k (docs/MEMORY_CORE.md, "What fits").
     pub device_share: f64,
 }
@@ -63,7 +63,7 @@ impl Default for Limits {
             max_banks: 1024,
             max_datapaths: 2 * MAX_BANKED_TREES as u32,
             logic_share: 0.6,
-            device_share: 0.85,
+            device_share: 0.8,
         }
     }
 }
