@@ -255,7 +255,7 @@ CONFIGS = [
     # logic), the replicas keep the top 9 levels; the memory is the modelled DDR3
     # of an ECP5-85k board behind its controller's 64-bit port (two photon words
     # a beat), and the core is placed on that board's part, LUT4s only (as the k = 500
-    # row: at 87 % of the LUT4s router1 congests). The whole 256 x 256 image's
+    # row: with wide LUTs, at 85 % of the LUT4s, router1 congested). The whole 256 x 256 image's
     # queries, in the Morton order the renderer sends them.
     Config("external memory D=4, K=32 (L2, 2x2x16 slots, B=16 split, T=9, 1024 lines, 64-bit memory, Cornell 1.9 M photons)",
            {**BANKED, "address_bits": 21, "replicas": 2, "replicated_levels": 9, "cache_lines": 1024},
