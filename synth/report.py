@@ -815,11 +815,12 @@ def sim(d, opts, files, cache_only, queries=None):
     hit, stamp = cached(d, "sim", files)
     log = os.path.join(d, "bench.log")
     # The stamp covers the Verilog only: a log of another query count is not this run.
-    ran = re.search(r"^\d+ photons, (\d+) queries", open(log).read(), re.M) if os.path.exists(log) else None
+    text = open(log).read() if os.path.exists(log) else ""
+    ran = re.search(r"^\d+ photons, (\d+) queries", text, re.M)
     hit = hit and ran is not None and int(ran.group(1)) == (queries or SIM_QUERIES)
     # Nor is a log of the memory seen from another clock.
     want = float(opts[opts.index("--fmax-mhz") + 1]) if "--fmax-mhz" in opts else None
-    given = re.search(r"core queries/s at ([\d.]+) MHz \(given\)", open(log).read()) if hit else None
+    given = re.search(r"core queries/s at ([\d.]+) MHz \(given\)", text)
     hit = hit and (given and float(given.group(1))) == want
     if not hit:
         if cache_only:
