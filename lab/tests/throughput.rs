@@ -126,7 +126,7 @@ fn fitted_q_keeps_every_port_reading() {
     use photon_fpga::hw::config::core_config::ReadProfile;
     use photon_fpga_lab::workload;
     let paper = CoreConfig::paper();
-    let uniform = workload::uniform(paper.layout, 1023, 300, 5);
+    let uniform = workload::uniform(paper.layout, 1023, 150, 5);
     let cornell = workload::cornell(60_000, usize::MAX, 10, 64, 6);
     let cornell_cfg = CoreConfig::builder()
         .k(10)
@@ -145,8 +145,8 @@ fn fitted_q_keeps_every_port_reading() {
         ("cornell", cornell_cfg, &cornell),
     ] {
         let max = cfg.max_dist();
-        let step = (w.queries.len() / 300).max(1);
-        let points: Vec<[u32; 3]> = w.queries.iter().step_by(step).take(300).copied().collect();
+        let step = (w.queries.len() / 150).max(1);
+        let points: Vec<[u32; 3]> = w.queries.iter().step_by(step).take(150).copied().collect();
         let queries = HwQuery::k_nearest(&cfg, &points);
         let soft: Vec<_> = queries
             .iter()

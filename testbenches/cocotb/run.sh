@@ -58,27 +58,43 @@ trap 'rm -rf "$work"' EXIT
 
 export PYTHONDONTWRITEBYTECODE=1
 tally="$work/tally"
-"$py" "$here/run.py" --sim icarus --export "$work/axis" --queries "$queries" --tally "$tally"
-for core in axis modules banked; do
-  PATH="$vroot/bin:$PATH" VERILATOR_ROOT="$vroot" \
-    "$py" "$here/run.py" --sim verilator --export "$work/$core" --queries "$queries" --tally "$tally"
-done
-# The memory core: the many-queries test (a second map and a reset are the Rust
-# testbenches' hw_memory_core, which the same export runs under Verilator).
-PATH="$vroot/bin:$PATH" VERILATOR_ROOT="$vroot" \
-  "$py" "$here/run.py" --sim verilator --export "$work/memory" --queries "$queries" --tally "$tally" \
-  --test one_map_many_queries
 
+# Each bench is one Python process, so the Icarus runs go beside the Verilator ones
+# (two chains, both cores busy); Icarus's log is printed when both have ended.
 # The bench must fail on a broken export (run.py --expect-fail exits 0 only if a
 # test failed, non-zero if all passed or nothing ran).
-"$py" "$here/mutate.py" --export "$work/axis" --out "$work/swap-xy" --mutation swap-xy
-"$py" "$here/run.py" --sim icarus --export "$work/swap-xy" --queries 50 --expect-fail --tally "$tally"
-"$py" "$here/mutate.py" --export "$work/axis" --out "$work/no-tlast" --mutation no-tlast
-"$py" "$here/run.py" --sim icarus --export "$work/no-tlast" --queries 50 --expect-fail --tally "$tally" \
-  --test one_map_many_queries
-# A broken memory layout: the bench's image with its first two blocks swapped.
-PHOTON_AXIS_SWAP_BLOCKS=0,1 PATH="$vroot/bin:$PATH" VERILATOR_ROOT="$vroot" \
-  "$py" "$here/run.py" --sim verilator --export "$work/memory" --queries 50 --expect-fail \
-  --tally "$tally" --test one_map_many_queries --build "$work/memory/sim_build_swapped"
+(
+  "$py" "$here/run.py" --sim icarus --export "$work/axis" --queries "$queries" --tally "$tally"
+  "$py" "$here/mutate.py" --export "$work/axis" --out "$work/swap-xy" --mutation swap-xy
+  "$py" "$here/run.py" --sim icarus --export "$work/swap-xy" --queries 50 --expect-fail --tally "$tally"
+  "$py" "$here/mutate.py" --export "$work/axis" --out "$work/no-tlast" --mutation no-tlast
+  "$py" "$here/run.py" --sim icarus --export "$work/no-tlast" --queries 50 --expect-fail --tally "$tally" \
+    --test one_map_many_queries
+) >"$work/icarus.log" 2>&1 &
+icarus=$!
+(
+  export PATH="$vroot/bin:$PATH" VERILATOR_ROOT="$vroot"
+  for core in axis modules banked; do
+    "$py" "$here/run.py" --sim verilator --export "$work/$core" --queries "$queries" --tally "$tally"
+  done
+  # The memory core: the many-queries test (a second map and a reset are the Rust
+  # testbenches' hw_memory_core, which the same export runs under Verilator).
+  "$py" "$here/run.py" --sim verilator --export "$work/memory" --queries "$queries" --tally "$tally" \
+    --test one_map_many_queries
+  # A broken memory layout: the bench's image with its first two blocks swapped.
+  PHOTON_AXIS_SWAP_BLOCKS=0,1 \
+    "$py" "$here/run.py" --sim verilator --export "$work/memory" --queries 50 --expect-fail \
+    --tally "$tally" --test one_map_many_queries --build "$work/memory/sim_build_swapped"
+) &
+verilator=$!
+icarus_rc=0
+wait "$icarus" || icarus_rc=$?
+verilator_rc=0
+wait "$verilator" || verilator_rc=$?
+cat "$work/icarus.log"
+if [ "$icarus_rc" -ne 0 ] || [ "$verilator_rc" -ne 0 ]; then
+  echo "cocotb: failed (Icarus chain exit $icarus_rc, Verilator chain exit $verilator_rc)" >&2
+  exit 1
+fi
 # Tests passed in both simulators plus the broken exports rejected.
 echo "cocotb: $(awk '{ n += $1 } END { print n }' "$tally") passed, 0 failed"
