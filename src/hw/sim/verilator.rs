@@ -103,11 +103,10 @@ static LIBRARIES: Mutex<Option<HashMap<PathBuf, &'static Library>>> = Mutex::new
 const LIBRARY: &str = "obj_dir/libvtop.so";
 
 /// Open the model of `exported` and `harness`, built into the user's model cache
-/// ([`model_cache`]) unless it is there. The process-wide lock is not held while a
-/// model builds, so threads that need different models build them side by side;
-/// threads that need the same one (the rtl backend starts one model per thread)
-/// wait on the cache entry's own lock and share its build.
+/// ([`model_cache`]) unless it is there. One build at a time in this process: the
+/// rtl backend starts one model per thread, and they share the cached build.
 fn open(exported: &Exported, harness: &str, trace: bool) -> Result<&'static Library, HwError> {
+    let mut libs = LIBRARIES.lock().unwrap_or_else(|e| e.into_inner());
     let args = verilator_args(trace);
     let version = verilator_version()?;
     let key = model_cache::key(&[
@@ -118,19 +117,11 @@ fn open(exported: &Exported, harness: &str, trace: bool) -> Result<&'static Libr
     ]);
     let root = model_cache::cache_root();
     let lib = root.join(&key).join(LIBRARY);
-    let opened = |libs: &mut Option<HashMap<PathBuf, &'static Library>>| {
-        libs.get_or_insert_with(HashMap::new).get(&lib).copied()
-    };
-    if let Some(l) = opened(&mut LIBRARIES.lock().unwrap_or_else(|e| e.into_inner())) {
+    if let Some(l) = libs.get_or_insert_with(HashMap::new).get(&lib) {
         return Ok(l);
     }
     let build = |dir: &Path| build(dir, exported, harness, &args);
     let mut entry = model_cache::get_or_build(&root, &key, LIBRARY, build)?;
-    let mut libs = LIBRARIES.lock().unwrap_or_else(|e| e.into_inner());
-    // Another thread may have opened it meanwhile: one handle per library.
-    if let Some(l) = opened(&mut libs) {
-        return Ok(l);
-    }
     // SAFETY: the library is the model built from our own harness; its
     // initialisers only set up Verilator's statics.
     let opened = match unsafe { Library::new(entry.join(LIBRARY)) } {
