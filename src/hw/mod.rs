@@ -22,7 +22,7 @@
 //! │   │   ├── PortArbiter, PriorityEncoder  per bank port: its grant and its index
 //! │   │   └── MuxTrees × 2 (primitives/mux_trees.rs)   rows to the banks, words back
 //! │   ├── CacheBank × B (memory/cache_bank.rs)  with external memory, the banks are a cache
-//! │   ├── FillArbiter (memory/fill_arbiter.rs)  their fill requests, registered both sides
+//! │   ├── FillArbiter (memory/fill_arbiter.rs)  their fill requests, registered picks
 //! │   └── LineFill (memory/line_fill.rs)         its AXI4 master: the core's m_axi port
 //! └── ControllerPort × 2T (top/controller_port.rs)  a tree's port A (also the load
 //!     │                                 port) or B, behind one bundle (primitives/stream.rs PortIo)

@@ -1,14 +1,18 @@
 //! FillArbiter: the cache banks' fill requests, one taken a cycle in round robin
 //! ([`PortArbiter`]), for the one [`LineFill`](crate::hw::memory::line_fill::LineFill).
 //!
-//! Registered on both sides, so that no cycle both arbitrates and crosses the
-//! chip (the banks sit beside their datapaths' crossbar ports, the fill beside
-//! the memory port): a bank presents its request from its own registers and holds
-//! it until taken; the round robin picks one of the requests, and the pick goes
-//! into a register on each side, the fill to start (the block and line, for
-//! LineFill's handshake) and the bank taken (one-hot), which that bank sees the
-//! next cycle and only then writes its line's tag and marks it filling. A request
-//! taken in the previous cycle is still presented and is not picked again.
+//! Registered on both sides and between, so that no cycle both arbitrates and
+//! crosses the chip (the banks sit beside their datapaths' crossbar ports, the
+//! fill beside the memory port; as for the crossbar's grants, §4.5's round robin
+//! is a compare over every requester): a bank presents its request from its own
+//! registers and holds it until taken. In one cycle the round robin picks one
+//! request into a one-hot register (`choice`); in the next, that bank's block and
+//! line, multiplexed by the registered choice, go into the fill register (for
+//! LineFill's handshake) and the bank into a one-hot register (`taken`), which
+//! that bank sees the cycle after and only then writes its line's tag and marks
+//! it filling. A request chosen or taken is still presented and is not picked
+//! again. A fill costs one cycle more than a pick straight into the fill
+//! register; a pick a cycle stays.
 
 use crate::hw::config::core_config::ModuleMask;
 use crate::hw::memory::block_map::MemoryWord;
@@ -22,8 +26,8 @@ pub struct FillArbiter {
     pub reset: Signal<In, bool>,
     /// Bit j: bank j presents a fill request (from its registers).
     pub requests: Signal<In, ModuleMask>,
-    /// The request the round robin points at this cycle (one-hot; picked if the
-    /// fill register is free) and, from outside, that bank's block and line.
+    /// The request picked in the previous cycle (one-hot, a register; zero when
+    /// none) and, from outside, that bank's block and line.
     pub choice: Signal<Out, ModuleMask>,
     pub chosen_block: Signal<In, MemoryWord>,
     pub chosen_line: Signal<In, LineIndex>,
@@ -35,12 +39,17 @@ pub struct FillArbiter {
     pub fill_block: Signal<Out, MemoryWord>,
     pub fill_line: Signal<Out, LineIndex>,
     turn: PortArbiter,
+    chosen: DFF<ModuleMask>,
+    chosen_valid: DFF<bool>,
     taken_bank: DFF<ModuleMask>,
     stage_valid: DFF<bool>,
     stage_block: DFF<MemoryWord>,
     stage_line: DFF<LineIndex>,
     /// The fill register is free (empty, or LineFill takes it this cycle) and a
-    /// request is there: one is picked.
+    /// request is chosen: it moves into the fill register.
+    move_on: Signal<Local, bool>,
+    /// The choice register is free (empty, or moving on) and a request is there:
+    /// one is picked.
     pick: Signal<Local, bool>,
 }
 
@@ -60,10 +69,13 @@ impl FillArbiter {
             fill_block: Default::default(),
             fill_line: Default::default(),
             turn: PortArbiter::new(banks),
+            chosen: Default::default(),
+            chosen_valid: Default::default(),
             taken_bank: Default::default(),
             stage_valid: Default::default(),
             stage_block: Default::default(),
             stage_line: Default::default(),
+            move_on: Default::default(),
             pick: Default::default(),
         }
     }
@@ -75,30 +87,47 @@ impl Logic for FillArbiter {
         dff_setup!(
             self,
             clock,
+            chosen,
+            chosen_valid,
             taken_bank,
             stage_valid,
             stage_block,
             stage_line
         );
         self.turn.clock.next = self.clock.val();
-        self.turn.requests.next = self.requests.val() & !self.taken_bank.q.val();
+        self.turn.requests.next =
+            self.requests.val() & !self.taken_bank.q.val() & !self.chosen.q.val();
         self.turn.hold.next = false;
+        self.move_on.next =
+            (!self.stage_valid.q.val() || self.fill_ready.val()) && self.chosen_valid.q.val();
         self.pick.next =
-            (!self.stage_valid.q.val() || self.fill_ready.val()) && self.turn.granted.val();
+            (!self.chosen_valid.q.val() || self.move_on.val()) && self.turn.granted.val();
         self.turn.advance.next = self.pick.val();
-        self.choice.next = self.turn.grant.val();
+        // The pick, into the choice register.
+        self.chosen_valid.d.next = self.chosen_valid.q.val() && !self.move_on.val();
+        if self.move_on.val() {
+            self.chosen.d.next = 0.into();
+        }
+        if self.pick.val() {
+            self.chosen.d.next = self.turn.grant.val();
+            self.chosen_valid.d.next = true;
+        }
+        // The choice, into the fill register; its bank is told.
         self.taken_bank.d.next = 0.into();
         self.stage_valid.d.next = self.stage_valid.q.val() && !self.fill_ready.val();
-        if self.pick.val() {
-            self.taken_bank.d.next = self.turn.grant.val();
+        if self.move_on.val() {
+            self.taken_bank.d.next = self.chosen.q.val();
             self.stage_valid.d.next = true;
             self.stage_block.d.next = self.chosen_block.val();
             self.stage_line.d.next = self.chosen_line.val();
         }
         if self.reset.val() {
+            self.chosen.d.next = 0.into();
+            self.chosen_valid.d.next = false;
             self.taken_bank.d.next = 0.into();
             self.stage_valid.d.next = false;
         }
+        self.choice.next = self.chosen.q.val();
         self.taken.next = self.taken_bank.q.val();
         self.fill_valid.next = self.stage_valid.q.val();
         self.fill_block.next = self.stage_block.q.val();

@@ -9,7 +9,8 @@
 //! * `CacheBank`: one bank of the direct-mapped cache: a bank's read ports with a
 //!   miss flag above the word, the lines' tags and valid bits, a miss's fill request.
 //! * `FillArbiter`: the banks' fill requests in round robin, registered on both
-//!   sides (a request from a bank's register, the grant into one).
+//!   sides and between (a request from a bank's register, the pick into one, the
+//!   chosen bank's block into a third).
 //! * `LineFill`: the AXI4 master (`primitives::axi4_read`) that brings blocks into
 //!   cache lines, up to 16 bursts in flight to cover the memory's latency.
 //!
