@@ -34,6 +34,9 @@ if ! cmp -s "$here/requirements.txt" "$venv/requirements.txt" 2>/dev/null; then
   cp "$here/requirements.txt" "$venv/requirements.txt"
 fi
 py="$venv/bin/python"
+# Each Verilator build compiles Verilator's runtime with the same flags: with
+# ccache installed, once.
+if command -v ccache >/dev/null; then export OBJCACHE=ccache; fi
 vroot="$("$py" -c 'import os, verilator; print(os.path.dirname(verilator.__file__))')"
 
 work="$(mktemp -d)"

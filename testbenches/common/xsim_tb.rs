@@ -7,7 +7,7 @@ use crate::common::xsim::{bundles, stimulus_columns, XsimRun};
 use photon_fpga::hw::error::HwError;
 use photon_fpga::hw::export::ports::Port;
 use photon_fpga::hw::export::verilog::glitch_free;
-use photon_fpga::hw::sim::verilator::build_jobs;
+use photon_fpga::hw::sim::verilator::{build_jobs, has_ccache};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -167,9 +167,12 @@ impl Simulator {
 }
 
 fn run(dir: &Path, argv: &[&str], what: &str) -> Result<String, HwError> {
-    let out = Command::new(argv[0])
-        .args(&argv[1..])
-        .current_dir(dir)
+    let mut command = Command::new(argv[0]);
+    command.args(&argv[1..]).current_dir(dir);
+    if argv[0] == "verilator" && has_ccache() {
+        command.env("OBJCACHE", "ccache");
+    }
+    let out = command
         .output()
         .map_err(|e| xsim_error(format!("{what}: cannot run {}: {e}", argv[0])))?;
     let text = format!(
