@@ -72,11 +72,8 @@ fn verilator_args(trace: bool) -> Vec<&'static str> {
         "-fPIC",
         "-LDFLAGS",
         "-shared",
-        // -O1 for the model's code: most models run for seconds and compile for
-        // tens of seconds, and -O2 costs more compile time than it saves in run
-        // time.
         "-MAKEFLAGS",
-        "OPT_FAST=-O1 OPT_SLOW=-O1",
+        "OPT_FAST=-O2 OPT_SLOW=-O1",
         "-o",
         "libvtop.so",
     ];
