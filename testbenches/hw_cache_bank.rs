@@ -213,7 +213,7 @@ fn hits_are_the_blocks_words(lane_shift: u32, tag_ram: CacheTags) {
 
 /// FillArbiter among five banks that each hold a request until it is taken, and a
 /// fill that is ready at random: every request reaches the fill exactly once,
-/// in the order taken, a bank is told at most once a cycle, and a bank that
+/// in the order taken, at most one bank is told a cycle, and a bank that
 /// keeps asking waits at most one turn of the others (with the one chosen when it
 /// asked).
 #[test]

@@ -3,8 +3,8 @@
 //!
 //! Registered on both sides and between, so that no cycle both arbitrates and
 //! crosses the chip (the banks sit beside their datapaths' crossbar ports, the
-//! fill beside the memory port; as for the crossbar's grants, §4.5's round robin
-//! is a compare over every requester): a bank presents its request from its own
+//! fill beside the memory port, and §4.5's round robin is a compare over every
+//! requester): a bank presents its request from its own
 //! registers and holds it until taken. In one cycle the round robin picks one
 //! request into a one-hot register (`choice`); in the next, that bank's block and
 //! line, multiplexed by the registered choice, go into the fill register (for

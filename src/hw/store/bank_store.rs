@@ -13,7 +13,7 @@
 //! brings their missing blocks through the `m_axi` port (one burst a block of
 //! `2^s` words, one or two photon words a beat: the memory's data width), the banks' fill
 //! requests taking turns (round robin); every bank sees every
-//! fill's writes and keeps those of its own lines (line mod B). The requests
+//! fill's writes and keeps those of its own lines (line mod B). The requests,
 //! the picks and the grants are registered ([`FillArbiter`]): the banks are spread over
 //! the chip with their datapaths, and a request's arbitration, the chosen
 //! block's trip across the chip and the grant's trip back each get a cycle. Nothing is
