@@ -7,7 +7,7 @@ use crate::common::xsim::{bundles, stimulus_columns, XsimRun};
 use photon_fpga::hw::error::HwError;
 use photon_fpga::hw::export::ports::Port;
 use photon_fpga::hw::export::verilog::glitch_free;
-use photon_fpga::hw::sim::verilator::{build_jobs, has_ccache};
+use photon_fpga::hw::sim::verilator::{build_jobs, share_runtime};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -169,8 +169,8 @@ impl Simulator {
 fn run(dir: &Path, argv: &[&str], what: &str) -> Result<String, HwError> {
     let mut command = Command::new(argv[0]);
     command.args(&argv[1..]).current_dir(dir);
-    if argv[0] == "verilator" && has_ccache() {
-        command.env("OBJCACHE", "ccache");
+    if argv[0] == "verilator" {
+        share_runtime(&mut command);
     }
     let out = command
         .output()

@@ -40,6 +40,8 @@ pub struct FillArbiter {
     pub fill_line: Signal<Out, LineIndex>,
     turn: PortArbiter,
     chosen: DFF<ModuleMask>,
+    /// `chosen` holds a request (is not zero), kept in its own flip-flop so that
+    /// the pick does not wait for an OR over the banks.
     chosen_valid: DFF<bool>,
     taken_bank: DFF<ModuleMask>,
     stage_valid: DFF<bool>,

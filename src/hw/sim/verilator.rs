@@ -151,11 +151,7 @@ fn build(dir: &Path, exported: &Exported, harness: &str, args: &[&str]) -> Resul
         .current_dir(dir)
         .args(args)
         .args(["--build-jobs", &build_jobs()]);
-    if has_ccache() {
-        // Every model compiles Verilator's own runtime (verilated.cpp) with the
-        // same flags: compiled once, then taken from ccache.
-        verilator.env("OBJCACHE", "ccache");
-    }
+    share_runtime(&mut verilator);
     let out = verilator
         .args(["top.v", "harness.cpp"])
         .output()
@@ -170,13 +166,17 @@ fn build(dir: &Path, exported: &Exported, harness: &str, args: &[&str]) -> Resul
     Ok(())
 }
 
-/// `ccache` is on the PATH: Verilator's builds (`OBJCACHE`) can share their
-/// compiled runtime.
-pub fn has_ccache() -> bool {
-    Command::new("ccache")
+/// Let a `verilator --build` command take Verilator's runtime from ccache
+/// (`OBJCACHE`) when ccache is on the PATH: every model compiles that runtime
+/// (verilated.cpp) with the same flags, so it is compiled once.
+pub fn share_runtime(verilator: &mut Command) {
+    let has_ccache = Command::new("ccache")
         .arg("--version")
         .output()
-        .is_ok_and(|o| o.status.success())
+        .is_ok_and(|o| o.status.success());
+    if has_ccache {
+        verilator.env("OBJCACHE", "ccache");
+    }
 }
 
 type NewFn = unsafe extern "C" fn() -> *mut c_void;
