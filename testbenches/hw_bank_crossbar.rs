@@ -1,15 +1,17 @@
 //! BankCrossbar against an independent cycle model, with one port per bank, two
 //! shared ports and two split ports (even requesters on the first, odd on the
-//! second): random requests (random banks, a hot bank, withdrawn and changed requests
-//! while waiting), memories that answer junk in every cycle after a row was not
-//! read, and random resets. Every cycle each requester's `ready`, each bank port's
-//! enable and row (the previous cycle's grant) and each answer must be the
-//! model's (per bank port: the lowest asking requester above the last one it
-//! granted, else the lowest; the second port among those the first left waiting,
-//! or among the odd ones); every granted read's answer must arrive three cycles
-//! later, exactly once, with its tag and the word at its bank's row; nothing
-//! arrives that was not asked for. The exported Verilog passes yosys, Verilator
-//! lint and Icarus, and replays a recorded run cycle for cycle in both simulators.
+//! second), and with `ready` registered (a cycle late): random requests (random
+//! banks, a hot bank, withdrawn and changed requests while waiting), memories
+//! that answer junk in every cycle after a row was not read, and random resets.
+//! Every cycle each requester's `ready` (or, late, the previous cycle's), each
+//! bank port's enable and row (the previous cycle's grant) and each answer must
+//! be the model's (per bank port: the lowest asking requester above the last one
+//! it granted, else the lowest; the second port among those the first left
+//! waiting, or among the odd ones); every granted read's answer must arrive three
+//! cycles later, exactly once, with its tag and the word at its bank's row;
+//! nothing arrives that was not asked for. The exported Verilog passes yosys,
+//! Verilator lint and Icarus, and replays a recorded run cycle for cycle in both
+//! simulators.
 
 use crate::common::xsim::{compare, Recorder, XsimRun};
 use crate::common::xsim_tb::{self, Simulator};
@@ -36,9 +38,11 @@ struct Shape {
     p_hot: f64,
     cycles: usize,
     seed: u64,
+    /// `ready` registered (`BankCrossbar::with_late_ready`).
+    late: bool,
 }
 
-const SHAPES: [Shape; 8] = [
+const SHAPES: [Shape; 10] = [
     Shape {
         requesters: 1,
         banks: 1,
@@ -50,6 +54,7 @@ const SHAPES: [Shape; 8] = [
         p_hot: 0.0,
         cycles: 600,
         seed: 1,
+        late: false,
     },
     Shape {
         requesters: 4,
@@ -62,6 +67,7 @@ const SHAPES: [Shape; 8] = [
         p_hot: 0.3,
         cycles: 1500,
         seed: 2,
+        late: false,
     },
     Shape {
         requesters: 3,
@@ -74,6 +80,7 @@ const SHAPES: [Shape; 8] = [
         p_hot: 0.1,
         cycles: 1500,
         seed: 3,
+        late: false,
     },
     Shape {
         requesters: 8,
@@ -86,6 +93,7 @@ const SHAPES: [Shape; 8] = [
         p_hot: 0.2,
         cycles: 1500,
         seed: 4,
+        late: false,
     },
     Shape {
         requesters: 16,
@@ -98,6 +106,7 @@ const SHAPES: [Shape; 8] = [
         p_hot: 0.5,
         cycles: 1000,
         seed: 5,
+        late: false,
     },
     Shape {
         requesters: 2,
@@ -110,6 +119,7 @@ const SHAPES: [Shape; 8] = [
         p_hot: 0.0,
         cycles: 800,
         seed: 6,
+        late: false,
     },
     Shape {
         requesters: 8,
@@ -122,6 +132,7 @@ const SHAPES: [Shape; 8] = [
         p_hot: 0.2,
         cycles: 1500,
         seed: 7,
+        late: false,
     },
     Shape {
         requesters: 6,
@@ -134,6 +145,33 @@ const SHAPES: [Shape; 8] = [
         p_hot: 0.5,
         cycles: 1000,
         seed: 8,
+        late: false,
+    },
+    Shape {
+        requesters: 4,
+        banks: 16,
+        ports: BankPorts::Split,
+        rows: 32,
+        word_bits: 33,
+        tag_bits: 4,
+        p_valid: 0.9,
+        p_hot: 0.3,
+        cycles: 1500,
+        seed: 9,
+        late: true,
+    },
+    Shape {
+        requesters: 5,
+        banks: 4,
+        ports: BankPorts::Shared,
+        rows: 16,
+        word_bits: 32,
+        tag_bits: 4,
+        p_valid: 0.8,
+        p_hot: 0.4,
+        cycles: 1500,
+        seed: 10,
+        late: true,
     },
 ];
 
@@ -154,12 +192,22 @@ fn port(uut: &mut BankCrossbar, k: usize, ports: usize) -> &mut BankPort {
     }
 }
 
+/// The crossbar of shape `s`.
+fn crossbar(s: &Shape) -> BankCrossbar {
+    let (d, b, p, w, t) = (s.requesters, s.banks, s.ports, s.word_bits, s.tag_bits);
+    if s.late {
+        BankCrossbar::with_late_ready(d, b, p, w, t)
+    } else {
+        BankCrossbar::new(d, b, p, w, t)
+    }
+}
+
 /// Run `s` against the model; the recording of the run if `record`.
 fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
     let (d, b) = (s.requesters, s.banks);
     let ports = s.ports.ports();
     let np = b * ports;
-    let mut uut = BankCrossbar::new(d, b, s.ports, s.word_bits, s.tag_bits);
+    let mut uut = crossbar(s);
     uut.connect_all();
     check_all(&uut).expect("BankCrossbar checks");
     let mut r = rng(s.seed);
@@ -178,6 +226,7 @@ fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
     let mut offer: Vec<Option<(usize, usize, u64)>> = vec![None; d];
     let mut due: Vec<VecDeque<Due>> = vec![VecDeque::new(); d];
     let mut next_tag = vec![0u64; d];
+    let mut won_before = vec![false; d];
     let (mut granted, mut answered, mut reset_drops) = (0usize, 0usize, 0usize);
     let tail = 4;
     for c in 0..s.cycles + tail {
@@ -236,13 +285,16 @@ fn run_against_model(s: &Shape, record: bool) -> Option<XsimRun> {
                 .find(|&i| last[k].is_none_or(|l| i > l))
                 .or(asking.first().copied());
         }
+        // `ready`: granted now, or (late) granted in the previous cycle.
         for (i, o) in offer.iter().enumerate() {
             let won = o.is_some_and(|o| (0..ports).any(|p| winner[o.0 * ports + p] == Some(i)));
+            let want = if s.late { won_before[i] } else { won };
             assert_eq!(
                 uut.clients[i].ready.val(),
-                won,
+                want,
                 "{s:?}: cycle {c}, ready {i}"
             );
+            won_before[i] = won;
         }
         for (k, want) in port_row.iter().enumerate() {
             let bp = port(&mut uut, k, ports);
@@ -317,15 +369,8 @@ fn every_read_returns_to_its_requester_once_round_robin_per_bank() {
     ignore = "needs yosys, verilator and iverilog"
 )]
 fn exported_verilog_lints_and_replays_cycle_for_cycle() {
-    for s in [&SHAPES[1], &SHAPES[3], &SHAPES[4], &SHAPES[6]] {
-        let e = export_block(BankCrossbar::new(
-            s.requesters,
-            s.banks,
-            s.ports,
-            s.word_bits,
-            s.tag_bits,
-        ))
-        .unwrap();
+    for s in [&SHAPES[1], &SHAPES[3], &SHAPES[4], &SHAPES[6], &SHAPES[8]] {
+        let e = export_block(crossbar(s)).unwrap();
         let dir = tempfile::tempdir().unwrap();
         std::fs::write(dir.path().join("top.v"), &e.verilog).unwrap();
         lint_top(dir.path());

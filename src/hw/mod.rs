@@ -52,7 +52,7 @@
 //!         │   │                                  (wires without banks)
 //!         │   ├── ReadPlace (store/read_place.rs)       with external memory: the staged read's
 //!         │   │   └── CacheMap (memory/cache_map.rs)    bank and row in the cache
-//!         │   ├── PingPongSlice (primitives/ping_pong_slice.rs)  with external memory: the offer
+//!         │   ├── OfferQueue (primitives/offer_queue.rs)  with external memory: the offer
 //!         │   └── MissPark (store/miss_park.rs)         parks a missed read, retries it
 //!         ├── FreePick                           the free slot the next query takes
 //!         ├── FoundRule, QueryLimits             as in the QueryModule

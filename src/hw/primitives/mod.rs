@@ -2,7 +2,8 @@
 //! read timing the FPGA gives them (§4.1), the lowest-set-bit priority encoder
 //! (§4.4's "lowest slot among ties"), the round-robin arbiter of a shared port
 //! (§4.5), the registered free pick, multiplexer trees, the skid-buffer register
-//! slice and its ping-pong twin; the AXI4 read channels of an external memory.
+//! slice and the offer queue for a late `ready`; the AXI4 read channels of an
+//! external memory.
 
 pub mod axi4_read;
 pub mod bank_bus;
@@ -10,7 +11,7 @@ pub mod block_ram;
 pub mod free_pick;
 pub mod lut_ram;
 pub mod mux_trees;
-pub mod ping_pong_slice;
+pub mod offer_queue;
 pub mod port_arbiter;
 pub mod priority_encoder;
 pub mod register_slice;

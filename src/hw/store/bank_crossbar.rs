@@ -23,6 +23,16 @@
 //! withdraws. Under `reset` nothing is granted and
 //! the reads in flight are dropped (their answers never appear); the round robin
 //! keeps its turn.
+//!
+//! A crossbar built [`BankCrossbar::with_late_ready`] registers `ready`: it says
+//! in the next cycle that the read offered in this one was taken, so that no
+//! cycle both arbitrates and carries the grant back across the chip to the
+//! requester (the offer, the bank compare and the round robin end at the grant's
+//! register; the register's fanout to the requester is a cycle of its own). A
+//! requester then must not offer a read again in the cycle after it offered it
+//! (it might have been taken); [`OfferQueue`](crate::hw::primitives::offer_queue::OfferQueue)
+//! offers another read meanwhile. The grant, the row at the bank port and the
+//! answer keep their cycles.
 
 use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::core_config::ModuleMask;
@@ -98,6 +108,10 @@ pub struct BankCrossbar {
     _split: usize,
     /// 1, or 0 for the placeholder (the bank ports unregistered).
     _registered: usize,
+    /// With a late `ready` (none otherwise), per requester: its read granted
+    /// this cycle, and that registered: its `ready`.
+    moving: Vec<Signal<Local, bool>>,
+    late_ready: Vec<DFF<bool>>,
     /// Requesters per port (all, or half for split ports) and the stride
     /// between them.
     _per_port: usize,
@@ -119,7 +133,19 @@ impl BankCrossbar {
         word_bits: u32,
         tag_bits: u32,
     ) -> Self {
-        Self::build(requesters, banks, ports, word_bits, tag_bits, true)
+        Self::build(requesters, banks, ports, word_bits, tag_bits, true, false)
+    }
+
+    /// The crossbar of [`BankCrossbar::new`] with `ready` registered: high in
+    /// the cycle after the request was granted.
+    pub fn with_late_ready(
+        requesters: usize,
+        banks: usize,
+        ports: BankPorts,
+        word_bits: u32,
+        tag_bits: u32,
+    ) -> Self {
+        Self::build(requesters, banks, ports, word_bits, tag_bits, true, true)
     }
 
     /// The crossbar of a core without banks: one requester, one bank, nothing
@@ -129,7 +155,7 @@ impl BankCrossbar {
     /// Verilog of every core without banks) to the registers a crossbar needs at
     /// the least.
     pub fn placeholder(word_bits: u32, tag_bits: u32) -> Self {
-        Self::build(1, 1, BankPorts::One, word_bits, tag_bits, false)
+        Self::build(1, 1, BankPorts::One, word_bits, tag_bits, false, false)
     }
 
     fn build(
@@ -139,6 +165,7 @@ impl BankCrossbar {
         word_bits: u32,
         tag_bits: u32,
         registered: bool,
+        late: bool,
     ) -> Self {
         assert!((1..=32).contains(&requesters) && (1..=1024).contains(&banks));
         assert!(ports != BankPorts::Split || requesters.is_multiple_of(2));
@@ -198,6 +225,8 @@ impl BankCrossbar {
             _shared: usize::from(either),
             _split: usize::from(split),
             _registered: usize::from(registered),
+            moving: many(if late { requesters } else { 0 }),
+            late_ready: many(if late { requesters } else { 0 }),
             _per_port: requesters / stride,
             _stride: stride,
         }
@@ -377,6 +406,26 @@ impl Logic for BankCrossbar {
                     self.answer_valid[i].d.next = false;
                 }
             }
+        }
+        // A late `ready`: each requester's grant, registered (the read in flight
+        // starts from the grant itself, as above).
+        for i in 0..self.moving.len() {
+            self.late_ready[i].clock.next = self.clock.val();
+            self.moving[i].next = false;
+            for j in 0..self.banks.len() {
+                if self.arbiters[j].grant.val().get_bit(i) {
+                    self.moving[i].next = true;
+                }
+            }
+            for j in 0..self.second.len() {
+                if self.arbiters_second[j].grant.val().get_bit(i) {
+                    self.moving[i].next = true;
+                }
+            }
+            self.late_ready[i].d.next = self.moving[i].val() && (!self.reset.val());
+            self.flight_valid[i].d.next =
+                self.clients[i].valid.val() && self.moving[i].val() && (!self.reset.val());
+            self.clients[i].ready.next = self.late_ready[i].q.val();
         }
         // The words each requester's tree chooses from (w: its inputs): every
         // bank's first port; with shared ports, each bank's two ports side by

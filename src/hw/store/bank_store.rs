@@ -101,8 +101,10 @@ impl<const W: usize> BankStore<W> {
             answers: (0..clients).map(|_| Default::default()).collect(),
             m_axi: (0..fills).map(|_| Default::default()).collect(),
             map: BankMap::new(levels, bank_bits, cfg.address_bits, cfg.bank_mapping()),
-            crossbar: if banks + caches > 0 {
-                BankCrossbar::new(clients, banks + caches, ports, answer_bits, tag_bits.max(1))
+            crossbar: if caches > 0 {
+                BankCrossbar::with_late_ready(clients, caches, ports, answer_bits, tag_bits.max(1))
+            } else if banks > 0 {
+                BankCrossbar::new(clients, banks, ports, answer_bits, tag_bits.max(1))
             } else {
                 BankCrossbar::placeholder(cfg.layout.word_bits(), tag_bits.max(1))
             },

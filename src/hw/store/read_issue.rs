@@ -42,11 +42,14 @@
 //! placement ([`ReadPlace`]), a deeper function of the address than a bank's, and
 //! the offer is one cycle further on: the slice above registers the next read's
 //! slot and address only (a stage), the placement is computed from that
-//! register, and the read is offered from a [`PingPongSlice`], whose data
-//! registers load only while empty. So neither the pick's context read nor F's
-//! address computation meets the placement in one cycle, and the bank's grant
-//! ends at the offer's valid flip-flops instead of every data bit's load enable
-//! (docs/MEMORY_CORE.md, "What sets the clock now").
+//! register, and the read is offered from an [`OfferQueue`] to a crossbar whose
+//! `ready` comes a cycle late (`BankCrossbar::with_late_ready`): the bank's
+//! grant is registered at the crossbar, and the queue offers another read while
+//! the one offered waits for it. So neither the pick's context read nor F's
+//! address computation meets the placement in one cycle, and no cycle both
+//! arbitrates and brings the grant back across the chip (docs/MEMORY_CORE.md,
+//! "What sets the clock now"). A read to the replica is taken as surely, a cycle
+//! late too.
 
 use crate::hw::config::core_config::{
     bits_for, Addr, CoreConfig, Dist, ModuleIndex, ModuleMask, Word,
@@ -57,7 +60,7 @@ use crate::hw::primitives::bank_bus::{BankAnswerIn, BankRequester};
 use crate::hw::primitives::block_ram::BramWord;
 use crate::hw::primitives::free_pick::FreePick;
 use crate::hw::primitives::lut_ram::LutRam;
-use crate::hw::primitives::ping_pong_slice::PingPongSlice;
+use crate::hw::primitives::offer_queue::OfferQueue;
 use crate::hw::primitives::register_slice::RegisterSlice;
 use crate::hw::primitives::stream::ReadRequest;
 use crate::hw::store::bank_map::BankMap;
@@ -126,10 +129,11 @@ pub struct ReadIssue<const W: usize> {
     replica_word: DFF<Word<W>>,
     /// With external memory (`CoreConfig::memory`; empty otherwise): where the
     /// registered next read lives in the cache, the offer (after the slice,
-    /// which is then a stage), the bit of a bank's miss flag, and the stage
-    /// that parks a read that missed.
+    /// which is then a stage), whether the read offered was the replica's, the
+    /// bit of a bank's miss flag, and the stage that parks a read that missed.
     place: Vec<ReadPlace>,
-    queue: Vec<PingPongSlice<OfferedRead>>,
+    queue: Vec<OfferQueue<OfferedRead>>,
+    offered_replica: Vec<DFF<bool>>,
     miss_flag: Vec<Constant<BramWord>>,
     park: Vec<MissPark<W>>,
 }
@@ -197,7 +201,8 @@ impl<const W: usize> ReadIssue<W> {
             word_replica: Default::default(),
             replica_word: Default::default(),
             place: memory.iter().map(|(l, b)| ReadPlace::new(l, *b)).collect(),
-            queue: memory.iter().map(|_| PingPongSlice::new()).collect(),
+            queue: memory.iter().map(|_| OfferQueue::new()).collect(),
+            offered_replica: many(memory.len()),
             miss_flag: memory
                 .iter()
                 .map(|_| Constant::new(BramWord::from(1u64 << cfg.layout.word_bits())))
@@ -260,25 +265,26 @@ impl<const W: usize> Logic for ReadIssue<W> {
         // With external memory the slice is a stage and the offer comes after
         // it: the next read is registered with its slot and address only, where
         // it lives in the cache is computed from that register, and the read is
-        // offered from a PingPongSlice, whose data registers load only while
-        // empty, so that the bank's grant reaches a few flip-flops, not the
-        // load enables of the whole read.
+        // offered from an OfferQueue. The crossbar says a cycle later whether it
+        // took the read (its grant registered), as the replica does (always), so
+        // here `taken` is the previous cycle's offer's.
         for m in 0..self.queue.len() {
             self.queue[m].clock.next = self.clock.val();
             self.queue[m].reset.next = self.reset.val();
+            self.offered_replica[m].clock.next = self.clock.val();
             self.place[m].read.next = self.offer.outbound.data.val();
             self.queue[m].inbound.valid.next = self.offer.outbound.valid.val();
             self.queue[m].inbound.data.next = self.place[m].placed.val();
             self.offer.outbound.ready.next = self.queue[m].inbound.ready.val();
-            self.offered.next = self.queue[m].outbound.data.val();
-            self.bank.valid.next =
-                self.queue[m].outbound.valid.val() && !self.offered.val().replica;
+            self.offered.next = self.queue[m].offer.val();
+            self.bank.valid.next = self.queue[m].offer_valid.val() && !self.offered.val().replica;
             self.bank.bank.next = self.offered.val().bank;
             self.bank.row.next = self.offered.val().row;
             self.bank.tag.next = self.offered.val().slot;
-            self.queue[m].outbound.ready.next = self.offered.val().replica || self.bank.ready.val();
-            self.taken.next =
-                self.queue[m].outbound.valid.val() && self.queue[m].outbound.ready.val();
+            self.offered_replica[m].d.next =
+                self.queue[m].offer_valid.val() && self.offered.val().replica && !self.reset.val();
+            self.taken.next = self.offered_replica[m].q.val() || self.bank.ready.val();
+            self.queue[m].taken.next = self.taken.val();
         }
         // The next read, whenever the slice has room: the picked pending slot,
         // else F's read at once.
@@ -381,7 +387,10 @@ impl<const W: usize> Logic for ReadIssue<W> {
         // With external memory: the answer (the replica's or a bank's) meets a
         // stage that parks a miss; a hit is the SearchModule's read a cycle later
         // than with banks on chip, and a parked slot's retry joins the waiting reads.
+        // The verdict on the previous cycle's offer comes with the grant
+        // registers' copy of that offer, so the taken read is the issue stage's.
         for m in 0..self.park.len() {
+            self.issue_valid[m].d.next = self.taken.val() && !self.reset.val();
             self.park[m].clock.next = self.clock.val();
             self.park[m].reset.next = self.reset.val();
             self.park[m].read_valid.next = self.issue_valid[m].q.val();
