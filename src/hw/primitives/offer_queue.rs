@@ -13,9 +13,16 @@
 //! offers another entry then: the oldest (in the order the beats came in) that is
 //! valid and not waiting. A refused beat is offered again when its turn comes.
 //! Three entries keep one beat a cycle going out while one waits for its verdict
-//! and another is on offer, with `inbound.ready` a flip-flop's (an entry empty);
+//! and another is on offer, with `inbound.ready` from flip-flops (an entry empty);
 //! an empty entry loads the inbound data, so `taken` enables no data register.
 //! Beats leave in order unless one is refused.
+//!
+//! A refused beat is thus offered at most every other cycle, which a round robin
+//! over three or more takers' requesters can pass over forever. Built
+//! [`OfferQueue::persistent`], the queue offers a beat refused once in every
+//! cycle from its next offer until it is taken, the other entries waiting; the
+//! taker must then ignore a beat offered again in the cycle after it took it
+//! (`BankCrossbar::masks_repeats`).
 
 use crate::hw::primitives::stream::StreamIn;
 use rust_hdl::prelude::*;
@@ -25,7 +32,7 @@ pub struct OfferQueue<T: Synth> {
     pub clock: Signal<In, Clock>,
     /// Empties every entry and withdraws the offer.
     pub reset: Signal<In, bool>,
-    /// Beats in; `ready` while an entry is empty.
+    /// Beats in; `ready` while an entry is empty (from the valid flip-flops).
     pub inbound: StreamIn<T>,
     /// This cycle's offer: its valid bit and the offered entry's beat.
     pub offer_valid: Signal<Out, bool>,
@@ -52,6 +59,10 @@ pub struct OfferQueue<T: Synth> {
     was_a: DFF<bool>,
     was_b: DFF<bool>,
     was_c: DFF<bool>,
+    /// Built persistent (none otherwise), per entry: its beat was refused.
+    refused_a: Vec<DFF<bool>>,
+    refused_b: Vec<DFF<bool>>,
+    refused_c: Vec<DFF<bool>>,
     /// A beat comes in this cycle, into the lowest empty entry.
     written: Signal<Local, bool>,
     into_a: Signal<Local, bool>,
@@ -72,6 +83,16 @@ pub struct OfferQueue<T: Synth> {
 
 impl<T: Synth> OfferQueue<T> {
     pub fn new() -> Self {
+        Self::build(false)
+    }
+
+    /// A queue that offers a beat refused once in every cycle until it is taken.
+    pub fn persistent() -> Self {
+        Self::build(true)
+    }
+
+    fn build(persistent: bool) -> Self {
+        let p = usize::from(persistent);
         OfferQueue {
             clock: Default::default(),
             reset: Default::default(),
@@ -108,6 +129,9 @@ impl<T: Synth> OfferQueue<T> {
             free_a: Default::default(),
             free_b: Default::default(),
             free_c: Default::default(),
+            refused_a: (0..p).map(|_| Default::default()).collect(),
+            refused_b: (0..p).map(|_| Default::default()).collect(),
+            refused_c: (0..p).map(|_| Default::default()).collect(),
         }
     }
 }
@@ -189,6 +213,36 @@ impl<T: Synth> Logic for OfferQueue<T> {
             && (!self.free_a.val() || !self.next_a_before_c.val())
             && (!self.free_b.val() || !self.next_b_before_c.val());
         self.offering.d.next = self.free_a.val() || self.free_b.val() || self.free_c.val();
+        // Persistent: an entry refused once and on offer now stays on offer
+        // while it stays in.
+        for p in 0..self.refused_a.len() {
+            self.refused_a[p].clock.next = self.clock.val();
+            self.refused_b[p].clock.next = self.clock.val();
+            self.refused_c[p].clock.next = self.clock.val();
+            self.refused_a[p].d.next = (self.refused_a[p].q.val()
+                || (self.was_a.q.val() && self.a_valid.q.val() && !self.taken.val()))
+                && !self.into_a.val();
+            self.refused_b[p].d.next = (self.refused_b[p].q.val()
+                || (self.was_b.q.val() && self.b_valid.q.val() && !self.taken.val()))
+                && !self.into_b.val();
+            self.refused_c[p].d.next = (self.refused_c[p].q.val()
+                || (self.was_c.q.val() && self.c_valid.q.val() && !self.taken.val()))
+                && !self.into_c.val();
+            if (self.on_a.q.val() && self.refused_a[p].q.val() && self.next_a.val())
+                || (self.on_b.q.val() && self.refused_b[p].q.val() && self.next_b.val())
+                || (self.on_c.q.val() && self.refused_c[p].q.val() && self.next_c.val())
+            {
+                self.on_a.d.next = self.on_a.q.val();
+                self.on_b.d.next = self.on_b.q.val();
+                self.on_c.d.next = self.on_c.q.val();
+                self.offering.d.next = true;
+            }
+            if self.reset.val() {
+                self.refused_a[p].d.next = false;
+                self.refused_b[p].d.next = false;
+                self.refused_c[p].d.next = false;
+            }
+        }
         self.was_a.d.next = self.on_a.q.val();
         self.was_b.d.next = self.on_b.q.val();
         self.was_c.d.next = self.on_c.q.val();

@@ -32,7 +32,18 @@
 //! requester then must not offer a read again in the cycle after it offered it
 //! (it might have been taken); [`OfferQueue`](crate::hw::primitives::offer_queue::OfferQueue)
 //! offers another read meanwhile. The grant, the row at the bank port and the
-//! answer keep their cycles.
+//! answer keep their cycles. Under `reset` a late `ready` may still be high: it
+//! tells of a grant in the cycle before, whose answer the reset drops.
+//!
+//! A refused read thus asks at most every other cycle, and a round robin over
+//! three or more requesters can then pass it over forever (the others granted
+//! in turn in the cycles it is away). Where a port serves more than two
+//! requesters ([`BankCrossbar::masks_repeats`]) the requester offers a read
+//! refused once in every cycle until it is taken (`OfferQueue::persistent`), and
+//! the crossbar ignores a read offered again in the cycle after its grant: one
+//! with the tag of the read granted in the previous cycle (a tag is a slot, and a
+//! slot has one read in flight). With two requesters a port, the one refused is
+//! granted the next time it asks, and neither is built.
 
 use crate::hw::config::bank_config::BankPorts;
 use crate::hw::config::core_config::ModuleMask;
@@ -112,6 +123,11 @@ pub struct BankCrossbar {
     /// this cycle, and that registered: its `ready`.
     moving: Vec<Signal<Local, bool>>,
     late_ready: Vec<DFF<bool>>,
+    /// Where repeats are masked (none otherwise), per requester: its read is
+    /// the one granted in the previous cycle, offered again.
+    repeated: Vec<Signal<Local, bool>>,
+    /// 1 where repeats are masked, else 0.
+    _masked: usize,
     /// Requesters per port (all, or half for split ports) and the stride
     /// between them.
     _per_port: usize,
@@ -148,6 +164,19 @@ impl BankCrossbar {
         Self::build(requesters, banks, ports, word_bits, tag_bits, true, true)
     }
 
+    /// Whether a crossbar with a late `ready` among `requesters` requesters
+    /// sharing its ports as `ports` says ignores a read offered again in the
+    /// cycle after its grant (a port serves more than two of them), so that its
+    /// requesters must offer a refused read in every cycle (`OfferQueue::persistent`).
+    pub fn masks_repeats(requesters: usize, ports: BankPorts) -> bool {
+        let per_port = if ports == BankPorts::Split {
+            requesters / 2
+        } else {
+            requesters
+        };
+        per_port > 2
+    }
+
     /// The crossbar of a core without banks: one requester, one bank, nothing
     /// reading its outputs (rust-hdl's `#[hdl_gen]` cannot leave an optional
     /// block out, so it is there, inputs held at zero, and synthesis removes
@@ -182,6 +211,7 @@ impl BankCrossbar {
         };
         let stride = if split { 2 } else { 1 };
         let either = ports == BankPorts::Shared;
+        let masked = late && Self::masks_repeats(requesters, ports);
         BankCrossbar {
             clock: Default::default(),
             reset: Default::default(),
@@ -227,6 +257,8 @@ impl BankCrossbar {
             _registered: usize::from(registered),
             moving: many(if late { requesters } else { 0 }),
             late_ready: many(if late { requesters } else { 0 }),
+            repeated: many(if masked { requesters } else { 0 }),
+            _masked: usize::from(masked),
             _per_port: requesters / stride,
             _stride: stride,
         }
@@ -236,6 +268,13 @@ impl BankCrossbar {
 impl Logic for BankCrossbar {
     #[hdl_gen]
     fn update(&mut self) {
+        // A read offered again in the cycle after its grant (its tag is the one
+        // granted then): not asking.
+        for i in 0..self.repeated.len() {
+            self.repeated[i].next = self.late_ready[i].q.val()
+                && ((self.clients[i].tag.val() & self.tag_mask.val())
+                    == self.flight_tag[i].q.val());
+        }
         // Who asks for each bank, and each port's grant among those it serves.
         for j in 0..self.banks.len() {
             self.arbiters[j].clock.next = self.clock.val();
@@ -245,6 +284,11 @@ impl Logic for BankCrossbar {
                     && (self.clients[i].bank.val() == self.bank_id[j].val())
                 {
                     self.asking[j].next = self.asking[j].val().replace_bit(i, true);
+                    for _m in 0..self._masked {
+                        if self.repeated[i].val() {
+                            self.asking[j].next = self.asking[j].val().replace_bit(i, false);
+                        }
+                    }
                 }
             }
             self.asking_first[j].next = self.asking[j].val() & self.first_mask.val();

@@ -9,7 +9,8 @@
 //!
 //! With the map in external memory (`CoreConfig::memory`) the banks are
 //! [`CacheBank`]s of the levels below the replicas, read through the same
-//! crossbar (its words one bit wider: the miss flag), and one [`LineFill`]
+//! crossbar (its words one bit wider: the miss flag; its grants registered, so
+//! `ready` comes a cycle late, `BankCrossbar::with_late_ready`), and one [`LineFill`]
 //! brings their missing blocks through the `m_axi` port (one burst a block of
 //! `2^s` words, one or two photon words a beat: the memory's data width), the banks' fill
 //! requests taking turns (round robin); every bank sees every

@@ -48,7 +48,7 @@
 //! the one offered waits for it. So neither the pick's context read nor F's
 //! address computation meets the placement in one cycle, and no cycle both
 //! arbitrates and brings the grant back across the chip (docs/MEMORY_CORE.md,
-//! "What sets the clock now"). A read to the replica is taken as surely, a cycle
+//! "What fits"). A read to the replica is taken as surely, a cycle
 //! late too.
 
 use crate::hw::config::core_config::{
@@ -63,6 +63,7 @@ use crate::hw::primitives::lut_ram::LutRam;
 use crate::hw::primitives::offer_queue::OfferQueue;
 use crate::hw::primitives::register_slice::RegisterSlice;
 use crate::hw::primitives::stream::ReadRequest;
+use crate::hw::store::bank_crossbar::BankCrossbar;
 use crate::hw::store::bank_map::BankMap;
 use crate::hw::store::miss_park::MissPark;
 use crate::hw::store::read_place::{OfferedRead, ReadPlace};
@@ -111,8 +112,9 @@ pub struct ReadIssue<const W: usize> {
     next: Signal<Local, OfferedRead>,
     offer: RegisterSlice<OfferedRead>,
     offered: Signal<Local, OfferedRead>,
-    /// Whether the offer moved this cycle, and whether F's read goes straight
-    /// to the slice.
+    /// Whether the offer moved this cycle (with external memory: whether the
+    /// previous cycle's offer was taken), and whether F's read goes straight to
+    /// the slice.
     taken: Signal<Local, bool>,
     bypass: Signal<Local, bool>,
     grant_valid: DFF<bool>,
@@ -158,6 +160,11 @@ impl<const W: usize> ReadIssue<W> {
             })
             .into_iter()
             .collect();
+        // Where the crossbar ignores repeats, a refused read is offered in every
+        // cycle until it is taken.
+        let repeats_masked = cfg
+            .banking
+            .is_some_and(|b| BankCrossbar::masks_repeats(cfg.datapaths(), b.ports));
         ReadIssue {
             clock: Default::default(),
             reset: Default::default(),
@@ -201,7 +208,16 @@ impl<const W: usize> ReadIssue<W> {
             word_replica: Default::default(),
             replica_word: Default::default(),
             place: memory.iter().map(|(l, b)| ReadPlace::new(l, *b)).collect(),
-            queue: memory.iter().map(|_| OfferQueue::new()).collect(),
+            queue: memory
+                .iter()
+                .map(|_| {
+                    if repeats_masked {
+                        OfferQueue::persistent()
+                    } else {
+                        OfferQueue::new()
+                    }
+                })
+                .collect(),
             offered_replica: many(memory.len()),
             miss_flag: memory
                 .iter()
@@ -322,7 +338,9 @@ impl<const W: usize> Logic for ReadIssue<W> {
                 self.pick.still_free.val() | (self.one_slot.val() << self.push_slot.val());
         }
 
-        // The taken read, then its word.
+        // The taken read, then its word (with external memory the grant
+        // registers hold the offer whose verdict `taken` brings a cycle later,
+        // and `grant_valid` is unused).
         self.grant_valid.d.next = self.taken.val();
         self.grant_slot.d.next = self.offered.val().slot;
         self.grant_address.d.next = self.offered.val().address;
