@@ -51,7 +51,9 @@ pub struct OfferQueue<T: Synth> {
     a_before_c: DFF<bool>,
     b_before_c: DFF<bool>,
     /// The entry on offer (one-hot; none while `offering` is low), and the one
-    /// offered in the previous cycle, whose verdict `taken` is.
+    /// offered in the previous cycle, whose verdict `taken` is. `offering` is
+    /// the OR of the three, kept as its own flip-flop so that the offer's valid
+    /// bit reaches the crossbar from a register, not through a gate.
     offering: DFF<bool>,
     on_a: DFF<bool>,
     on_b: DFF<bool>,

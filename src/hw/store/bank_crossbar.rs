@@ -452,7 +452,9 @@ impl Logic for BankCrossbar {
             }
         }
         // A late `ready`: each requester's grant, registered (the read in flight
-        // starts from the grant itself, as above).
+        // starts from the grant itself, as above). The grant's OR is spelled
+        // again here rather than read back from `ready`, which this block
+        // overrides, so that a crossbar without a late `ready` exports as before.
         for i in 0..self.moving.len() {
             self.late_ready[i].clock.next = self.clock.val();
             self.moving[i].next = false;
